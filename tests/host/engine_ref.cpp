@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: GPL-2.0
+#include "engine_ref.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace x4test {
+
+double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n) {
+  const double f = freq_hz;
+  const double r = ramp_ms / 1000.0;
+  const double x = static_cast<double>(n);
+  if (ramp_ms == 0) return x / f;
+  const double a = f / r;  // steps/s^2
+  const double na = f * r / 2;  // steps of one full ramp
+  const double p = X4_PLATEAU_STEPS;
+  if (steps == 0) {  // endless: accelerate, then cruise
+    return x <= na ? std::sqrt(2 * x / a) : x / f + r / 2;
+  }
+  const double d = static_cast<double>(steps - 1);
+  if (d >= 2 * na + p) {
+    const double t_end = d / f + r;
+    if (x <= na) return std::sqrt(2 * x / a);
+    if (x <= d - na) return x / f + r / 2;
+    return t_end - std::sqrt(2 * (d - x) / a);
+  }
+  if (d > p) {
+    const double xa = (d - p) / 2;
+    const double ta = std::sqrt(2 * xa / a);
+    const double v = a * ta;
+    const double t_end = 2 * ta + (d - 2 * xa) / v;
+    if (x <= xa) return std::sqrt(2 * x / a);
+    if (x <= d - xa) return ta + (x - xa) / v;
+    return t_end - std::sqrt(2 * (d - x) / a);
+  }
+  const double v = std::min(f, std::sqrt(a));
+  return x / v;
+}
+
+void record(x4_engine &e, Recording &rec, size_t max_events) {
+  uint8_t data = e.data;
+  bool moving = false;
+  for (size_t i = 0; i < max_events && x4_engine_busy(&e); i++) {
+    x4_event ev;
+    x4_engine_fire(&e, &ev);
+    rec.events.push_back(ev);
+    const uint8_t changed = data ^ ev.data;
+    for (int axis = 0; axis < X4_AXES; axis++) {
+      if (changed & X4_CLK_BIT(axis)) {
+        (ev.data & X4_CLK_BIT(axis) ? rec.rises : rec.falls)[axis].push_back(ev.t_ns);
+      }
+      if ((changed & X4_DIR_BIT(axis)) && moving) rec.dir_changes++;
+    }
+    moving = true;
+    data = ev.data;
+  }
+}
+
+}  // namespace x4test

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: GPL-2.0
+// Test support for the engine core: a double-precision reference of the
+// X4Step profile, written from the definitions (not from the engine's
+// integer formulas), and a recorder of the engine's event stream.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+extern "C" {
+#include "x4_engine.h"
+}
+
+namespace x4test {
+
+// Ideal time in seconds of leader step n (n = 0 is the first step) of a
+// move of `steps` leader steps (0: endless) at freq_hz with ramp_ms ramps.
+double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n);
+
+struct Edge {
+  uint64_t t_ns;
+  int bit;     // data bit 0..7 (clock of axis i = 2i + 1)
+  bool level;  // new level
+};
+
+struct Recording {
+  std::vector<x4_event> events;
+  // Rising clock edges per axis, and the leader's falling edges.
+  std::vector<uint64_t> rises[X4_AXES];
+  std::vector<uint64_t> falls[X4_AXES];
+  // Data changes of direction bits while the move ran.
+  int dir_changes = 0;
+};
+
+// Fire the engine until idle (or max_events), recording what it emits.
+// `prev` is the port state before the first event.
+void record(x4_engine &e, Recording &rec, size_t max_events = SIZE_MAX);
+
+}  // namespace x4test

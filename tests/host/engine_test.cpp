@@ -1,0 +1,448 @@
+// SPDX-License-Identifier: GPL-2.0
+// Unit tests of the engine core (the same C file the module runs).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "engine_ref.h"
+
+using namespace x4test;
+
+namespace {
+
+constexpr uint64_t kStart = 1000;  // engine time of X4Start in the tests
+
+x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int freq, int ramp) {
+  x4_move m{};
+  m.steps[0] = s1;
+  m.steps[1] = s2;
+  m.steps[2] = s3;
+  m.steps[3] = s4;
+  m.freq_hz = freq;
+  m.ramp_ms = ramp;
+  return m;
+}
+
+struct Engine {
+  x4_engine e;
+  Engine() { x4_engine_init(&e); }
+  int Load(const x4_move &m) { return x4_engine_load(&e, &m); }
+  int Start() { return x4_engine_start(&e, kStart); }
+  Recording Run(size_t max_events = SIZE_MAX) {
+    Recording r;
+    record(e, r, max_events);
+    return r;
+  }
+};
+
+Recording RunMove(const x4_move &m) {
+  Engine eng;
+  EXPECT_EQ(eng.Load(m), X4_OK);
+  EXPECT_EQ(eng.Start(), X4_OK);
+  return eng.Run();
+}
+
+int Leader(const x4_move &m) {
+  int lead = 0;
+  for (int i = 1; i < X4_AXES; i++)
+    if (std::abs(m.steps[i]) > std::abs(m.steps[lead])) lead = i;
+  return lead;
+}
+
+// Every leader rising edge against the double-precision reference.
+double MaxErrorNs(const x4_move &m, const Recording &r) {
+  const int lead = Leader(m);
+  const uint64_t steps = std::abs(m.steps[lead]);
+  const uint64_t origin = kStart + X4_DIR_SETUP_NS;
+  double worst = 0;
+  for (size_t n = 0; n < r.rises[lead].size(); n++) {
+    const double ideal = ref_step_time(steps, m.freq_hz, m.ramp_ms, n) * 1e9;
+    worst = std::max(worst, std::fabs(double(r.rises[lead][n] - origin) - ideal));
+  }
+  return worst;
+}
+
+}  // namespace
+
+// ---- validation ------------------------------------------------------------
+
+TEST(Validate, EveryErrorCode) {
+  const struct {
+    x4_move m;
+    int err;
+  } cases[] = {
+      {Move(1000, 800, 600, 400, 1000, 50), X4_OK},
+      {Move(1, 0, 0, 0, 20000, 1000), X4_OK},
+      {Move(1, 0, 0, 0, 10, 10), X4_OK},
+      {Move(0, 0, 0, 0, 1000, 50), X4_ERR_NO_STEPS},
+      {Move(1, 0, 0, 0, 20001, 50), X4_ERR_FREQ_TOO_HIGH},
+      {Move(1, 0, 0, 0, 9, 0), X4_ERR_FREQ_TOO_LOW},
+      {Move(1, 0, 0, 0, -5, 0), X4_ERR_FREQ_TOO_LOW},
+      {Move(1, 0, 0, 0, 2000, 1001), X4_ERR_RAMP_TOO_HIGH},
+      {Move(1, 0, 0, 0, 10, 50), X4_ERR_RAMP_FREQ},
+      {Move(1, 0, 0, 0, 100, 101), X4_ERR_RAMP_FREQ},
+      {Move(1, 0, 0, 0, 100, -1), X4_ERR_PARAM_FAIL},
+      {Move(16777216, -16777216, 0, 0, 1000, 50), X4_OK},
+      {Move(16777217, 0, 0, 0, 1000, 50), X4_ERR_STEPS_TOO_HIGH},
+      {Move(0, 0, 0, -16777217, 1000, 50), X4_ERR_STEPS_TOO_HIGH},
+      // Documented order: frequency, then ramp, then paths.
+      {Move(0, 0, 0, 0, 5, 2000), X4_ERR_FREQ_TOO_LOW},
+      {Move(0, 0, 0, 0, 100, 2000), X4_ERR_RAMP_TOO_HIGH},
+      {Move(16777217, 0, 0, 0, 100, 200), X4_ERR_RAMP_FREQ},
+  };
+  for (const auto &c : cases) {
+    EXPECT_EQ(x4_move_check(&c.m), c.err) << c.m.steps[0] << " " << c.m.freq_hz << " " << c.m.ramp_ms;
+  }
+}
+
+TEST(Validate, BadLoadChangesNothing) {
+  Engine eng;
+  const x4_engine before = eng.e;
+  EXPECT_EQ(eng.Load(Move(0, 0, 0, 0, 1000, 50)), X4_ERR_NO_STEPS);
+  EXPECT_EQ(std::memcmp(&before, &eng.e, sizeof before), 0);
+  EXPECT_EQ(eng.Start(), X4_ERR_NOT_LOADED);
+  EXPECT_EQ(x4_engine_brake(&eng.e), X4_ERR_NOT_ACTIVE);
+  EXPECT_EQ(x4_engine_stop(&eng.e), X4_ERR_NOT_ACTIVE);
+}
+
+TEST(Validate, StateErrors) {
+  Engine eng;
+  ASSERT_EQ(eng.Load(Move(100, 0, 0, 0, 1000, 0)), X4_OK);
+  EXPECT_EQ(eng.Load(Move(100, 0, 0, 0, 1000, 0)), X4_ERR_IS_LOADED);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 1, false, 1000, 0, 0), X4_ERR_IS_LOADED);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  EXPECT_EQ(eng.Start(), X4_ERR_NOT_LOADED);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 1, false, 1000, 0, 0), X4_ERR_IS_ACTIVE);
+  ASSERT_EQ(eng.Load(Move(5, 0, 0, 0, 1000, 0)), X4_OK);  // preload
+  EXPECT_EQ(eng.Start(), X4_ERR_IS_ACTIVE);
+}
+
+TEST(Validate, EndlessArguments) {
+  Engine eng;
+  EXPECT_EQ(x4_engine_endless(&eng.e, 0, false, 1000, 50, 0), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 5, false, 1000, 50, 0), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 1, false, 30000, 50, 0), X4_ERR_FREQ_TOO_HIGH);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 1, false, 1000, 1500, 0), X4_ERR_RAMP_TOO_HIGH);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 1, true, 20, 50, 0), X4_ERR_RAMP_FREQ);
+  EXPECT_FALSE(x4_engine_busy(&eng.e));
+}
+
+// ---- profile ---------------------------------------------------------------
+
+TEST(Profile, IsqrtIsExactFloor) {
+  std::mt19937_64 rng(1);
+  for (int i = 0; i < 200000; i++) {
+    const uint64_t x = rng() >> (rng() % 64);
+    const uint64_t r = x4_isqrt(x);
+    ASSERT_LE((unsigned __int128)r * r, x);
+    ASSERT_GT((unsigned __int128)(r + 1) * (r + 1), x);
+  }
+}
+
+TEST(Profile, ManualExampleMatchesReference) {
+  const x4_move m = Move(1000, 800, 600, 400, 1000, 50);
+  const Recording r = RunMove(m);
+  for (int a = 0; a < 4; a++) EXPECT_EQ(r.rises[a].size(), size_t(std::abs(m.steps[a])));
+  EXPECT_LT(MaxErrorNs(m, r), 1000.0);
+}
+
+TEST(Profile, EdgeTimesWithin1usAcrossTheRange) {
+  const int freqs[] = {10, 11, 99, 1000, 4999, 13331, 20000};
+  const int ramps[] = {0, 1, 7, 50, 333, 1000};
+  const int32_t lengths[] = {1, 2, 3, 5, 6, 7, 10, 100, 1001, 25000};
+  for (int f : freqs)
+    for (int rp : ramps) {
+      if (rp > f) continue;
+      for (int32_t len : lengths) {
+        const x4_move m = Move(len, len / 3, -len / 2, 0, f, rp);
+        const Recording r = RunMove(m);
+        ASSERT_EQ(r.rises[0].size(), size_t(len));
+        EXPECT_LT(MaxErrorNs(m, r), 1000.0) << f << " Hz " << rp << " ms " << len;
+      }
+    }
+}
+
+TEST(Profile, LongestMoveSampledDirectly) {
+  // 16,777,216 steps: the closed form at sampled n, and the last edges of
+  // a full run below.
+  for (int f : {10, 1000, 20000})
+    for (int rp : {0, 10, 1000}) {
+      if (rp > f) continue;
+      Engine eng;
+      ASSERT_EQ(eng.Load(Move(X4_STEPS_MAX, 0, 0, 0, f, rp)), X4_OK);
+      std::mt19937_64 rng(f + rp);
+      for (int i = 0; i < 20000; i++) {
+        const uint64_t n = i < 100 ? i : (i < 200 ? X4_STEPS_MAX - 1 - (i - 100) : rng() % X4_STEPS_MAX);
+        const double ideal = ref_step_time(X4_STEPS_MAX, f, rp, n) * 1e9;
+        ASSERT_NEAR(double(x4_plan_time(&eng.e.next, n)), ideal, 1000.0) << f << " " << rp << " n=" << n;
+      }
+    }
+}
+
+TEST(Profile, LongestMoveFullRun) {
+  const x4_move m = Move(X4_STEPS_MAX, X4_STEPS_MAX / 3, 7, -X4_STEPS_MAX, 20000, 1000);
+  const Recording r = RunMove(m);
+  for (int a = 0; a < 4; a++) ASSERT_EQ(r.rises[a].size(), size_t(std::abs(m.steps[a])));
+  EXPECT_LT(MaxErrorNs(m, r), 1000.0);
+}
+
+TEST(Profile, ShortMoveKeepsPlateau) {
+  // 20 kHz with 1 s ramps needs 10,000 steps per ramp: 101 steps cannot
+  // reach it, so 48 up, 4 at constant speed, 48 down.
+  const x4_move m = Move(101, 0, 0, 0, 20000, 1000);
+  const Recording r = RunMove(m);
+  ASSERT_EQ(r.rises[0].size(), 101u);
+  std::vector<int64_t> iv;
+  for (size_t i = 1; i < r.rises[0].size(); i++) iv.push_back(r.rises[0][i] - r.rises[0][i - 1]);
+  int constant = 0;
+  for (size_t i = 1; i < iv.size(); i++)
+    if (std::llabs(iv[i] - iv[i - 1]) <= 2) constant++;
+  EXPECT_EQ(constant, X4_PLATEAU_STEPS - 1) << "intervals equal to their predecessor";
+  EXPECT_GT(iv.front(), iv[50]);
+  EXPECT_GT(iv.back(), iv[50]);
+}
+
+TEST(Profile, RampZeroIsFullFrequencyFromTheStart) {
+  const Recording r = RunMove(Move(10, 0, 0, 0, 5000, 0));
+  for (size_t i = 1; i < r.rises[0].size(); i++) EXPECT_EQ(r.rises[0][i] - r.rises[0][i - 1], 200000u);
+}
+
+TEST(Profile, CruiseAtFreqAndSymmetricRamps) {
+  const Recording r = RunMove(Move(5000, 0, 0, 0, 10000, 100));
+  const auto &t = r.rises[0];
+  EXPECT_EQ(t[2500] - t[2499], 100000u);  // 10 kHz in the middle
+  for (size_t i = 1; i < 600; i++) {
+    const int64_t up = t[i] - t[i - 1], down = t[t.size() - i] - t[t.size() - i - 1];
+    EXPECT_LE(std::llabs(up - down), 2) << i;
+  }
+}
+
+// ---- interpolation -----------------------------------------------------------
+
+TEST(Interpolation, RandomMovesStayWithinHalfAStep) {
+  std::mt19937 rng(42);
+  std::uniform_int_distribution<int32_t> len(-30000, 30000);
+  for (int trial = 0; trial < 200; trial++) {
+    x4_move m = Move(len(rng), len(rng), len(rng), len(rng), 20000, 0);
+    if (!m.steps[0]) m.steps[0] = 1;
+    Engine eng;
+    ASSERT_EQ(eng.Load(m), X4_OK);
+    ASSERT_EQ(eng.Start(), X4_OK);
+    const int lead = Leader(m);
+    const uint64_t total = std::abs(m.steps[lead]);
+    uint64_t k = 0;
+    while (x4_engine_busy(&eng.e)) {
+      x4_event ev;
+      x4_engine_fire(&eng.e, &ev);
+      if (!(ev.data & X4_CLK_BIT(lead))) continue;
+      if (eng.e.phase != X4_FALL || eng.e.n + 1 == k) continue;
+      k = eng.e.n + 1;  // leader steps made
+      for (int a = 0; a < X4_AXES; a++) {
+        // |pos - k * path / total| <= 1/2, in integers.
+        const int64_t off = 2 * int64_t(total) * eng.e.steps[a] - 2 * int64_t(k) * m.steps[a];
+        ASSERT_LE(std::llabs(off), int64_t(total)) << "axis " << a << " at " << k;
+      }
+    }
+    for (int a = 0; a < X4_AXES; a++) EXPECT_EQ(eng.e.steps[a], m.steps[a]);
+  }
+}
+
+TEST(Interpolation, MinorStepsCoincideWithLeaderSteps) {
+  const Recording r = RunMove(Move(1000, 800, 600, 400, 1000, 50));
+  for (int a = 1; a < 4; a++) {
+    for (uint64_t t : r.rises[a]) EXPECT_TRUE(std::binary_search(r.rises[0].begin(), r.rises[0].end(), t));
+    for (uint64_t t : r.falls[a]) EXPECT_TRUE(std::binary_search(r.falls[0].begin(), r.falls[0].end(), t));
+  }
+  EXPECT_EQ(r.rises[0].back(), std::max({r.rises[1].back(), r.rises[2].back(), r.rises[3].back()}));
+}
+
+// ---- signals -----------------------------------------------------------------
+
+TEST(Signals, DirectionSetupAndHold) {
+  Engine eng;
+  ASSERT_EQ(eng.Load(Move(-50, 20, 0, -3, 2000, 10)), X4_OK);
+  eng.e.data = 0xff & ~X4_CLK_MASK;  // axis 3 keeps its level
+  ASSERT_EQ(eng.Start(), X4_OK);
+  const Recording r = eng.Run();
+  const x4_event &start = r.events.front();
+  EXPECT_EQ(start.t_ns, kStart);
+  EXPECT_EQ(start.data & 0x55, X4_DIR_BIT(1) | X4_DIR_BIT(2));
+  EXPECT_EQ(r.rises[0].front() - start.t_ns, X4_DIR_SETUP_NS);
+  EXPECT_EQ(r.dir_changes, 0);
+  EXPECT_EQ(eng.e.steps[0], -50);
+  EXPECT_EQ(eng.e.steps[3], -3);
+}
+
+TEST(Signals, SymmetricClockAndPulseWidths) {
+  const Recording r = RunMove(Move(3000, 1000, 0, 0, 20000, 20));
+  const auto &up = r.rises[0], &down = r.falls[0];
+  ASSERT_EQ(up.size(), down.size());
+  for (size_t i = 0; i + 1 < up.size(); i++) {
+    const int64_t high = down[i] - up[i], low = up[i + 1] - down[i];
+    ASSERT_LE(std::llabs(high - low), 1) << i;
+    ASSERT_GE(high, 25000) << i;
+  }
+  for (size_t i = 0; i < r.rises[1].size(); i++) {
+    const size_t j = std::lower_bound(up.begin(), up.end(), r.rises[1][i]) - up.begin();
+    EXPECT_EQ(r.falls[1][i] - r.rises[1][i], down[j] - up[j]);
+  }
+}
+
+TEST(Signals, BoostWhileRampingAktivWhileRunning) {
+  Engine eng;
+  ASSERT_EQ(eng.Load(Move(2000, 0, 0, 0, 10000, 50)), X4_OK);  // 250-step ramps
+  ASSERT_EQ(eng.Start(), X4_OK);
+  const Recording r = eng.Run();
+  int step = -1;
+  for (size_t i = 0; i < r.events.size(); i++) {
+    const x4_event &ev = r.events[i];
+    if (i + 1 < r.events.size()) {
+      EXPECT_TRUE(ev.ctl & X4_CTL_AKTIV);
+    }
+    if (ev.data & X4_CLK_BIT(0)) step++;
+    if (!(ev.data & X4_CLK_BIT(0)) || step < 0) continue;
+    const bool boost = ev.ctl & X4_CTL_BOOST;
+    if (step < 240 || step > 1760) {
+      EXPECT_TRUE(boost) << step;
+    }
+    if (step > 260 && step < 1740) {
+      EXPECT_FALSE(boost) << step;
+    }
+  }
+  EXPECT_EQ(r.events.back().ctl & (X4_CTL_AKTIV | X4_CTL_BOOST), 0);
+  EXPECT_EQ(r.events.back().data & X4_CLK_MASK, 0);
+}
+
+TEST(Signals, NoBoostWithoutRamp) {
+  const Recording r = RunMove(Move(100, 0, 0, 0, 1000, 0));
+  for (const auto &ev : r.events) EXPECT_FALSE(ev.ctl & X4_CTL_BOOST);
+}
+
+TEST(Signals, OutputsSurviveMoves) {
+  Engine eng;
+  x4_engine_set_signal(&eng.e, X4_CTL_SIGNAL2, true);
+  ASSERT_EQ(eng.Load(Move(10, 0, 0, 0, 1000, 0)), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  const Recording r = eng.Run();
+  for (const auto &ev : r.events) EXPECT_EQ(ev.ctl & 3, X4_CTL_SIGNAL2);
+}
+
+// ---- brake, stop, endless, preload -------------------------------------------
+
+namespace {
+
+// Brake after `events` events and check the stop follows the ramp.
+void BrakeAfter(const x4_move &m, size_t events, int64_t expect_steps) {
+  Engine eng;
+  ASSERT_EQ(eng.Load(m), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  Recording r = eng.Run(events);
+  ASSERT_EQ(x4_engine_brake(&eng.e), x4_engine_busy(&eng.e) ? X4_OK : X4_ERR_NOT_ACTIVE);
+  record(eng.e, r);
+  EXPECT_EQ(eng.e.steps[0], int32_t(r.rises[0].size()));
+  if (expect_steps >= 0) {
+    EXPECT_EQ(int64_t(r.rises[0].size()), expect_steps) << "after " << events;
+  }
+  EXPECT_EQ(r.events.back().ctl & X4_CTL_AKTIV, 0);
+  EXPECT_EQ(r.events.back().data & X4_CLK_MASK, 0);
+}
+
+}  // namespace
+
+TEST(Brake, WhileAcceleratingMirrorsTheRamp) {
+  // 1000 Hz, 1000 ms: 500 steps of ramp. Braking when step 100 is due
+  // (1 + 2*100 events) decelerates over 100 more: steps 0..200.
+  const x4_move m = Move(10000, 5000, 0, 0, 1000, 1000);
+  BrakeAfter(m, 1 + 2 * 100, 201);
+  Engine eng;
+  ASSERT_EQ(eng.Load(m), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  Recording r = eng.Run(1 + 2 * 100);
+  ASSERT_EQ(x4_engine_brake(&eng.e), X4_OK);
+  record(eng.e, r);
+  const auto &t = r.rises[0];
+  for (size_t i = 1; i < 100; i++) {
+    const int64_t up = t[i] - t[i - 1], down = t[200 - i + 1] - t[200 - i];
+    EXPECT_LE(std::llabs(up - down), 2) << i;
+  }
+  EXPECT_EQ(eng.e.steps[1], (eng.e.steps[0] * 5000 + 5000) / 10000);  // interpolation holds
+}
+
+TEST(Brake, WhileCruisingUsesTheRampLength) {
+  // 10 kHz, 50 ms: 250-step ramps. Brake when step 1000 is due.
+  BrakeAfter(Move(100000, 0, 0, 0, 10000, 50), 1 + 2 * 1000, 1000 + 250 + 1);
+  // While the falling edge of step 999 is pending: same outcome.
+  BrakeAfter(Move(100000, 0, 0, 0, 10000, 50), 2 * 1000, 1000 + 250 + 1);
+}
+
+TEST(Brake, WhileDeceleratingChangesNothing) {
+  const x4_move m = Move(1000, 0, 0, 0, 10000, 50);
+  BrakeAfter(m, 2 * 900, 1000);
+}
+
+TEST(Brake, AtEveryEventOfAShortMove) {
+  for (size_t ev = 0; ev < 56; ev++) BrakeAfter(Move(25, 12, 0, -25, 5000, 100), ev, -1);
+}
+
+TEST(Brake, WithoutRampEndsAfterTheCurrentPulse) {
+  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 1 + 2 * 10, 10);  // rise 10 pending
+  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 2 * 10, 10);  // fall 9 pending
+  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 0, 0);  // before the start
+}
+
+TEST(Brake, EndlessMove) {
+  Engine eng;
+  ASSERT_EQ(x4_engine_endless(&eng.e, 2, true, 2000, 100, kStart), X4_OK);  // 100-step ramp
+  Recording r = eng.Run(1 + 2 * 5000);
+  ASSERT_TRUE(x4_engine_busy(&eng.e));
+  EXPECT_EQ(r.rises[1].size(), 5000u);
+  EXPECT_EQ(r.rises[1][4000] - r.rises[1][3999], 500000u);  // 2 kHz
+  ASSERT_EQ(x4_engine_brake(&eng.e), X4_OK);
+  record(eng.e, r);
+  EXPECT_EQ(r.rises[1].size(), 5000u + 100 + 1);
+  EXPECT_EQ(eng.e.steps[1], -5101);
+  EXPECT_EQ(r.events.front().data & X4_DIR_BIT(1), 0);
+}
+
+TEST(Brake, EndlessMatchesReference) {
+  Engine eng;
+  ASSERT_EQ(x4_engine_endless(&eng.e, 1, false, 20000, 1000, kStart), X4_OK);
+  const Recording r = eng.Run(1 + 2 * 300000);
+  const uint64_t origin = kStart + X4_DIR_SETUP_NS;
+  for (size_t n = 0; n < r.rises[0].size(); n += 7)
+    ASSERT_NEAR(double(r.rises[0][n] - origin), ref_step_time(0, 20000, 1000, n) * 1e9, 1000.0) << n;
+}
+
+TEST(Stop, NoFurtherEdge) {
+  Engine eng;
+  ASSERT_EQ(eng.Load(Move(1000, 0, 0, 0, 1000, 50)), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  Recording r = eng.Run(2 + 2 * 10);  // clock of step 10 is high
+  ASSERT_TRUE(eng.e.data & X4_CLK_BIT(0));
+  ASSERT_EQ(x4_engine_stop(&eng.e), X4_OK);
+  EXPECT_FALSE(x4_engine_busy(&eng.e));
+  EXPECT_EQ(eng.e.data & X4_CLK_MASK, 0);
+  EXPECT_EQ(eng.e.ctl & (X4_CTL_AKTIV | X4_CTL_BOOST), 0);
+  EXPECT_EQ(eng.e.steps[0], 11);
+  EXPECT_EQ(x4_engine_stop(&eng.e), X4_ERR_NOT_ACTIVE);
+}
+
+TEST(Preload, SecondMoveStartsAfterTheFirst) {
+  Engine eng;
+  ASSERT_EQ(eng.Load(Move(1000, 800, 600, 400, 1000, 50)), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  ASSERT_EQ(eng.Load(Move(-1000, -800, -600, -400, 1000, 50)), X4_OK);
+  const x4_plan planned = eng.e.next;
+  Recording r = eng.Run();
+  EXPECT_EQ(eng.e.steps[0], 1000);
+  ASSERT_EQ(x4_engine_start(&eng.e, r.events.back().t_ns), X4_OK);
+  EXPECT_EQ(std::memcmp(&planned, &eng.e.run, sizeof planned), 0) << "started as planned";
+  Recording back = eng.Run();
+  EXPECT_EQ(eng.e.steps[0], -1000);
+  EXPECT_EQ(eng.e.steps[3], -400);
+  EXPECT_EQ(back.rises[2].size(), 600u);
+  EXPECT_EQ(eng.Start(), X4_ERR_NOT_LOADED);
+}
