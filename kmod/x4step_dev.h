@@ -5,20 +5,57 @@
 
 #include <linux/cdev.h>
 #include <linux/device.h>
+#include <linux/hrtimer.h>
+#include <linux/irq_work.h>
 #include <linux/mutex.h>
+#include <linux/spinlock.h>
+#include <linux/wait.h>
+#include <linux/x4step.h>
 
 #include "x4_engine.h"
 
 #define X4_MAX_PORTS 16 /* minors: parport numbers 0..15 */
 
+/*
+ * Locking: `lock` (a mutex) serializes open, release, ioctls and detach.
+ * `slock` (raw: taken in the hard-irq hrtimer callback, also on RT)
+ * guards the engine, the brake codes and the port registers; it is taken
+ * by the timer, the ioctls and the input handler, never held while
+ * sleeping. The timer is only (re)armed by a mutex holder while the
+ * engine is idle and the timer cancelled, so it is never armed twice.
+ */
 struct x4_port {
 	struct device dev; /* lifetime: last of the files and the port */
 	struct cdev cdev;
 	struct parport *port;
 	struct pardevice *pardev;
-	struct mutex lock; /* controller, gone, claim */
+	struct mutex lock;
 	struct file *controller; /* the one read-write opener */
 	bool gone; /* the parport went away */
+
+	raw_spinlock_t slock;
+	struct x4_engine eng;
+	struct hrtimer timer;
+	ktime_t epoch; /* engine time 0 */
+	bool claimed; /* the registers are ours: write them */
+	u8 clock_invert; /* data bits XORed on output */
+	u8 dir_invert;
+	u32 cfg_flags;
+	u16 brake_codes[X4STEP_MAX_BRAKE_CODES];
+	u32 n_brake_codes;
+	u32 last_brake_code;
+	u64 moves_ended;
+
+	struct irq_work wake_work; /* wake pollers from the hard-irq timer */
+	wait_queue_head_t wait;
 };
+
+void x4_port_init(struct x4_port *x4);
+void x4_port_claimed(struct x4_port *x4);
+void x4_port_quiesce(struct x4_port *x4);
+int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless);
+void x4_port_write_locked(struct x4_port *x4);
+u32 x4_port_inputs(struct x4_port *x4);
+bool x4_port_brake_key(struct x4_port *x4, u32 code);
 
 #endif /* X4STEP_DEV_H */

@@ -13,7 +13,9 @@
 #include <linux/module.h>
 #include <linux/mutex.h>
 #include <linux/parport.h>
+#include <linux/poll.h>
 #include <linux/slab.h>
+#include <linux/uaccess.h>
 #include <linux/version.h>
 
 #include "x4step_dev.h"
@@ -21,6 +23,17 @@
 static dev_t x4_devt;
 static struct class *x4_class;
 static struct x4_port *x4_ports[X4_MAX_PORTS];
+
+static bool x4_busy(struct x4_port *x4)
+{
+	unsigned long flags;
+	bool busy;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	busy = x4_engine_busy(&x4->eng);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return busy;
+}
 
 static int x4_open(struct inode *inode, struct file *file)
 {
@@ -39,33 +52,316 @@ static int x4_open(struct inode *inode, struct file *file)
 		ret = -EBUSY;
 	else if (parport_claim(x4->pardev))
 		ret = -EBUSY; /* another driver holds the port */
-	else
+	if (!ret) {
 		x4->controller = file;
+		x4_port_claimed(x4);
+	}
 	mutex_unlock(&x4->lock);
 	if (ret)
 		put_device(&x4->dev);
 	return ret;
 }
 
+/*
+ * Longest brake: a 1000 ms ramp from full speed. A move still running
+ * after this is stopped without ramp.
+ */
+#define X4_RELEASE_BRAKE_WAIT (3 * HZ)
+
 static int x4_release(struct inode *inode, struct file *file)
 {
 	struct x4_port *x4 = file->private_data;
+	unsigned long flags;
 
 	mutex_lock(&x4->lock);
 	if (x4->controller == file) {
-		x4->controller = NULL;
-		if (!x4->gone)
+		/* The controller went away (maybe killed): brake, then let go. */
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		if (x4_engine_busy(&x4->eng))
+			x4_engine_brake(&x4->eng);
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		if (!x4->gone) {
+			if (!wait_event_timeout(x4->wait, !x4_busy(x4),
+						X4_RELEASE_BRAKE_WAIT))
+				dev_warn(&x4->dev, "brake timed out, stopped\n");
+			x4_port_quiesce(x4);
 			parport_release(x4->pardev);
+		}
+		x4->controller = NULL;
 	}
 	mutex_unlock(&x4->lock);
 	put_device(&x4->dev);
 	return 0;
 }
 
+static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
+{
+	struct x4_port *x4 = file->private_data;
+
+	poll_wait(file, &x4->wait, wait);
+	if (READ_ONCE(x4->gone))
+		return EPOLLERR | EPOLLHUP;
+	return x4_busy(x4) ? 0 : EPOLLIN | EPOLLRDNORM;
+}
+
+static void x4_get_status(struct x4_port *x4, struct x4step_status *st)
+{
+	unsigned long flags;
+	int i;
+
+	memset(st, 0, sizeof(*st));
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4_engine_busy(&x4->eng))
+		st->flags |= X4STEP_ST_ACTIVE;
+	if (x4->eng.loaded)
+		st->flags |= X4STEP_ST_LOADED;
+	if (x4->claimed)
+		st->flags |= X4STEP_ST_CONTROLLED;
+	st->last_brake_code = x4->last_brake_code;
+	st->outputs = x4->eng.ctl;
+	st->data = x4->eng.data;
+	for (i = 0; i < X4_AXES; i++)
+		st->steps[i] = x4->eng.steps[i];
+	st->moves_ended = x4->moves_ended;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	st->inputs = x4_port_inputs(x4);
+}
+
+static int x4_errno(int result)
+{
+	switch (result) {
+	case X4_OK:
+		return 0;
+	case X4_ERR_IS_ACTIVE:
+		return -EBUSY;
+	case X4_ERR_IS_LOADED:
+		return -EEXIST;
+	case X4_ERR_NOT_LOADED:
+		return -ENODATA;
+	case X4_ERR_NOT_ACTIVE:
+		return -ESRCH;
+	default:
+		return -EINVAL;
+	}
+}
+
+static int x4_ioctl_load(struct x4_port *x4, struct x4step_move __user *arg)
+{
+	struct x4_move m;
+	struct x4step_move um;
+	unsigned long flags;
+	int i, ret;
+
+	if (copy_from_user(&um, arg, sizeof(um)))
+		return -EFAULT;
+	if (um.flags)
+		return -EINVAL;
+	for (i = 0; i < X4_AXES; i++)
+		m.steps[i] = um.steps[i];
+	m.freq_hz = um.freq_hz;
+	m.ramp_ms = um.ramp_ms;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_engine_load(&x4->eng, &m);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (put_user(ret, &arg->result))
+		return -EFAULT;
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_endless(struct x4_port *x4,
+			    struct x4step_endless __user *arg)
+{
+	struct x4step_endless ue;
+	s32 result = X4_ERR_PARAM_FAIL;
+
+	if (copy_from_user(&ue, arg, sizeof(ue)))
+		return -EFAULT;
+	if (ue.flags || ue.reserved[0] || ue.reserved[1])
+		return -EINVAL;
+	if (ue.direction == 1 || ue.direction == -1)
+		result = x4_port_start(x4, &ue);
+	if (put_user(result, &arg->result))
+		return -EFAULT;
+	return x4_errno(result);
+}
+
+/* Brake or stop; both refuse when nothing runs. */
+static int x4_ioctl_halt(struct x4_port *x4, bool brake)
+{
+	unsigned long flags;
+	int ret;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (brake) {
+		ret = x4_engine_brake(&x4->eng);
+	} else {
+		ret = x4_engine_stop(&x4->eng);
+		if (ret == X4_OK) {
+			/* The timer finds the engine idle and does nothing. */
+			x4_port_write_locked(x4);
+			x4->moves_ended++;
+		}
+	}
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (!brake && ret == X4_OK)
+		irq_work_queue(&x4->wake_work);
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_output(struct x4_port *x4, struct x4step_output __user *arg)
+{
+	struct x4step_output out;
+	unsigned long flags;
+
+	if (copy_from_user(&out, arg, sizeof(out)))
+		return -EFAULT;
+	if ((out.signal != X4STEP_OUT_SIGNAL1 &&
+	     out.signal != X4STEP_OUT_SIGNAL2) || out.level > 1)
+		return -EINVAL;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_engine_set_signal(&x4->eng, out.signal, out.level);
+	x4_port_write_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return 0;
+}
+
+static int x4_ioctl_brake_codes(struct x4_port *x4,
+				struct x4step_brake_codes __user *arg)
+{
+	struct x4step_brake_codes bc;
+	unsigned long flags;
+	u32 i;
+
+	if (copy_from_user(&bc, arg, sizeof(bc)))
+		return -EFAULT;
+	if (bc.reserved || bc.count > X4STEP_MAX_BRAKE_CODES)
+		return -EINVAL;
+	for (i = 0; i < bc.count; i++)
+		if (!bc.codes[i] || bc.codes[i] > 255)
+			return -EINVAL;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	memcpy(x4->brake_codes, bc.codes, sizeof(x4->brake_codes));
+	x4->n_brake_codes = bc.count;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return 0;
+}
+
+static int x4_ioctl_set_config(struct x4_port *x4,
+			       struct x4step_config __user *arg)
+{
+	struct x4step_config cfg;
+	unsigned long flags;
+	int i, ret = 0;
+
+	if (copy_from_user(&cfg, arg, sizeof(cfg)))
+		return -EFAULT;
+	for (i = 0; i < ARRAY_SIZE(cfg.reserved); i++)
+		if (cfg.reserved[i])
+			return -EINVAL;
+	if (cfg.clock_invert > 0xf || cfg.dir_invert > 0xf ||
+	    cfg.flags & ~X4STEP_CFG_KEYS_PASS)
+		return -EINVAL;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4_engine_busy(&x4->eng)) {
+		ret = -EBUSY;
+	} else {
+		x4->clock_invert = cfg.clock_invert;
+		x4->dir_invert = cfg.dir_invert;
+		x4->cfg_flags = cfg.flags;
+		x4_port_write_locked(x4);
+	}
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return ret;
+}
+
+static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
+{
+	struct x4_port *x4 = file->private_data;
+	void __user *uarg = (void __user *)arg;
+	struct x4step_status st;
+	struct x4step_info info;
+	struct x4step_config cfg;
+	long ret;
+
+	/* Reading commands work on any descriptor. */
+	switch (cmd) {
+	case X4STEP_GET_INFO:
+		memset(&info, 0, sizeof(info));
+		info.abi_version = X4STEP_ABI_VERSION;
+		info.axes = X4STEP_AXES;
+		info.port = x4->port->number;
+		return copy_to_user(uarg, &info, sizeof(info)) ? -EFAULT : 0;
+	case X4STEP_GET_STATUS:
+		if (READ_ONCE(x4->gone))
+			return -ENODEV;
+		x4_get_status(x4, &st);
+		return copy_to_user(uarg, &st, sizeof(st)) ? -EFAULT : 0;
+	case X4STEP_GET_CONFIG:
+		memset(&cfg, 0, sizeof(cfg));
+		mutex_lock(&x4->lock);
+		cfg.clock_invert = x4->clock_invert;
+		cfg.dir_invert = x4->dir_invert;
+		cfg.flags = x4->cfg_flags;
+		mutex_unlock(&x4->lock);
+		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
+	case X4STEP_LOAD:
+	case X4STEP_START:
+	case X4STEP_BRAKE:
+	case X4STEP_STOP:
+	case X4STEP_MOVE_ENDLESS:
+	case X4STEP_SET_OUTPUT:
+	case X4STEP_SET_BRAKE_CODES:
+	case X4STEP_SET_CONFIG:
+		break;
+	default:
+		return -ENOTTY;
+	}
+
+	if (READ_ONCE(x4->controller) != file)
+		return -EBADF;
+	mutex_lock(&x4->lock);
+	if (x4->gone) {
+		ret = -ENODEV;
+		goto out;
+	}
+	switch (cmd) {
+	case X4STEP_LOAD:
+		ret = x4_ioctl_load(x4, uarg);
+		break;
+	case X4STEP_START:
+		ret = x4_errno(x4_port_start(x4, NULL));
+		break;
+	case X4STEP_BRAKE:
+		ret = x4_ioctl_halt(x4, true);
+		break;
+	case X4STEP_STOP:
+		ret = x4_ioctl_halt(x4, false);
+		break;
+	case X4STEP_MOVE_ENDLESS:
+		ret = x4_ioctl_endless(x4, uarg);
+		break;
+	case X4STEP_SET_OUTPUT:
+		ret = x4_ioctl_output(x4, uarg);
+		break;
+	case X4STEP_SET_BRAKE_CODES:
+		ret = x4_ioctl_brake_codes(x4, uarg);
+		break;
+	default: /* X4STEP_SET_CONFIG */
+		ret = x4_ioctl_set_config(x4, uarg);
+		break;
+	}
+out:
+	mutex_unlock(&x4->lock);
+	return ret;
+}
+
 static const struct file_operations x4_fops = {
 	.owner = THIS_MODULE,
 	.open = x4_open,
 	.release = x4_release,
+	.poll = x4_poll,
+	.unlocked_ioctl = x4_ioctl,
+	.compat_ioctl = compat_ptr_ioctl,
 	.llseek = noop_llseek,
 };
 
@@ -86,6 +382,7 @@ static void x4_attach(struct parport *port)
 	if (!x4)
 		return;
 	mutex_init(&x4->lock);
+	x4_port_init(x4);
 	x4->port = port;
 	cb.private = x4;
 	x4->pardev = parport_register_dev_model(port, KBUILD_MODNAME, &cb,
@@ -130,11 +427,16 @@ static void x4_detach(struct parport *port)
 
 	cdev_device_del(&x4->cdev, &x4->dev);
 	mutex_lock(&x4->lock);
-	x4->gone = true;
-	if (x4->controller)
+	WRITE_ONCE(x4->gone, true);
+	if (x4->controller) {
+		x4_port_quiesce(x4);
 		parport_release(x4->pardev);
+	}
 	parport_unregister_device(x4->pardev);
 	mutex_unlock(&x4->lock);
+	hrtimer_cancel(&x4->timer);
+	irq_work_sync(&x4->wake_work);
+	wake_up_interruptible(&x4->wait);
 	put_device(&x4->dev);
 }
 

@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * x4step: the engine on the port registers, paced by a hard-irq hrtimer
+ * with absolute expiry times, so a late callback never shifts the rest of
+ * the schedule.
+ */
+#define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
+
+#include <linux/parport.h>
+#include <linux/version.h>
+
+#include "x4step_dev.h"
+
+/* Pins 1, 14 and 17 (C0, C1, C3) are inverted by the port hardware. */
+#define X4_CTL_HW_INVERT 0x0b
+/* Pin 11 (S7, Busy) is inverted by the port hardware. */
+#define X4_STATUS_HW_INVERT 0x80
+
+static void x4_wake(struct irq_work *work)
+{
+	struct x4_port *x4 = container_of(work, struct x4_port, wake_work);
+
+	wake_up_interruptible(&x4->wait);
+}
+
+/* The data bits that user wiring inverts. */
+static u8 x4_data_invert(const struct x4_port *x4)
+{
+	u8 bits = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		if (x4->clock_invert & (1u << i))
+			bits |= X4_CLK_BIT(i);
+		if (x4->dir_invert & (1u << i))
+			bits |= X4_DIR_BIT(i);
+	}
+	return bits;
+}
+
+/* Put the engine's pin levels on the port. Caller holds slock. */
+void x4_port_write_locked(struct x4_port *x4)
+{
+	struct parport *port = x4->port;
+
+	if (!x4->claimed)
+		return;
+	port->ops->write_data(port, x4->eng.data ^ x4_data_invert(x4));
+	port->ops->write_control(port, x4->eng.ctl ^ X4_CTL_HW_INVERT);
+}
+
+u32 x4_port_inputs(struct x4_port *x4)
+{
+	u8 status = x4->port->ops->read_status(x4->port) ^ X4_STATUS_HW_INVERT;
+
+	/* S3..S7 are pins 15, 13, 12, 10, 11: X4GetIn bits 0..4. */
+	return (status >> 3) & 0x1f;
+}
+
+static enum hrtimer_restart x4_tick(struct hrtimer *timer)
+{
+	struct x4_port *x4 = container_of(timer, struct x4_port, timer);
+	enum hrtimer_restart ret = HRTIMER_NORESTART;
+	struct x4_event ev;
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4_engine_busy(&x4->eng)) {
+		x4_engine_fire(&x4->eng, &ev);
+		x4_port_write_locked(x4);
+		if (x4_engine_busy(&x4->eng)) {
+			hrtimer_set_expires(timer,
+					    ktime_add_ns(x4->epoch,
+							 x4_engine_due(&x4->eng)));
+			ret = HRTIMER_RESTART;
+		} else {
+			x4->moves_ended++;
+			irq_work_queue(&x4->wake_work);
+		}
+	}
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return ret;
+}
+
+void x4_port_init(struct x4_port *x4)
+{
+	raw_spin_lock_init(&x4->slock);
+	x4_engine_init(&x4->eng);
+	init_waitqueue_head(&x4->wait);
+	init_irq_work(&x4->wake_work, x4_wake);
+#if LINUX_VERSION_CODE >= KERNEL_VERSION(6, 13, 0)
+	hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
+		      HRTIMER_MODE_ABS_HARD);
+#else
+	hrtimer_init(&x4->timer, CLOCK_MONOTONIC, HRTIMER_MODE_ABS_HARD);
+	x4->timer.function = x4_tick;
+#endif
+	x4->epoch = ktime_get();
+}
+
+/* The controller claimed the port: drive it from the idle state. */
+void x4_port_claimed(struct x4_port *x4)
+{
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_engine_init(&x4->eng);
+	x4->last_brake_code = 0;
+	x4->claimed = true;
+	x4_port_write_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+}
+
+/*
+ * Stop whatever runs, at once, and forget the loaded move; all outputs
+ * low. Then the registers are no longer ours. Caller holds the mutex.
+ */
+void x4_port_quiesce(struct x4_port *x4)
+{
+	unsigned long flags;
+	bool stopped;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	stopped = x4_engine_stop(&x4->eng) == X4_OK;
+	x4->eng.loaded = false;
+	x4->eng.ctl = 0;
+	x4_port_write_locked(x4);
+	x4->claimed = false;
+	if (stopped)
+		x4->moves_ended++;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	hrtimer_cancel(&x4->timer);
+	irq_work_sync(&x4->wake_work);
+	wake_up_interruptible(&x4->wait);
+}
+
+/*
+ * Start the loaded move, or an endless one. Caller holds the mutex, so
+ * nobody else arms the timer; the engine is idle, so the timer can only
+ * be finishing a callback that does nothing: cancel it before re-arming.
+ * Returns an X4Step result.
+ */
+int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless)
+{
+	unsigned long flags;
+	int ret;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_engine_busy(&x4->eng) ? X4_ERR_IS_ACTIVE : X4_OK;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (ret == X4_OK) {
+		hrtimer_cancel(&x4->timer);
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		if (endless)
+			ret = x4_engine_endless(&x4->eng, endless->axis,
+						endless->direction < 0,
+						endless->freq_hz,
+						endless->ramp_ms,
+						ktime_get_ns() -
+						ktime_to_ns(x4->epoch));
+		else
+			ret = x4_engine_start(&x4->eng,
+					      ktime_get_ns() -
+					      ktime_to_ns(x4->epoch));
+		if (ret == X4_OK) {
+			x4->last_brake_code = 0;
+			hrtimer_start(&x4->timer,
+				      ktime_add_ns(x4->epoch,
+						   x4_engine_due(&x4->eng)),
+				      HRTIMER_MODE_ABS_HARD);
+		}
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+	}
+	return ret;
+}
+
+/* A key event: brake if it is ESC or one of the brake codes. */
+bool x4_port_brake_key(struct x4_port *x4, u32 code)
+{
+	unsigned long flags;
+	bool hit = code == 1;
+	u32 i;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	for (i = 0; i < x4->n_brake_codes && !hit; i++)
+		hit = x4->brake_codes[i] == code;
+	hit = hit && x4_engine_busy(&x4->eng);
+	if (hit && x4_engine_brake(&x4->eng) == X4_OK)
+		x4->last_brake_code = code;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return hit;
+}
