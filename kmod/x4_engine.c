@@ -71,7 +71,10 @@ int x4_ramp_check(s32 freq_hz, s32 ramp_ms)
 	return X4_OK;
 }
 
-/* Order of checks: frequency, ramp, then paths (documented in the API). */
+/*
+ * Arguments are checked before state, in this order (documented in
+ * x4step.h): frequency, ramp, paths; then loaded, then active.
+ */
 int x4_move_check(const struct x4_move *m)
 {
 	int ret = x4_ramp_check(m->freq_hz, m->ramp_ms);
@@ -186,13 +189,12 @@ void x4_engine_init(struct x4_engine *e)
 
 int x4_engine_load(struct x4_engine *e, const struct x4_move *m)
 {
-	int ret;
+	int ret = x4_move_check(m);
 
-	if (e->loaded)
-		return X4_ERR_IS_LOADED;
-	ret = x4_move_check(m);
 	if (ret)
 		return ret;
+	if (e->loaded)
+		return X4_ERR_IS_LOADED;
 	plan_axes(&e->next, m->steps);
 	plan_profile(&e->next, e->next.abs_steps[e->next.leader],
 		     (u32)m->freq_hz, (u32)m->ramp_ms);
@@ -235,15 +237,15 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 	s32 steps[X4_AXES] = { 0 };
 	int ret;
 
-	if (e->loaded)
-		return X4_ERR_IS_LOADED;
-	if (x4_engine_busy(e))
-		return X4_ERR_IS_ACTIVE;
 	if (axis < 1 || axis > X4_AXES)
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_ramp_check(freq_hz, ramp_ms);
 	if (ret)
 		return ret;
+	if (e->loaded)
+		return X4_ERR_IS_LOADED;
+	if (x4_engine_busy(e))
+		return X4_ERR_IS_ACTIVE;
 	steps[axis - 1] = negative ? -1 : 1;
 	plan_axes(&e->run, steps);
 	plan_profile(&e->run, 0, (u32)freq_hz, (u32)ramp_ms);

@@ -44,6 +44,7 @@ struct x4_port {
 	u16 brake_codes[X4STEP_MAX_BRAKE_CODES];
 	u32 n_brake_codes;
 	u32 last_brake_code;
+	u64 brake_time_ns; /* CLOCK_MONOTONIC of the last brake */
 	u64 moves_ended;
 
 	struct irq_work wake_work; /* wake pollers from the hard-irq timer */
@@ -57,5 +58,8 @@ int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless);
 void x4_port_write_locked(struct x4_port *x4);
 u32 x4_port_inputs(struct x4_port *x4);
 bool x4_port_brake_key(struct x4_port *x4, u32 code);
+bool x4_brake_key_all(u32 code);
+int x4_keys_init(void);
+void x4_keys_exit(void);
 
 #endif /* X4STEP_DEV_H */

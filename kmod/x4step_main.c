@@ -14,6 +14,7 @@
 #include <linux/mutex.h>
 #include <linux/parport.h>
 #include <linux/poll.h>
+#include <linux/rcupdate.h>
 #include <linux/slab.h>
 #include <linux/uaccess.h>
 #include <linux/version.h>
@@ -22,7 +23,26 @@
 
 static dev_t x4_devt;
 static struct class *x4_class;
-static struct x4_port *x4_ports[X4_MAX_PORTS];
+/* Read by the input handler under RCU. */
+static struct x4_port __rcu *x4_ports[X4_MAX_PORTS];
+
+/* A key event on any keyboard: true if it braked a move and is swallowed. */
+bool x4_brake_key_all(u32 code)
+{
+	struct x4_port *x4;
+	bool swallow = false;
+	int i;
+
+	rcu_read_lock();
+	for (i = 0; i < X4_MAX_PORTS; i++) {
+		x4 = rcu_dereference(x4_ports[i]);
+		if (x4 && x4_port_brake_key(x4, code))
+			swallow |= READ_ONCE(x4->cfg_flags) &
+				   X4STEP_CFG_KEYS_SWALLOW;
+	}
+	rcu_read_unlock();
+	return swallow;
+}
 
 static bool x4_busy(struct x4_port *x4)
 {
@@ -123,6 +143,7 @@ static void x4_get_status(struct x4_port *x4, struct x4step_status *st)
 	for (i = 0; i < X4_AXES; i++)
 		st->steps[i] = x4->eng.steps[i];
 	st->moves_ended = x4->moves_ended;
+	st->brake_time_ns = x4->brake_time_ns;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	st->inputs = x4_port_inputs(x4);
 }
@@ -194,6 +215,8 @@ static int x4_ioctl_halt(struct x4_port *x4, bool brake)
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (brake) {
 		ret = x4_engine_brake(&x4->eng);
+		if (ret == X4_OK)
+			x4->brake_time_ns = ktime_get_ns();
 	} else {
 		ret = x4_engine_stop(&x4->eng);
 		if (ret == X4_OK) {
@@ -259,7 +282,7 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 		if (cfg.reserved[i])
 			return -EINVAL;
 	if (cfg.clock_invert > 0xf || cfg.dir_invert > 0xf ||
-	    cfg.flags & ~X4STEP_CFG_KEYS_PASS)
+	    cfg.flags & ~X4STEP_CFG_KEYS_SWALLOW)
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4_engine_busy(&x4->eng)) {
@@ -406,7 +429,7 @@ static void x4_attach(struct parport *port)
 	if (ret)
 		goto err_put;
 
-	x4_ports[port->number] = x4;
+	rcu_assign_pointer(x4_ports[port->number], x4);
 	dev_info(&x4->dev, "on %s\n", port->name);
 	return;
 
@@ -420,10 +443,13 @@ static void x4_detach(struct parport *port)
 {
 	struct x4_port *x4;
 
-	if (port->number >= X4_MAX_PORTS || !x4_ports[port->number])
+	if (port->number >= X4_MAX_PORTS)
 		return;
-	x4 = x4_ports[port->number];
-	x4_ports[port->number] = NULL;
+	x4 = rcu_dereference_protected(x4_ports[port->number], true);
+	if (!x4)
+		return;
+	RCU_INIT_POINTER(x4_ports[port->number], NULL);
+	synchronize_rcu(); /* the input handler no longer sees it */
 
 	cdev_device_del(&x4->cdev, &x4->dev);
 	mutex_lock(&x4->lock);
@@ -480,8 +506,13 @@ static int __init x4_init(void)
 	ret = parport_register_driver(&x4_driver);
 	if (ret)
 		goto err_class;
+	ret = x4_keys_init();
+	if (ret)
+		goto err_driver;
 	return 0;
 
+err_driver:
+	parport_unregister_driver(&x4_driver);
 err_class:
 	class_destroy(x4_class);
 err_region:
@@ -491,6 +522,7 @@ err_region:
 
 static void __exit x4_exit(void)
 {
+	x4_keys_exit();
 	parport_unregister_driver(&x4_driver);
 	class_destroy(x4_class);
 	unregister_chrdev_region(x4_devt, X4_MAX_PORTS);

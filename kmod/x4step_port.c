@@ -185,8 +185,10 @@ bool x4_port_brake_key(struct x4_port *x4, u32 code)
 	for (i = 0; i < x4->n_brake_codes && !hit; i++)
 		hit = x4->brake_codes[i] == code;
 	hit = hit && x4_engine_busy(&x4->eng);
-	if (hit && x4_engine_brake(&x4->eng) == X4_OK)
+	if (hit && x4_engine_brake(&x4->eng) == X4_OK) {
 		x4->last_brake_code = code;
+		x4->brake_time_ns = ktime_get_ns();
+	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return hit;
 }

@@ -79,7 +79,9 @@ struct x4step_status {
 	__s64 steps[X4STEP_AXES]; /* signed steps since the last start */
 	__u64 moves_ended; /* counts moves that came to an end */
 	__u32 data; /* data register pin levels (pins 2..9) */
-	__u32 reserved[5];
+	__u32 reserved0;
+	__u64 brake_time_ns; /* CLOCK_MONOTONIC of the last brake request */
+	__u32 reserved[2];
 };
 
 /* X4STEP_SET_OUTPUT: X4SetOut. */
@@ -97,7 +99,11 @@ struct x4step_brake_codes {
 };
 
 /* X4STEP_SET_CONFIG / X4STEP_GET_CONFIG: per-port wiring. */
-#define X4STEP_CFG_KEYS_PASS (1u << 0) /* brake keys also reach applications */
+/*
+ * Brake keys reach applications too unless this is set: then, as in the
+ * DOS library, a brake key pressed while a move runs is swallowed.
+ */
+#define X4STEP_CFG_KEYS_SWALLOW (1u << 0)
 struct x4step_config {
 	__u32 clock_invert; /* bit i: axis i+1 clock is active low */
 	__u32 dir_invert; /* bit i: axis i+1 direction inverted */

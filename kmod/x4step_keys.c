@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * x4step brake keys: an input handler on every keyboard that brakes a
+ * running move when one of its brake codes arrives (X4BrakeCodes), in the
+ * input event's own context, with no round trip through user space.
+ *
+ * Codes are the PC/AT scan code set 1 of the X4Step manual: make code c
+ * (1..127) for a press, break code c + 128 for the release. Linux key
+ * codes 1..88 are set-1 make codes already; extended keys are translated
+ * to the code the MF2 keyboard sends after its E0 prefix.
+ */
+#define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
+
+#include <linux/input.h>
+#include <linux/slab.h>
+
+#include "x4step_dev.h"
+
+#define X4_KEY_ESC 1
+
+static u8 x4_set1_code(unsigned int key)
+{
+	switch (key) {
+	case 1 ... 88:
+		return key;
+	case KEY_KPENTER:
+		return 28;
+	case KEY_RIGHTCTRL:
+		return 29;
+	case KEY_KPSLASH:
+		return 53;
+	case KEY_SYSRQ:
+		return 55;
+	case KEY_RIGHTALT:
+		return 56;
+	case KEY_PAUSE:
+		return 69;
+	case KEY_HOME:
+		return 71;
+	case KEY_UP:
+		return 72;
+	case KEY_PAGEUP:
+		return 73;
+	case KEY_LEFT:
+		return 75;
+	case KEY_RIGHT:
+		return 77;
+	case KEY_END:
+		return 79;
+	case KEY_DOWN:
+		return 80;
+	case KEY_PAGEDOWN:
+		return 81;
+	case KEY_INSERT:
+		return 82;
+	case KEY_DELETE:
+		return 83;
+	case KEY_LEFTMETA:
+		return 91;
+	case KEY_RIGHTMETA:
+		return 92;
+	case KEY_COMPOSE:
+		return 93;
+	default:
+		return 0;
+	}
+}
+
+/*
+ * Runs under the input device's event lock with interrupts off: only the
+ * engine's raw spinlock is taken. Returns true to swallow the event.
+ */
+static bool x4_key_filter(struct input_handle *handle, unsigned int type,
+			  unsigned int code, int value)
+{
+	u8 make;
+
+	if (type != EV_KEY || value == 2)
+		return false; /* auto-repeat is not a new press */
+	make = x4_set1_code(code);
+	if (!make)
+		return false;
+	return x4_brake_key_all(value ? make : make + 128);
+}
+
+static int x4_key_connect(struct input_handler *handler,
+			  struct input_dev *dev,
+			  const struct input_device_id *id)
+{
+	struct input_handle *handle;
+	int ret;
+
+	handle = kzalloc(sizeof(*handle), GFP_KERNEL);
+	if (!handle)
+		return -ENOMEM;
+	handle->dev = dev;
+	handle->handler = handler;
+	handle->name = KBUILD_MODNAME;
+
+	ret = input_register_handle(handle);
+	if (ret)
+		goto err_free;
+	ret = input_open_device(handle);
+	if (ret)
+		goto err_unregister;
+	return 0;
+
+err_unregister:
+	input_unregister_handle(handle);
+err_free:
+	kfree(handle);
+	return ret;
+}
+
+static void x4_key_disconnect(struct input_handle *handle)
+{
+	input_close_device(handle);
+	input_unregister_handle(handle);
+	kfree(handle);
+}
+
+static const struct input_device_id x4_key_ids[] = {
+	{
+		.flags = INPUT_DEVICE_ID_MATCH_EVBIT | INPUT_DEVICE_ID_MATCH_KEYBIT,
+		.evbit = { BIT_MASK(EV_KEY) },
+		.keybit = { [BIT_WORD(KEY_ESC)] = BIT_MASK(KEY_ESC) },
+	}, /* keyboards: anything that has an ESC key */
+	{ },
+};
+
+static struct input_handler x4_key_handler = {
+	.filter = x4_key_filter,
+	.connect = x4_key_connect,
+	.disconnect = x4_key_disconnect,
+	.name = KBUILD_MODNAME,
+	.id_table = x4_key_ids,
+};
+
+int x4_keys_init(void)
+{
+	return input_register_handler(&x4_key_handler);
+}
+
+void x4_keys_exit(void)
+{
+	input_unregister_handler(&x4_key_handler);
+}

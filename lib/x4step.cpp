@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// libx4step C++ API over the x4step kernel module's ioctl interface.
+#include "x4step.hpp"
+
+#include <fcntl.h>
+#include <linux/x4step.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <ostream>
+#include <utility>
+
+extern "C" {
+#include "x4_engine.h"  // the kernel's own argument checks
+}
+
+namespace x4step {
+namespace {
+
+class category_impl : public std::error_category {
+ public:
+  const char *name() const noexcept override { return "x4step"; }
+  std::string message(int ev) const override {
+    switch (static_cast<errc>(ev)) {
+      case errc::ok: return "no error";
+      case errc::no_steps: return "no steps: give at least one axis a non-zero path";
+      case errc::freq_too_high: return "frequency too high: use at most 20000 Hz";
+      case errc::freq_too_low: return "frequency too low: use at least 10 Hz";
+      case errc::ramp_too_high: return "ramp too long: use at most 1000 ms";
+      case errc::ramp_freq: return "ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)";
+      case errc::lpt_not_found: return "port not found: is x4step loaded, the port present and not in use?";
+      case errc::not_active: return "no move is running";
+      case errc::param_fail: return "parameter out of range";
+      case errc::init_not_done: return "no port opened: call X4Init first";
+      case errc::is_active: return "a move is running: wait for it to end or brake it";
+      case errc::not_loaded: return "nothing loaded: load a move first";
+      case errc::is_loaded: return "a move is loaded already: start it first";
+      case errc::steps_too_high: return "path too long: at most 16777216 steps per axis";
+    }
+    return "unknown x4step error " + std::to_string(ev);
+  }
+};
+
+[[noreturn]] void fail(errc e) { throw error(make_error_code(e)); }
+
+[[noreturn]] void fail_errno(int err, const std::string &what) {
+  throw error(std::error_code(err, std::system_category()), what);
+}
+
+// The module's errnos for the X4Step state errors (see linux/x4step.h).
+[[noreturn]] void fail_ioctl(int err, const char *what, int result = 0) {
+  switch (err) {
+    case EINVAL:
+      if (result > 0 && result <= static_cast<int>(errc::steps_too_high)) fail(static_cast<errc>(result));
+      fail(errc::param_fail);
+    case EBUSY: fail(errc::is_active);
+    case EEXIST: fail(errc::is_loaded);
+    case ENODATA: fail(errc::not_loaded);
+    case ESRCH: fail(errc::not_active);
+    case ENODEV:
+    case ENXIO: fail(errc::lpt_not_found);
+    default: fail_errno(err, what);
+  }
+}
+
+int open_device(const std::string &path, int flags) {
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno == ENOENT || errno == ENODEV || errno == ENXIO || errno == EBUSY) fail(errc::lpt_not_found);
+    fail_errno(errno, "open " + path);
+  }
+  x4step_info info{};
+  if (::ioctl(fd, X4STEP_GET_INFO, &info) || info.abi_version != X4STEP_ABI_VERSION) {
+    ::close(fd);
+    fail(errc::lpt_not_found);
+  }
+  return fd;
+}
+
+// One open descriptor; the common part of controller and monitor.
+struct device {
+  int fd = -1;
+  std::string path;
+
+  device(const std::string &p, int flags) : fd(open_device(p, flags)), path(p) {}
+  device(const device &) = delete;
+  device &operator=(const device &) = delete;
+  ~device() {
+    if (fd >= 0) ::close(fd);
+  }
+
+  void call(unsigned long cmd, void *arg, const char *what) const {
+    if (::ioctl(fd, cmd, arg)) fail_ioctl(errno, what);
+  }
+
+  status get_status() const {
+    x4step_status st{};
+    call(X4STEP_GET_STATUS, &st, "X4STEP_GET_STATUS");
+    status s;
+    s.active = st.flags & X4STEP_ST_ACTIVE;
+    s.loaded = st.flags & X4STEP_ST_LOADED;
+    s.controlled = st.flags & X4STEP_ST_CONTROLLED;
+    std::copy(std::begin(st.steps), std::end(st.steps), s.steps.begin());
+    s.inputs = st.inputs;
+    s.outputs = st.outputs;
+    s.data = st.data;
+    s.last_brake_code = static_cast<int>(st.last_brake_code);
+    s.moves_ended = st.moves_ended;
+    return s;
+  }
+
+  bool wait(std::chrono::milliseconds timeout) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    for (;;) {
+      int ms = -1;
+      if (timeout.count() >= 0) {
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+            deadline - std::chrono::steady_clock::now());
+        ms = static_cast<int>(std::max<long long>(0, left.count()));
+      }
+      pollfd p{fd, POLLIN, 0};
+      const int n = ::poll(&p, 1, ms);
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) fail_errno(errno, "poll " + path);
+      if (n == 0) return false;
+      if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
+      return true;
+    }
+  }
+};
+
+int32_t narrow_steps(long s) {
+  // Beyond the range, keep a value the kernel's check also refuses.
+  return static_cast<int32_t>(std::clamp<long>(s, -steps_max - 1, steps_max + 1));
+}
+
+}  // namespace
+
+const std::error_category &category() noexcept {
+  static const category_impl instance;
+  return instance;
+}
+
+std::error_code make_error_code(errc e) noexcept { return {static_cast<int>(e), category()}; }
+
+errc check(const move &m) noexcept {
+  x4_move km{};
+  for (int i = 0; i < axes; i++) km.steps[i] = narrow_steps(m.steps[i]);
+  km.freq_hz = m.freq_hz;
+  km.ramp_ms = static_cast<int32_t>(std::clamp<long long>(m.ramp.count(), -1, ramp_max.count() + 1));
+  return static_cast<errc>(x4_move_check(&km));
+}
+
+errc check_endless(int axis, int freq_hz, std::chrono::milliseconds ramp) noexcept {
+  if (axis < 1 || axis > axes) return errc::param_fail;
+  return static_cast<errc>(
+      x4_ramp_check(freq_hz, static_cast<int32_t>(std::clamp<long long>(ramp.count(), -1, ramp_max.count() + 1))));
+}
+
+std::string device_path(int lpt) {
+  if (lpt < 1 || lpt > 4) fail(errc::param_fail);
+  return "/dev/x4step" + std::to_string(lpt - 1);
+}
+
+std::ostream &operator<<(std::ostream &os, const status &s) {
+  os << (s.active ? "active" : "idle") << (s.loaded ? " loaded" : "") << " steps";
+  for (long long v : s.steps) os << ' ' << v;
+  return os << " inputs 0x" << std::hex << s.inputs << " outputs 0x" << s.outputs << std::dec
+            << " brake-code " << s.last_brake_code;
+}
+
+// ---- controller -------------------------------------------------------------
+
+struct controller::impl : device {
+  using device::device;
+};
+
+controller::controller(int lpt) : controller(device_path(lpt)) {}
+controller::controller(const std::string &path) : impl_(std::make_unique<impl>(path, O_RDWR)) {}
+controller::controller(controller &&other) noexcept = default;
+controller &controller::operator=(controller &&other) noexcept {
+  if (this != &other) {
+    close();
+    impl_ = std::move(other.impl_);
+  }
+  return *this;
+}
+controller::~controller() { close(); }
+
+controller::operator bool() const noexcept { return impl_ != nullptr; }
+
+const std::string &controller::path() const noexcept {
+  static const std::string none;
+  return impl_ ? impl_->path : none;
+}
+
+const controller::impl &controller::need() const {
+  if (!impl_) fail(errc::init_not_done);
+  return *impl_;
+}
+
+void controller::load(const move &m) {
+  const auto &d = need();
+  if (const errc e = check(m); e != errc::ok) fail(e);
+  x4step_move km{};
+  for (int i = 0; i < axes; i++) km.steps[i] = narrow_steps(m.steps[i]);
+  km.freq_hz = m.freq_hz;
+  km.ramp_ms = static_cast<int32_t>(m.ramp.count());
+  if (::ioctl(d.fd, X4STEP_LOAD, &km)) fail_ioctl(errno, "X4STEP_LOAD", km.result);
+}
+
+void controller::start() { need().call(X4STEP_START, nullptr, "X4STEP_START"); }
+void controller::brake() { need().call(X4STEP_BRAKE, nullptr, "X4STEP_BRAKE"); }
+void controller::stop() { need().call(X4STEP_STOP, nullptr, "X4STEP_STOP"); }
+
+void controller::move_endless(int axis, direction dir, int freq_hz, std::chrono::milliseconds ramp) {
+  const auto &d = need();
+  if (const errc e = check_endless(axis, freq_hz, ramp); e != errc::ok) fail(e);
+  x4step_endless ke{};
+  ke.axis = axis;
+  ke.direction = dir == direction::negative ? -1 : 1;
+  ke.freq_hz = freq_hz;
+  ke.ramp_ms = static_cast<int32_t>(ramp.count());
+  if (::ioctl(d.fd, X4STEP_MOVE_ENDLESS, &ke)) fail_ioctl(errno, "X4STEP_MOVE_ENDLESS", ke.result);
+}
+
+status controller::get_status() const { return need().get_status(); }
+bool controller::active() const { return get_status().active; }
+
+long long controller::steps(int axis) const {
+  if (axis < 1 || axis > axes) fail(errc::param_fail);
+  return get_status().steps[axis - 1];
+}
+
+unsigned controller::inputs() const { return get_status().inputs; }
+
+bool controller::wait(std::chrono::milliseconds timeout) const { return need().wait(timeout); }
+
+void controller::set_output(signal s, bool high) {
+  x4step_output out{s == signal::one ? X4STEP_OUT_SIGNAL1 : X4STEP_OUT_SIGNAL2, high ? 1u : 0u};
+  need().call(X4STEP_SET_OUTPUT, &out, "X4STEP_SET_OUTPUT");
+}
+
+void controller::set_brake_codes(const std::vector<int> &codes) {
+  const auto &d = need();
+  if (codes.size() > X4STEP_MAX_BRAKE_CODES) fail(errc::param_fail);
+  x4step_brake_codes bc{};
+  for (int c : codes) {
+    if (c < 1 || c > 255) fail(errc::param_fail);
+    bc.codes[bc.count++] = static_cast<uint16_t>(c);
+  }
+  d.call(X4STEP_SET_BRAKE_CODES, &bc, "X4STEP_SET_BRAKE_CODES");
+}
+
+void controller::set_config(const config &c) {
+  if (c.clock_invert > 0xf || c.dir_invert > 0xf) fail(errc::param_fail);
+  x4step_config kc{};
+  kc.clock_invert = c.clock_invert;
+  kc.dir_invert = c.dir_invert;
+  kc.flags = c.keys_swallow ? X4STEP_CFG_KEYS_SWALLOW : 0;
+  need().call(X4STEP_SET_CONFIG, &kc, "X4STEP_SET_CONFIG");
+}
+
+config controller::get_config() const {
+  x4step_config kc{};
+  need().call(X4STEP_GET_CONFIG, &kc, "X4STEP_GET_CONFIG");
+  return {kc.clock_invert, kc.dir_invert, (kc.flags & X4STEP_CFG_KEYS_SWALLOW) != 0};
+}
+
+void controller::close() {
+  if (!impl_) return;
+  // Brake and wait here rather than in the kernel's release, so that the
+  // caller's close returns once the motors stand.
+  if (::ioctl(impl_->fd, X4STEP_BRAKE) == 0) impl_->wait(std::chrono::milliseconds(5000));
+  impl_.reset();
+}
+
+// ---- monitor ------------------------------------------------------------------
+
+struct monitor::impl : device {
+  using device::device;
+};
+
+monitor::monitor(int lpt) : monitor(device_path(lpt)) {}
+monitor::monitor(const std::string &path) : impl_(std::make_unique<impl>(path, O_RDONLY)) {}
+monitor::monitor(monitor &&other) noexcept = default;
+monitor &monitor::operator=(monitor &&other) noexcept = default;
+monitor::~monitor() = default;
+
+status monitor::get_status() const {
+  if (!impl_) fail(errc::init_not_done);
+  return impl_->get_status();
+}
+
+bool monitor::wait(std::chrono::milliseconds timeout) const {
+  if (!impl_) fail(errc::init_not_done);
+  return impl_->wait(timeout);
+}
+
+}  // namespace x4step
