@@ -1,0 +1,24 @@
+/* SPDX-License-Identifier: LGPL-2.1-or-later */
+/* X4Step manual, chapter 4.2: the example of X4GetSteps (printing only every 1000th reading), as printed; only
+ * main() gets its int and the port is LPT1 (the manual uses LPT2; the
+ * test bench has one port). */
+#include <stdio.h>
+#include "x4step.h"
+
+int main(void)
+{
+    long n = 0;
+
+    X4Init(1);           // X4Step starten und
+                        // LPT2 verwenden
+    X4MovePos(1,1000,50);
+                        // Achse 1 endlos fahren mit
+                        // 1000 Hz und 50 ms Rampe
+    while (X4GetState()) // warten, bis Abbruch
+        if (++n % 1000 == 0)
+            printf("\n%ld",X4GetSteps(1));
+                        // Schritte lesen und ausgeben
+    printf("\nSEG %ld 0 0 0 braked\n", X4GetSteps(1));
+    X4ReInit();         // X4Step beenden
+    return 0;
+}
