@@ -67,9 +67,9 @@ constexpr long steps_max = 16777216;
 
 /// An interpolated move (X4Load): the longest path leads at freq_hz.
 struct move {
-  std::array<long, axes> steps{};        ///< per axis, signed
-  int freq_hz = 1000;                    ///< leader frequency, 10..20000
-  std::chrono::milliseconds ramp{0};     ///< 0..1000 ms, and ms <= Hz
+  std::array<long, axes> steps{};     ///< per axis, signed
+  int freq_hz = 1000;                 ///< leader frequency, 10..20000
+  std::chrono::milliseconds ramp{0};  ///< 0..1000 ms, and ms <= Hz
 };
 
 /// Why a move is invalid, or errc::ok.
@@ -85,14 +85,14 @@ enum class signal { one = 1, two = 2 };  ///< pin 1, pin 14
 
 /// A snapshot of a port.
 struct status {
-  bool active = false;      ///< a move runs (AKTIV)
-  bool loaded = false;      ///< a move is loaded
-  bool controlled = false;  ///< a controller has the port
+  bool active = false;                  ///< a move runs (AKTIV)
+  bool loaded = false;                  ///< a move is loaded
+  bool controlled = false;              ///< a controller has the port
   std::array<long long, axes> steps{};  ///< since the last start
-  unsigned inputs = 0;      ///< X4GetIn bits
-  unsigned outputs = 0;     ///< bit0 pin 1, bit1 pin 14, bit2 BOOST, bit3 AKTIV
-  unsigned data = 0;        ///< pin levels of pins 2..9
-  int last_brake_code = 0;  ///< key code that braked the last move
+  unsigned inputs = 0;                  ///< X4GetIn bits
+  unsigned outputs = 0;                 ///< bit0 pin 1, bit1 pin 14, bit2 BOOST, bit3 AKTIV
+  unsigned data = 0;                    ///< pin levels of pins 2..9
+  int last_brake_code = 0;              ///< key code that braked the last move
   std::uint64_t moves_ended = 0;
 };
 std::ostream &operator<<(std::ostream &os, const status &s);
@@ -124,10 +124,10 @@ class controller {
   explicit operator bool() const noexcept;
   const std::string &path() const noexcept;
 
-  void load(const move &m);   ///< prepare (or preload while running)
-  void start();               ///< run the loaded move; clears the counters
-  void brake();               ///< decelerate along the ramp to rest
-  void stop();                ///< emergency stop, no ramp
+  void load(const move &m);  ///< prepare (or preload while running)
+  void start();              ///< run the loaded move; clears the counters
+  void brake();              ///< decelerate along the ramp to rest
+  void stop();               ///< emergency stop, no ramp
   void move_endless(int axis, direction dir, int freq_hz, std::chrono::milliseconds ramp);
 
   status get_status() const;

@@ -315,7 +315,7 @@ int x4_engine_stop(struct x4_engine *e)
 {
 	if (!x4_engine_busy(e))
 		return X4_ERR_NOT_ACTIVE;
-	e->data &= (u8)~X4_CLK_MASK;
+	e->data &= X4_DIR_MASK;
 	e->ctl &= (u8)~(X4_CTL_AKTIV | X4_CTL_BOOST);
 	e->phase = X4_IDLE;
 	return X4_OK;

@@ -63,6 +63,7 @@ enum x4_result {
 #define X4_DIR_BIT(axis) ((u8)(1u << (2 * (axis))))
 #define X4_CLK_BIT(axis) ((u8)(2u << (2 * (axis))))
 #define X4_CLK_MASK 0xaa
+#define X4_DIR_MASK 0x55
 
 /* Control outputs as pin levels. */
 #define X4_CTL_SIGNAL1 0x01 /* pin 1 */

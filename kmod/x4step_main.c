@@ -17,8 +17,8 @@
 #include <linux/rcupdate.h>
 #include <linux/slab.h>
 #include <linux/uaccess.h>
-#include <linux/version.h>
 
+#include "x4step_compat.h"
 #include "x4step_dev.h"
 
 static dev_t x4_devt;
@@ -470,16 +470,10 @@ static struct parport_driver x4_driver = {
 	.name = KBUILD_MODNAME,
 	.match_port = x4_attach,
 	.detach = x4_detach,
-#if LINUX_VERSION_CODE < KERNEL_VERSION(6, 7, 0)
-	.devmodel = true,
-#endif
+	X4_PARPORT_DEVMODEL
 };
 
-#if LINUX_VERSION_CODE >= KERNEL_VERSION(6, 2, 0)
-static char *x4_devnode(const struct device *dev, umode_t *mode)
-#else
-static char *x4_devnode(struct device *dev, umode_t *mode)
-#endif
+static char *x4_devnode(X4_DEVNODE_CONST struct device *dev, umode_t *mode)
 {
 	if (mode)
 		*mode = 0660; /* group lp, as /dev/parport* (udev rule) */
@@ -493,11 +487,7 @@ static int __init x4_init(void)
 	ret = alloc_chrdev_region(&x4_devt, 0, X4_MAX_PORTS, KBUILD_MODNAME);
 	if (ret)
 		return ret;
-#if LINUX_VERSION_CODE >= KERNEL_VERSION(6, 4, 0)
-	x4_class = class_create(KBUILD_MODNAME);
-#else
-	x4_class = class_create(THIS_MODULE, KBUILD_MODNAME);
-#endif
+	x4_class = x4_class_create(KBUILD_MODNAME);
 	if (IS_ERR(x4_class)) {
 		ret = PTR_ERR(x4_class);
 		goto err_region;

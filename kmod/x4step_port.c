@@ -7,8 +7,8 @@
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
 #include <linux/parport.h>
-#include <linux/version.h>
 
+#include "x4step_compat.h"
 #include "x4step_dev.h"
 
 /* Pins 1, 14 and 17 (C0, C1, C3) are inverted by the port hardware. */
@@ -88,24 +88,20 @@ void x4_port_init(struct x4_port *x4)
 	x4_engine_init(&x4->eng);
 	init_waitqueue_head(&x4->wait);
 	init_irq_work(&x4->wake_work, x4_wake);
-#if LINUX_VERSION_CODE >= KERNEL_VERSION(6, 13, 0)
-	hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
-		      HRTIMER_MODE_ABS_HARD);
-#else
-	hrtimer_init(&x4->timer, CLOCK_MONOTONIC, HRTIMER_MODE_ABS_HARD);
-	x4->timer.function = x4_tick;
-#endif
+	x4_hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
+			 HRTIMER_MODE_ABS_HARD);
 	x4->epoch = ktime_get();
 }
 
-/* The controller claimed the port: drive it from the idle state. */
+/*
+ * The controller claimed the port: drive it from the idle state the last
+ * controller left (step counters stay readable, as after any stop).
+ */
 void x4_port_claimed(struct x4_port *x4)
 {
 	unsigned long flags;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	x4_engine_init(&x4->eng);
-	x4->last_brake_code = 0;
 	x4->claimed = true;
 	x4_port_write_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);

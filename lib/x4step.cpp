@@ -25,20 +25,34 @@ class category_impl : public std::error_category {
   const char *name() const noexcept override { return "x4step"; }
   std::string message(int ev) const override {
     switch (static_cast<errc>(ev)) {
-      case errc::ok: return "no error";
-      case errc::no_steps: return "no steps: give at least one axis a non-zero path";
-      case errc::freq_too_high: return "frequency too high: use at most 20000 Hz";
-      case errc::freq_too_low: return "frequency too low: use at least 10 Hz";
-      case errc::ramp_too_high: return "ramp too long: use at most 1000 ms";
-      case errc::ramp_freq: return "ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)";
-      case errc::lpt_not_found: return "port not found: is x4step loaded, the port present and not in use?";
-      case errc::not_active: return "no move is running";
-      case errc::param_fail: return "parameter out of range";
-      case errc::init_not_done: return "no port opened: call X4Init first";
-      case errc::is_active: return "a move is running: wait for it to end or brake it";
-      case errc::not_loaded: return "nothing loaded: load a move first";
-      case errc::is_loaded: return "a move is loaded already: start it first";
-      case errc::steps_too_high: return "path too long: at most 16777216 steps per axis";
+      case errc::ok:
+        return "no error";
+      case errc::no_steps:
+        return "no steps: give at least one axis a non-zero path";
+      case errc::freq_too_high:
+        return "frequency too high: use at most 20000 Hz";
+      case errc::freq_too_low:
+        return "frequency too low: use at least 10 Hz";
+      case errc::ramp_too_high:
+        return "ramp too long: use at most 1000 ms";
+      case errc::ramp_freq:
+        return "ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)";
+      case errc::lpt_not_found:
+        return "port not found: is x4step loaded, the port present and not in use?";
+      case errc::not_active:
+        return "no move is running";
+      case errc::param_fail:
+        return "parameter out of range";
+      case errc::init_not_done:
+        return "no port opened: call X4Init first";
+      case errc::is_active:
+        return "a move is running: wait for it to end or brake it";
+      case errc::not_loaded:
+        return "nothing loaded: load a move first";
+      case errc::is_loaded:
+        return "a move is loaded already: start it first";
+      case errc::steps_too_high:
+        return "path too long: at most 16777216 steps per axis";
     }
     return "unknown x4step error " + std::to_string(ev);
   }
@@ -56,13 +70,19 @@ class category_impl : public std::error_category {
     case EINVAL:
       if (result > 0 && result <= static_cast<int>(errc::steps_too_high)) fail(static_cast<errc>(result));
       fail(errc::param_fail);
-    case EBUSY: fail(errc::is_active);
-    case EEXIST: fail(errc::is_loaded);
-    case ENODATA: fail(errc::not_loaded);
-    case ESRCH: fail(errc::not_active);
+    case EBUSY:
+      fail(errc::is_active);
+    case EEXIST:
+      fail(errc::is_loaded);
+    case ENODATA:
+      fail(errc::not_loaded);
+    case ESRCH:
+      fail(errc::not_active);
     case ENODEV:
-    case ENXIO: fail(errc::lpt_not_found);
-    default: fail_errno(err, what);
+    case ENXIO:
+      fail(errc::lpt_not_found);
+    default:
+      fail_errno(err, what);
   }
 }
 
@@ -156,8 +176,8 @@ errc check(const move &m) noexcept {
 
 errc check_endless(int axis, int freq_hz, std::chrono::milliseconds ramp) noexcept {
   if (axis < 1 || axis > axes) return errc::param_fail;
-  return static_cast<errc>(
-      x4_ramp_check(freq_hz, static_cast<int32_t>(std::clamp<long long>(ramp.count(), -1, ramp_max.count() + 1))));
+  return static_cast<errc>(x4_ramp_check(
+      freq_hz, static_cast<int32_t>(std::clamp<long long>(ramp.count(), -1, ramp_max.count() + 1))));
 }
 
 std::string device_path(int lpt) {

@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The X4Step C API: a thin layer over the C++ API. Nothing is thrown
 // across it: every exception becomes the documented error code.
-#include "x4step.h"
-
 #include <chrono>
 #include <cstring>
 #include <optional>
 #include <vector>
 
+#include "x4step.h"
 #include "x4step.hpp"
 
 namespace {
@@ -90,9 +89,13 @@ long X4GetSteps(int axis) {
   return static_cast<long>(status_or_idle().steps[axis - 1]);
 }
 
-int X4MovePos(int axis, int freq, int ramp) { return move_endless(axis, freq, ramp, x4step::direction::positive); }
+int X4MovePos(int axis, int freq, int ramp) {
+  return move_endless(axis, freq, ramp, x4step::direction::positive);
+}
 
-int X4MoveNeg(int axis, int freq, int ramp) { return move_endless(axis, freq, ramp, x4step::direction::negative); }
+int X4MoveNeg(int axis, int freq, int ramp) {
+  return move_endless(axis, freq, ramp, x4step::direction::negative);
+}
 
 int X4BrakeCodes(char *codes) {
   if (!port) return X4ErrInitNotDone;
@@ -108,7 +111,8 @@ void X4ClearTimer(void) { timer_start = std::chrono::steady_clock::now(); }
 
 long X4GetTimer(void) {
   return static_cast<long>(
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - timer_start).count());
+      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - timer_start)
+          .count());
 }
 
 int X4GetIn(void) { return static_cast<int>(status_or_idle().inputs); }

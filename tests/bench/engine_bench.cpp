@@ -38,8 +38,9 @@ int main(int argc, char **argv) {
     const double ideal_rise = x4test::ref_step_time(20000, 20000, 50, n) * 1e9;
     double ideal = ideal_rise;
     if (!clk) {
-      const double next = n + 1 < 20000 ? x4test::ref_step_time(20000, 20000, 50, n + 1) * 1e9
-                                         : 2 * prev_ideal - x4test::ref_step_time(20000, 20000, 50, n - 1) * 1e9;
+      const double next = n + 1 < 20000
+                              ? x4test::ref_step_time(20000, 20000, 50, n + 1) * 1e9
+                              : 2 * prev_ideal - x4test::ref_step_time(20000, 20000, 50, n - 1) * 1e9;
       ideal = (prev_ideal + next) / 2;
       if (per_step) CALLGRIND_DUMP_STATS_AT("step");
       n++;

@@ -41,12 +41,16 @@ int main() {
 
     c.load({{300, -200, 100, 0}, 2000, 20ms});
     Check(Throws([&] { c.load({{1, 0, 0, 0}, 2000, 20ms}); }) == errc::is_loaded, "second load: is_loaded");
-    Check(Throws([&] { c.load({{1, 0, 0, 0}, 30000, 20ms}); }) == errc::freq_too_high, "bad load: freq_too_high");
+    Check(Throws([&] {
+            c.load({{1, 0, 0, 0}, 30000, 20ms});
+          }) == errc::freq_too_high,
+          "bad load: freq_too_high");
     c.start();
     Check(!mon.wait(0ms), "monitor: move running");
     Check(c.wait(5s) && mon.wait(0ms), "wait for the end with poll");
     const x4step::status st = c.get_status();
-    Check(st.steps[0] == 300 && st.steps[1] == -200 && st.steps[2] == 100 && !st.active, "steps after the move");
+    Check(st.steps[0] == 300 && st.steps[1] == -200 && st.steps[2] == 100 && !st.active,
+          "steps after the move");
     std::printf("SEG 300 -200 100 0\n");
     Check(Throws([&] { c.brake(); }) == errc::not_active, "brake idle: not_active");
     Check(Throws([&] { c.start(); }) == errc::not_loaded, "start: not_loaded");

@@ -97,8 +97,9 @@ void ExpectBrake(int fd, Keyboard &kb, int key, int value, int code, const std::
   const uint64_t t = kb.Key(key, value);
   const bool idle = WaitIdle(fd, 3000);
   const x4step_status st = Status(fd);
-  Check(idle && st.last_brake_code == unsigned(code),
-        what + " brakes with code " + std::to_string(code) + " (got " + std::to_string(st.last_brake_code) + ")");
+  Check(idle && st.last_brake_code == unsigned(code), what + " brakes with code " + std::to_string(code) +
+                                                          " (got " + std::to_string(st.last_brake_code) +
+                                                          ")");
   if (st.brake_time_ns > t) latencies.push_back(st.brake_time_ns - t);
 }
 
@@ -141,10 +142,10 @@ int main() {
   const struct {
     int key, code;
     const char *name;
-  } mf2[] = {{KEY_UP, 72, "UP"},       {KEY_LEFT, 75, "LEFT"},      {KEY_RIGHT, 77, "RIGHT"},
-             {KEY_DOWN, 80, "DOWN"},   {KEY_HOME, 71, "HOME"},      {KEY_PAGEUP, 73, "PGUP"},
-             {KEY_END, 79, "END"},     {KEY_PAGEDOWN, 81, "PGDN"},  {KEY_INSERT, 82, "INS"},
-             {KEY_DELETE, 83, "DEL"},  {KEY_KPENTER, 28, "KP ENTER"}};
+  } mf2[] = {{KEY_UP, 72, "UP"},      {KEY_LEFT, 75, "LEFT"},       {KEY_RIGHT, 77, "RIGHT"},
+             {KEY_DOWN, 80, "DOWN"},  {KEY_HOME, 71, "HOME"},       {KEY_PAGEUP, 73, "PGUP"},
+             {KEY_END, 79, "END"},    {KEY_PAGEDOWN, 81, "PGDN"},   {KEY_INSERT, 82, "INS"},
+             {KEY_DELETE, 83, "DEL"}, {KEY_KPENTER, 28, "KP ENTER"}};
   for (const auto &k : mf2) {
     SetCodes(fd, {k.code});
     Endless(fd);
@@ -169,9 +170,10 @@ int main() {
 
   std::sort(latencies.begin(), latencies.end());
   if (!latencies.empty())
-    std::printf("brake-key latency (uinput write -> engine braking): median %llu ns, max %llu ns over %zu keys\n",
-                (unsigned long long)latencies[latencies.size() / 2], (unsigned long long)latencies.back(),
-                latencies.size());
+    std::printf(
+        "brake-key latency (uinput write -> engine braking): median %llu ns, max %llu ns over %zu keys\n",
+        (unsigned long long)latencies[latencies.size() / 2], (unsigned long long)latencies.back(),
+        latencies.size());
   close(fd);
   std::printf("keys_test: %d failed\n", failures);
   return failures ? 1 : 0;

@@ -109,14 +109,15 @@ void TestBadInput(int fd) {
   int result = 0;
   const struct {
     int s1, freq, ramp, code;
-  } bad[] = {{0, 1000, 50, 1},   {1, 20001, 0, 2},      {1, 9, 0, 3},         {1, 2000, 1001, 4},
-             {1, 10, 50, 5},     {16777217, 1000, 0, 13}, {-16777217, 1000, 0, 13}, {1, 100, -1, 8}};
+  } bad[] = {{0, 1000, 50, 1},         {1, 20001, 0, 2}, {1, 9, 0, 3},
+             {1, 2000, 1001, 4},       {1, 10, 50, 5},   {16777217, 1000, 0, 13},
+             {-16777217, 1000, 0, 13}, {1, 100, -1, 8}};
   for (const auto &b : bad) {
     const int err = Load(fd, b.s1, 0, 0, 0, b.freq, b.ramp, &result);
-    Check(err == EINVAL && result == b.code,
-          "load " + std::to_string(b.s1) + "/" + std::to_string(b.freq) + "/" + std::to_string(b.ramp) +
-              ": EINVAL, result " + std::to_string(b.code) + " (got " + std::to_string(err) + ", " +
-              std::to_string(result) + ")");
+    Check(err == EINVAL && result == b.code, "load " + std::to_string(b.s1) + "/" + std::to_string(b.freq) +
+                                                 "/" + std::to_string(b.ramp) + ": EINVAL, result " +
+                                                 std::to_string(b.code) + " (got " + std::to_string(err) +
+                                                 ", " + std::to_string(result) + ")");
   }
   Check(!(Status(fd).flags & X4STEP_ST_LOADED), "nothing loaded after bad loads");
   x4step_move flagged{{1, 0, 0, 0}, 1000, 0, 1, 0};
@@ -149,7 +150,8 @@ void TestBadInput(int fd) {
   Check(Ioctl(ro, X4STEP_STOP) == EBADF, "stop on a read-only fd: EBADF");
   x4step_status st;
   std::memset(&st, 0xa5, sizeof st);
-  Check(Ioctl(ro, X4STEP_GET_STATUS, &st) == 0 && (st.flags & X4STEP_ST_CONTROLLED), "status on a read-only fd");
+  Check(Ioctl(ro, X4STEP_GET_STATUS, &st) == 0 && (st.flags & X4STEP_ST_CONTROLLED),
+        "status on a read-only fd");
   bool zero = true;
   for (unsigned r : st.reserved) zero &= r == 0;
   Check(zero, "status reserved fields zeroed");

@@ -43,8 +43,8 @@ TEST(CApi, InitArguments) {
 TEST(CApi, ConstantsAsDocumented) {
   EXPECT_EQ(X4NoErr, 0);
   EXPECT_EQ(X4ErrNoErr, X4NoErr);
-  const int codes[] = {X4ErrNoSteps,     X4ErrFreqTooHigh, X4ErrFreqTooLow, X4ErrRampTooHigh, X4ErrRampFreq,
-                       X4ErrLPTNotFound, X4ErrNotActive,   X4ErrParamFail,  X4ErrInitNotDone, X4ErrIsActive,
+  const int codes[] = {X4ErrNoSteps,     X4ErrFreqTooHigh, X4ErrFreqTooLow,  X4ErrRampTooHigh, X4ErrRampFreq,
+                       X4ErrLPTNotFound, X4ErrNotActive,   X4ErrParamFail,   X4ErrInitNotDone, X4ErrIsActive,
                        X4ErrNotLoaded,   X4ErrIsLoaded,    X4ErrStepsTooHigh};
   for (int i = 0; i < 13; i++) EXPECT_EQ(codes[i], i + 1);
   EXPECT_EQ(SIGNAL1ON, 1);
@@ -80,7 +80,8 @@ TEST(CppApi, CheckMatchesTheManual) {
   EXPECT_EQ(x4step::check(move{{0, 0, 16777217, 0}, 1000, 0ms}), errc::steps_too_high);
   EXPECT_EQ(x4step::check(move{{0, 0, 0, 1L << 40}, 1000, 0ms}), errc::steps_too_high);
   EXPECT_EQ(x4step::check(move{{1, 0, 0, 0}, 1000, -1ms}), errc::param_fail);
-  EXPECT_EQ(x4step::check(move{{1, 0, 0, 0}, 1000, std::chrono::milliseconds(1LL << 40)}), errc::ramp_too_high);
+  EXPECT_EQ(x4step::check(move{{1, 0, 0, 0}, 1000, std::chrono::milliseconds(1LL << 40)}),
+            errc::ramp_too_high);
   EXPECT_EQ(x4step::check_endless(0, 1000, 0ms), errc::param_fail);
   EXPECT_EQ(x4step::check_endless(4, 1000, 0ms), errc::ok);
   EXPECT_EQ(x4step::check_endless(1, 20, 50ms), errc::ramp_freq);

@@ -11,7 +11,7 @@ double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n) {
   const double r = ramp_ms / 1000.0;
   const double x = static_cast<double>(n);
   if (ramp_ms == 0) return x / f;
-  const double a = f / r;  // steps/s^2
+  const double a = f / r;       // steps/s^2
   const double na = f * r / 2;  // steps of one full ramp
   const double p = X4_PLATEAU_STEPS;
   if (steps == 0) {  // endless: accelerate, then cruise

@@ -389,8 +389,8 @@ TEST(Brake, AtEveryEventOfAShortMove) {
 
 TEST(Brake, WithoutRampEndsAfterTheCurrentPulse) {
   BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 1 + 2 * 10, 10);  // rise 10 pending
-  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 2 * 10, 10);  // fall 9 pending
-  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 0, 0);  // before the start
+  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 2 * 10, 10);      // fall 9 pending
+  BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 0, 0);            // before the start
 }
 
 TEST(Brake, EndlessMove) {

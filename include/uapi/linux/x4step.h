@@ -73,8 +73,8 @@ struct x4step_endless {
 struct x4step_status {
 	__u32 flags; /* X4STEP_ST_* */
 	__u32 last_brake_code; /* key code that braked the last move, or 0 */
-	__u32 inputs; /* X4GetIn: bit0 pin15, bit1 pin13, bit2 pin12,
-		       * bit3 pin10, bit4 pin11; 1 = HIGH */
+	/* X4GetIn: bit0 pin15, bit1 pin13, bit2 pin12, bit3 pin10, bit4 pin11 */
+	__u32 inputs; /* 1 = HIGH */
 	__u32 outputs; /* X4STEP_OUT_* levels (1 = HIGH) */
 	__s64 steps[X4STEP_AXES]; /* signed steps since the last start */
 	__u64 moves_ended; /* counts moves that came to an end */
@@ -93,8 +93,8 @@ struct x4step_output {
 /* X4STEP_SET_BRAKE_CODES: X4BrakeCodes. ESC (1) always brakes. */
 struct x4step_brake_codes {
 	__u32 count; /* 0..X4STEP_MAX_BRAKE_CODES */
-	__u16 codes[X4STEP_MAX_BRAKE_CODES]; /* set-1 make (1..127) or
-					      * break (129..255) codes */
+	/* set-1 make (1..127) or break (129..255) codes */
+	__u16 codes[X4STEP_MAX_BRAKE_CODES];
 	__u32 reserved; /* must be 0 */
 };
 
