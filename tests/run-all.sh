@@ -1,0 +1,47 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+# `make check`: host unit tests, static checks, then the QEMU suite on
+# the Debian kernels. Ends with one line `N passed, M failed` counting
+# every test case of all three parts.
+set -u
+top=$(cd "$(dirname "$0")/.." && pwd)
+cd "$top" || exit 2
+build=${BUILD:-$top/build}
+log=$build/check
+mkdir -p "$log"
+passed=0 failed=0
+count() { # LOGFILE: add its PASS/FAIL lines
+	p=$(grep -c '^PASS' "$1")
+	f=$(grep -c '^FAIL' "$1")
+	passed=$((passed + p))
+	failed=$((failed + f))
+}
+
+echo "== host: build and unit tests"
+if make -s userspace BUILD="$build" >"$log/build.log" 2>&1; then
+	(cd "$build" && ctest --output-on-failure -j2) >"$log/ctest.log" 2>&1
+	tail -n 3 "$log/ctest.log"
+	# One PASS/FAIL line per test case, from CTest's report.
+	sed -n 's/^ *[0-9]*\/[0-9]* Test *#[0-9]*: \([^ ]*\) [. ]*\(Passed\|\*\*\*Failed\|Failed\).*/\2 \1/p' \
+		"$log/ctest.log" | sed 's/^Passed/PASS/; s/^\*\*\*Failed/FAIL/; s/^Failed/FAIL/' >"$log/host.results"
+	count "$log/host.results"
+	grep '^FAIL' "$log/host.results"
+else
+	cat "$log/build.log"
+	echo "FAIL host build" | tee "$log/host.results"
+	count "$log/host.results"
+fi
+
+echo "== static checks"
+tests/check-style.sh >"$log/style.log" 2>&1
+grep -E '^(PASS|FAIL)' "$log/style.log"
+grep -q '^FAIL' "$log/style.log" && cat "$log/style.log"
+count "$log/style.log"
+
+echo "== QEMU: the module on Debian's kernels"
+tests/qemu/run-suite.sh | tee "$log/qemu.log"
+grep -qE '^(PASS|FAIL)' "$log/qemu.log" || echo "FAIL qemu suite ran nothing" >>"$log/qemu.log"
+count "$log/qemu.log"
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
