@@ -31,13 +31,16 @@ struct x4_port {
 	struct pardevice *pardev;
 	struct mutex lock;
 	struct file *controller; /* the one read-write opener */
-	bool gone; /* the parport went away */
+	bool gone; /* the parport went away (set under both locks) */
 
 	raw_spinlock_t slock;
 	struct x4_engine eng;
 	struct hrtimer timer;
 	ktime_t epoch; /* engine time 0 */
 	bool claimed; /* the registers are ours: write them */
+	bool written_valid; /* the registers hold data_written, ctl_written */
+	u8 data_written;
+	u8 ctl_written;
 	u8 clock_invert; /* data bits XORed on output */
 	u8 dir_invert;
 	u32 cfg_flags;
@@ -56,7 +59,8 @@ void x4_port_claimed(struct x4_port *x4);
 void x4_port_quiesce(struct x4_port *x4);
 int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless);
 void x4_port_write_locked(struct x4_port *x4);
-u32 x4_port_inputs(struct x4_port *x4);
+u32 x4_port_inputs_locked(struct x4_port *x4);
+void x4_port_gone(struct x4_port *x4);
 bool x4_port_brake_key(struct x4_port *x4, u32 code);
 bool x4_brake_key_all(u32 code);
 int x4_keys_init(void);

@@ -124,13 +124,18 @@ static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
 	return x4_busy(x4) ? 0 : EPOLLIN | EPOLLRDNORM;
 }
 
-static void x4_get_status(struct x4_port *x4, struct x4step_status *st)
+static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
 {
 	unsigned long flags;
 	int i;
 
 	memset(st, 0, sizeof(*st));
 	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4->gone) {
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		return -ENODEV;
+	}
+	st->inputs = x4_port_inputs_locked(x4);
 	if (x4_engine_busy(&x4->eng))
 		st->flags |= X4STEP_ST_ACTIVE;
 	if (x4->eng.loaded)
@@ -145,7 +150,7 @@ static void x4_get_status(struct x4_port *x4, struct x4step_status *st)
 	st->moves_ended = x4->moves_ended;
 	st->brake_time_ns = x4->brake_time_ns;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	st->inputs = x4_port_inputs(x4);
+	return 0;
 }
 
 static int x4_errno(int result)
@@ -312,12 +317,11 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		memset(&info, 0, sizeof(info));
 		info.abi_version = X4STEP_ABI_VERSION;
 		info.axes = X4STEP_AXES;
-		info.port = x4->port->number;
+		info.port = MINOR(x4->dev.devt);
 		return copy_to_user(uarg, &info, sizeof(info)) ? -EFAULT : 0;
 	case X4STEP_GET_STATUS:
-		if (READ_ONCE(x4->gone))
+		if (x4_get_status(x4, &st))
 			return -ENODEV;
-		x4_get_status(x4, &st);
 		return copy_to_user(uarg, &st, sizeof(st)) ? -EFAULT : 0;
 	case X4STEP_GET_CONFIG:
 		memset(&cfg, 0, sizeof(cfg));
@@ -390,7 +394,10 @@ static const struct file_operations x4_fops = {
 
 static void x4_dev_release(struct device *dev)
 {
-	kfree(container_of(dev, struct x4_port, dev));
+	struct x4_port *x4 = container_of(dev, struct x4_port, dev);
+
+	parport_put_port(x4->port);
+	kfree(x4);
 }
 
 static void x4_attach(struct parport *port)
@@ -406,12 +413,14 @@ static void x4_attach(struct parport *port)
 		return;
 	mutex_init(&x4->lock);
 	x4_port_init(x4);
-	x4->port = port;
+	/* Held until the last file closes: the port may go away first. */
+	x4->port = parport_get_port(port);
 	cb.private = x4;
 	x4->pardev = parport_register_dev_model(port, KBUILD_MODNAME, &cb,
 						port->number);
 	if (!x4->pardev) {
 		pr_err("%s: cannot register device\n", port->name);
+		parport_put_port(port);
 		kfree(x4);
 		return;
 	}
@@ -453,7 +462,7 @@ static void x4_detach(struct parport *port)
 
 	cdev_device_del(&x4->cdev, &x4->dev);
 	mutex_lock(&x4->lock);
-	WRITE_ONCE(x4->gone, true);
+	x4_port_gone(x4);
 	if (x4->controller) {
 		x4_port_quiesce(x4);
 		parport_release(x4->pardev);

@@ -38,18 +38,40 @@ static u8 x4_data_invert(const struct x4_port *x4)
 	return bits;
 }
 
-/* Put the engine's pin levels on the port. Caller holds slock. */
+/*
+ * Put the engine's pin levels on the port, writing only the registers
+ * that change (port I/O is slow, and this runs in hard irq). Caller holds
+ * slock.
+ */
 void x4_port_write_locked(struct x4_port *x4)
 {
 	struct parport *port = x4->port;
+	u8 data = x4->eng.data ^ x4_data_invert(x4);
+	u8 ctl = x4->eng.ctl ^ X4_CTL_HW_INVERT;
 
 	if (!x4->claimed)
 		return;
-	port->ops->write_data(port, x4->eng.data ^ x4_data_invert(x4));
-	port->ops->write_control(port, x4->eng.ctl ^ X4_CTL_HW_INVERT);
+	if (data != x4->data_written || !x4->written_valid)
+		port->ops->write_data(port, data);
+	if (ctl != x4->ctl_written || !x4->written_valid)
+		port->ops->write_control(port, ctl);
+	x4->data_written = data;
+	x4->ctl_written = ctl;
+	x4->written_valid = true;
 }
 
-u32 x4_port_inputs(struct x4_port *x4)
+/* The port is going away: no register access from now on. */
+void x4_port_gone(struct x4_port *x4)
+{
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4->gone = true;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+}
+
+/* Caller holds slock and has checked that the port is not gone. */
+u32 x4_port_inputs_locked(struct x4_port *x4)
 {
 	u8 status = x4->port->ops->read_status(x4->port) ^ X4_STATUS_HW_INVERT;
 
@@ -103,6 +125,7 @@ void x4_port_claimed(struct x4_port *x4)
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4->claimed = true;
+	x4->written_valid = false; /* the claim restored some other state */
 	x4_port_write_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }

@@ -2,6 +2,7 @@
 // In-guest test of the C++ API against the module.
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "x4step.hpp"
@@ -64,6 +65,7 @@ int main() {
     Check(Throws([&] { c.start(); }) == errc::init_not_done, "moved-from controller: init_not_done");
     moved.move_endless(4, x4step::direction::negative, 3000, 30ms);
     Check(moved.active(), "endless move runs");
+    std::this_thread::sleep_for(300ms);
   }  // destructor brakes, waits, releases
   {
     x4step::controller again(1);

@@ -101,6 +101,7 @@ void ExpectBrake(int fd, Keyboard &kb, int key, int value, int code, const std::
                                                           " (got " + std::to_string(st.last_brake_code) +
                                                           ")");
   if (st.brake_time_ns > t) latencies.push_back(st.brake_time_ns - t);
+  std::printf("SEG ? 0 0 0 braked\n");
 }
 
 }  // namespace
@@ -158,6 +159,7 @@ int main() {
   Check(Status(fd).last_brake_code == 0, "last brake code cleared by the next start");
   ioctl(fd, X4STEP_BRAKE);
   WaitIdle(fd, 3000);
+  std::printf("SEG ? 0 0 0 braked\n");
   Check(Status(fd).last_brake_code == 0, "last brake code 0 after an ioctl brake");
 
   // 20 codes accepted, the 20th works.

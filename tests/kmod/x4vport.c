@@ -369,7 +369,7 @@ static ssize_t x4v_pipe_read(struct file *file, char __user *ubuf,
 		if (!x4v_peek(seq, &e))
 			break;
 		n = x4v_format(line, &e);
-		if (n > len - done) {
+		if ((size_t)n > len - done) {
 			if (!done)
 				return -EINVAL; /* buffer shorter than a line */
 			break;

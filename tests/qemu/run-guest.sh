@@ -194,9 +194,14 @@ start=$(date +%s.%N)
 timeout -k 5 "$timeout_s" "${qemu[@]}" </dev/null &
 qpid=$!
 pids+=("$qpid")
-# Stream the console for the developer; with a monitor, also forward X4MON lines.
+# Stream the console for the developer (without SeaBIOS's terminal resets);
+# with a monitor, also forward X4MON lines.
+stream() {
+	tail -n +1 -f --pid="$qpid" "$out/console.log" |
+		sed -u -e 's/\x1bc//g' -e 's/\x1b\[[?0-9;]*[a-zA-Z]//g'
+}
 if [ -n "$monitor" ]; then
-	tail -n +1 -f --pid="$qpid" "$out/console.log" | while IFS= read -r line; do
+	stream | while IFS= read -r line; do
 		printf '%s\n' "$line"
 		line=${line%$'\r'}
 		case "$line" in
@@ -204,7 +209,7 @@ if [ -n "$monitor" ]; then
 		esac
 	done &
 else
-	tail -n +1 -f --pid="$qpid" "$out/console.log" &
+	stream &
 fi
 pids+=("$!")
 set +e

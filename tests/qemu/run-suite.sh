@@ -20,8 +20,15 @@ bdir=${X4_QEMU_BUILD:-$top/build/qemu}
 # check (optional) runs after a passing guest as `CHECK OUTDIR KVER` with
 # X4TRACE set to a built tools/x4trace, e.g. to assert on edge counts in
 # OUTDIR/lpt-test.log; its status decides the test.
+# @KOUT@ in flags stands for the kernel's build directory (x4vport.ko).
+g=build/guest
 tests=(
-	"smoke|tests/qemu/smoke.sh|||"
+	"smoke|tests/qemu/smoke.sh|||tests/qemu/check-no-steps.sh"
+	"module|tests/guest/module.sh|$g/module_test||tests/qemu/check-segments.sh"
+	"keys|tests/guest/keys.sh|$g/keys_test||tests/qemu/check-segments.sh"
+	"cpp|tests/guest/cpp.sh|$g/cpp_test||tests/qemu/check-segments.sh"
+	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
+	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
 )
 
 # The kernels the module must pass on: label, glob under /boot, exclusion.
@@ -66,6 +73,14 @@ if [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
 	fi
 fi
 
+# The guest programs are the same for every kernel.
+if ! "$top/tests/guest/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1; then
+	cat "$bdir/guest-build.log" >&2
+	echo "FAIL building the guest programs, see $bdir/guest-build.log"
+	echo "0 passed, 1 failed"
+	exit 1
+fi
+
 for kind in "${kernel_kinds[@]}"; do
 	IFS='|' read -r label glob exclude <<<"$kind"
 	kver=$(cd /boot && for f in $glob; do
@@ -99,11 +114,15 @@ for kind in "${kernel_kinds[@]}"; do
 	else
 		rm -rf "$kout/src"
 		mkdir -p "$kout/src"
+		mkdir -p "$kout/src/tests"
 		cp -a "$top/Kbuild" "$top/kmod" "$top/include" "$kout/src/"
+		cp -a "$top/tests/kmod" "$kout/src/tests/"
 		find "$kout/src" \( -name '*.o' -o -name '*.ko' -o -name '*.mod*' -o -name '.*.cmd' \
 			-o -name modules.order -o -name Module.symvers \) -delete
 		if ! make -C "$kdir" M="$kout/src" modules >"$kout/build.log" 2>&1; then
 			why="module build failed, see $kout/build.log"
+		elif ! make -C "$kdir" M="$kout/src/tests/kmod" modules >>"$kout/build.log" 2>&1; then
+			why="x4vport build failed, see $kout/build.log"
 		elif [ ! -f "$kout/src/kmod/x4step.ko" ]; then
 			why="no kmod/x4step.ko after the build, see $kout/build.log"
 		fi
@@ -122,7 +141,7 @@ for kind in "${kernel_kinds[@]}"; do
 		args=(--kver "$kver" --out "$out" --module "$kout/src/kmod/x4step.ko")
 		for b in $bins; do args+=(--bin "$top/$b"); done
 		# shellcheck disable=SC2206 # flags are words by design
-		args+=($flags)
+		args+=(${flags//@KOUT@/$kout})
 		set +e
 		if [ "$verbose" = 1 ]; then
 			"$qdir/run-guest.sh" "${args[@]}" "$top/$script" 2>&1 | tee "$out/run.log"

@@ -18,7 +18,7 @@ int main(void)
     X4Brake();          // Fahrt abbrechen
     while (X4GetState())
         ;
-    printf("timer %ld ms, SEG %ld 0 0 0 braked\n", X4GetTimer(), X4GetSteps(1));
+    printf("timer %ld ms\nSEG %ld 0 0 0 braked\n", X4GetTimer(), X4GetSteps(1));
     X4ReInit();         // X4Step beenden
     return 0;
 }

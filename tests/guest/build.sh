@@ -1,0 +1,22 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+# Build the statically linked guest programs into OUTDIR: the module and
+# key tests (UAPI only), and the library tests and the manual's examples
+# against the *installed* headers and static library (staged install).
+set -eu
+top=$(cd "$(dirname "$0")/../.." && pwd)
+out=${1:?usage: build.sh OUTDIR}
+build=${BUILD:-$top/build}
+mkdir -p "$out"
+stage=$out/stage
+rm -rf "$stage"
+cmake --install "$build" --prefix "$stage" >/dev/null
+cxx="g++ -std=c++17 -O2 -Wall -Wextra -Werror -static"
+$cxx -I"$top/include/uapi" -o "$out/module_test" "$top/tests/guest/module_test.cpp"
+$cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
+$cxx -I"$stage/include" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$stage/lib/libx4step.a"
+gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/kmod/x4vctl.c"
+for f in "$top"/tests/guest/manual/*.c; do
+	gcc -std=c99 -static -O2 -Wall -Wextra -Werror -I"$stage/include" \
+		-o "$out/man_$(basename "$f" .c)" "$f" "$stage/lib/libx4step.a" -lstdc++ -lm
+done

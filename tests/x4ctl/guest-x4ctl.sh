@@ -1,0 +1,305 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+#
+# Guest script (busybox sh): scripted sessions of every x4ctl subcommand and
+# of `x4ctl run` with every command of the test program, against
+# /dev/x4step0, plus bad input (unknown commands, out-of-range values, a
+# missing port) checking messages and exit status. Prints PASS/FAIL lines,
+# exits nonzero if anything failed.
+#
+# Needs a (static) x4ctl on PATH, parport0 as the only port, and x4step
+# loaded or $X4MOD/x4step.ko. Run by tests/qemu/run-guest.sh:
+#   run-guest.sh --kver K --out DIR --module x4step.ko --bin x4ctl tests/x4ctl/guest-x4ctl.sh
+# shellcheck disable=SC2317 # helpers are called indirectly
+
+mod=${X4MOD:-/lib/x4}/x4step.ko
+dev=/dev/x4step0
+tmp=${TMPDIR:-/tmp}/x4ctl-test
+out=$tmp/out
+err=$tmp/err
+failed=0
+mkdir -p "$tmp"
+
+pass() { echo "PASS $1"; }
+fail() {
+	echo "FAIL $1${2:+: $2}"
+	failed=1
+}
+show() { tr '\r\033\n' '~~|' <"$1" | head -c 400; } # a file's start, on one console line
+
+# check NAME RC OUT ERR CMD...: run CMD; PASS if it exits with RC, its stdout
+# has a line matching the basic regex OUT and its stderr one matching ERR
+# (empty: not checked).
+check() {
+	name=$1 want=$2 opat=$3 epat=$4
+	shift 4
+	"$@" >"$out" 2>"$err" </dev/null
+	rc=$?
+	if [ "$rc" != "$want" ]; then
+		fail "$name" "exit $rc, want $want; stdout: $(show "$out"); stderr: $(show "$err")"
+	elif [ -n "$opat" ] && ! grep -q -e "$opat" "$out"; then
+		fail "$name" "stdout lacks '$opat': $(show "$out")"
+	elif [ -n "$epat" ] && ! grep -q -e "$epat" "$err"; then
+		fail "$name" "stderr lacks '$epat': $(show "$err")"
+	else
+		pass "$name"
+	fi
+}
+
+# script NAME RC OUT ERR TEXT [OPTIONS...]: `x4ctl run` on a script
+# (printf format TEXT), echoing the commands.
+script() {
+	name=$1 want=$2 opat=$3 epat=$4 text=$5
+	shift 5
+	# shellcheck disable=SC2059 # TEXT is a format on purpose
+	printf "$text" >"$tmp/script.x4"
+	check "$name" "$want" "$opat" "$epat" x4ctl run --echo "$@" "$tmp/script.x4"
+}
+
+# The value of a JSON field of `x4ctl status --json` (numbers, booleans, arrays).
+field() { x4ctl status --json | sed -n "s/.*\"$1\":\(\[[^]]*\]\|[a-z0-9]*\).*/\1/p"; }
+
+# Waits up to $1 tenths of a second until no move runs and no x4ctl holds the port.
+settle() {
+	n=0
+	while [ "$n" -lt "${1:-50}" ]; do
+		[ "$(field active)" = false ] && [ "$(field controlled)" = false ] && return 0
+		usleep 100000
+		n=$((n + 1))
+	done
+	return 1
+}
+
+expect_field() { # NAME FIELD VALUE
+	v=$(field "$2")
+	if [ "$v" = "$3" ]; then pass "$1"; else fail "$1" "$2 is '$v', want '$3'"; fi
+}
+
+if ! command -v x4ctl >/dev/null; then
+	fail setup "no x4ctl on PATH"
+	exit 1
+fi
+if ! grep -q '^x4step ' /proc/modules; then
+	if ! insmod "$mod"; then
+		fail setup "insmod $mod"
+		exit 1
+	fi
+fi
+for _ in 1 2 3 4 5 6 7 8 9 10; do [ -c "$dev" ] && break; usleep 100000; done
+if [ ! -c "$dev" ]; then
+	fail setup "no $dev"
+	exit 1
+fi
+pass setup
+
+# ---- help and usage: no device needed -------------------------------------
+check help 0 '^Usage: x4ctl \[' '' x4ctl --help
+check help-version 0 '^x4ctl [0-9]' '' x4ctl --version
+for c in move jog brake stop status in out keys sweep monitor run; do
+	check "help-$c" 0 "^Usage: x4ctl $c " '' x4ctl "$c" --help
+	check "help-cmd-$c" 0 "^Usage: x4ctl $c " '' x4ctl help "$c"
+done
+check help-run-lists-commands 0 'Ax,y,z' '' x4ctl run --help
+check usage-unknown-command 2 '' "unknown command 'bogus'" x4ctl bogus
+check usage-unknown-option 2 '' "move: unknown option '--fast'" x4ctl move 100 --fast
+check usage-missing-value 2 '' "option '--freq' needs a value" x4ctl move 100 --freq
+check usage-port-range 2 '' 'port 5 out of range: use 1 to 4' x4ctl -p 5 status
+check usage-try-help 2 '' "Try 'x4ctl move --help'" x4ctl move
+
+# ---- no such port: -p 4 when only parport0 exists ----------------------------
+check noport-status 1 '' 'status: /dev/x4step3: port not found' x4ctl -p 4 status
+check noport-move 1 '' 'move: /dev/x4step3: port not found' x4ctl -p 4 move 100 --wait
+check noport-interactive 1 '' 'port not found' x4ctl 4
+check noport-device 1 '' '/dev/nonexistent: port not found' x4ctl -d /dev/nonexistent in
+script noport-run 1 '' 'run: /dev/x4step3: port not found' 's1\nd100\ng\n' -p 4
+script noport-run-check 0 'no errors' '' 's1\nd100\ng\n' -p 4 --check
+
+# ---- read-only commands -------------------------------------------------------
+check status 0 '^state *idle' '' x4ctl status
+check status-json 0 '^{"device":"/dev/x4step0","active":false,' '' x4ctl status --json
+check status-lpt1 0 '^device *\/dev\/x4step0' '' x4ctl -p 1 status
+check in 0 '^pin15=[01] pin13=[01] pin12=[01] pin10=[01] pin11=[01] ([0-9]*)$' '' x4ctl in
+
+# ---- move --------------------------------------------------------------------------
+check move-wait 0 '^done: 200 100 50 -25$' '' x4ctl move 200 100 50 -25 --freq 2000 --ramp 20 --wait
+expect_field move-wait-steps steps '[200,100,50,-25]'
+expect_field move-wait-released controlled false
+check move-one-axis 0 '^done: -120 0 0 0$' '' x4ctl move -120 --freq 3000 --ramp 0 --wait
+check move-background 0 'running in the background as PID' '' x4ctl move 80 --freq 2000 --ramp 10
+if settle 100; then pass move-background-ends; else fail move-background-ends "still running"; fi
+expect_field move-background-steps steps '[80,0,0,0]'
+
+check bad-move-freq 2 '' '^x4ctl: move: frequency too high: use at most 20000 Hz$' x4ctl move 100 --freq 30000
+check bad-move-freq-low 2 '' 'move: frequency too low: use at least 10 Hz' x4ctl move 100 --freq 5
+check bad-move-ramp 2 '' 'move: ramp too long: use at most 1000 ms' x4ctl move 100 --ramp 2000
+check bad-move-ramp-freq 2 '' 'move: ramp too long for the frequency' x4ctl move 100 --freq 100 --ramp 200
+check bad-move-steps 2 '' 'move: path too long: at most 16777216 steps' x4ctl move 16777217
+check bad-move-nosteps 2 '' 'move: no steps' x4ctl move 0 0 0 0
+check bad-move-number 2 '' "move: steps 'abc' is not a whole number" x4ctl move abc
+check bad-move-axes 2 '' "move: unexpected argument '5'" x4ctl move 1 2 3 4 5
+check move-default-ramp 0 'at 20 Hz, ramp 20 ms' '' x4ctl move 1 --freq 20 --wait
+
+# ---- brake and stop from another shell ---------------------------------------------
+check brake-idle 1 '' '^x4ctl: brake: no move is running$' x4ctl brake
+check stop-idle 1 '' '^x4ctl: stop: no move is running$' x4ctl stop
+check brake-start 0 'running in the background' '' x4ctl move 1000000 --freq 1000 --ramp 50
+usleep 300000
+expect_field brake-running active true
+check brake-busy 1 '' 'move: /dev/x4step0: port busy: PID [0-9]* (x4ctl) controls it' x4ctl move 10 --wait
+check brake 0 '^braked: [1-9][0-9]* 0 0 0$' '' x4ctl brake
+if settle 50; then pass brake-released; else fail brake-released "port still held"; fi
+check stop-start 0 'running in the background' '' x4ctl jog 4 - --freq 1000
+usleep 300000
+check stop 0 '^stopped: 0 0 0 -[1-9][0-9]*$' '' x4ctl stop
+if settle 50; then pass stop-released; else fail stop-released "port still held"; fi
+
+# A background controller killed with SIGTERM brakes, and lets go of the port.
+x4ctl jog 1 + --freq 1000 >"$out" 2>&1
+pid=$(sed -n 's/.*background as PID \([0-9]*\).*/\1/p' "$out")
+usleep 300000
+if [ -n "$pid" ] && kill "$pid" && settle 50; then pass sigterm-brakes; else fail sigterm-brakes "pid '$pid'"; fi
+
+# ---- jog ------------------------------------------------------------------------------
+check jog-wait 0 '^halted (time up): 0 [1-9][0-9]* 0 0$' '' x4ctl jog 2 + --freq 1000 --ramp 10 --time 300 --wait
+check jog-background 0 'jog: axis 1 - at 1000 Hz, ramp 20 ms, for 300 ms' '' \
+	x4ctl jog 1 - --ramp 20 --time 300
+if settle 50; then pass jog-background-ends; else fail jog-background-ends "still running"; fi
+steps=$(field steps)
+case "$steps" in \[-[1-9]*,0,0,0\]) pass jog-background-steps ;; *) fail jog-background-steps "$steps" ;; esac
+check bad-jog-dir 2 '' "jog: direction 'x': use + or -" x4ctl jog 1 x
+check bad-jog-axis 2 '' 'jog: axis 5 out of range: use 1 to 4' x4ctl jog 5 +
+check bad-jog-freq 2 '' 'jog: frequency too high' x4ctl jog 1 + --freq 20001
+check bad-jog-args 2 '' 'jog: missing arguments' x4ctl jog 1
+
+# ---- keys, out ------------------------------------------------------------------------
+check keys 0 '^brake keys: 28 156 and ESC$' '' x4ctl keys 28 156
+check keys-clear 0 '^brake keys: ESC only$' '' x4ctl keys
+check bad-keys-zero 2 '' 'keys: key code 0 out of range' x4ctl keys 0
+check bad-keys-high 2 '' 'keys: key code 300 out of range' x4ctl keys 300
+check bad-keys-many 2 '' 'keys: unexpected argument' x4ctl keys 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21
+
+x4ctl out 1 on --time 2000 >"$tmp/out1" 2>&1 &
+pid=$!
+usleep 700000
+expect_field out-on signal1 1
+wait "$pid"
+rc=$?
+if [ "$rc" = 0 ] && grep -q 'signal 1 (pin 1) on; holding the port for 2000 ms' "$tmp/out1"; then
+	pass out-time
+else
+	fail out-time "exit $rc: $(show "$tmp/out1")"
+fi
+settle 20
+expect_field out-released signal1 0
+x4ctl out 2 on >"$tmp/out2" 2>&1 &
+pid=$!
+usleep 700000
+expect_field out2-on signal2 1
+kill "$pid"
+wait "$pid"
+rc=$?
+if [ "$rc" = 0 ] && grep -q 'released the port' "$tmp/out2"; then pass out-sigterm; else fail out-sigterm "exit $rc"; fi
+check bad-out-signal 2 '' 'out: signal 3: use 1 (pin 1) or 2 (pin 14)' x4ctl out 3 on
+check bad-out-level 2 '' "out: level 'maybe': use on or off" x4ctl out 1 maybe
+
+# ---- sweep --------------------------------------------------------------------------------
+check sweep 0 '^A: 3000 Hz 100 steps done$' '' x4ctl sweep 2 100 2000 3000 500
+grep -q '^A: 2500 Hz -100 steps done$' "$out" && pass sweep-alternates || fail sweep-alternates "$(show "$out")"
+check sweep-down 0 '^A: 2000 Hz -50 steps done$' '' x4ctl sweep 1 50 3000 2000 1000
+check bad-sweep-ramp 2 '' 'sweep: ramp too long for the frequency' x4ctl sweep 1 100 20 40 10 --ramp 30
+check bad-sweep-step 2 '' 'sweep: frequency step 0 out of range' x4ctl sweep 1 100 200 400 0
+check bad-sweep-nosteps 2 '' 'sweep: no steps' x4ctl sweep 1 0 200 400 100
+
+# ---- monitor follows another controller ---------------------------------------------------
+x4ctl monitor --moves 1 >"$tmp/mon" 2>&1 &
+pid=$!
+usleep 300000
+x4ctl move 300 0 -30 --freq 3000 --ramp 10 --wait >/dev/null 2>&1
+n=0
+while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
+if kill -0 "$pid" 2>/dev/null; then
+	kill "$pid"
+	fail monitor "did not end after one move: $(show "$tmp/mon")"
+elif grep -q '^move ended: steps 300 0 -30 0$' "$tmp/mon"; then
+	pass monitor
+else
+	fail monitor "$(show "$tmp/mon")"
+fi
+wait "$pid" 2>/dev/null
+
+# ---- x4ctl run: every command of the test program -------------------------------------------
+script run-go 0 '^done: 300 0 0 0$' '' 's1\nd300\nf3000\nr20\ng\n'
+grep -q '^1-> g$' "$out" && pass run-echo || fail run-echo "$(show "$out")"
+# The manual's second example: axes 1..3 interpolated, at axis 1's frequency and ramp.
+script run-interpolated 0 '^done: 1000 500 100 0$' '' 's1\nd1000\nf10000\nr100\ns2\nd500\ns3\nd100\ng\n'
+grep -q '^G: 1000 500 100 0 at 10000 Hz, ramp 100 ms (leader axis 1)$' "$out" &&
+	pass run-leader || fail run-leader "$(show "$out")"
+script run-I 0 '^> 2  *-700  *1000  *50  leader$' '' 's1\nd300\nS2\nD-700\ni\n'
+grep -q 'axis 2, 1000 Hz, 50 ms' "$out" && pass run-I-leader || fail run-I-leader "$(show "$out")"
+script run-M+ 0 '^halted (time up): 0 0 [1-9][0-9]* 0$' '' 's3\nf2000\nr10\nm+ 300\n'
+script run-M- 0 '^halted (time up): 0 0 -[1-9][0-9]* 0$' '' 's3\nf2000\nr10\nM- 300\n'
+script run-T 0 '^T: [0-9]* moves' '' 's1\nd40\nf4000\nr0\nt 800\n'
+script run-A 0 '^A: 2500 Hz -60 steps done$' '' 's2\nd60\nr0\na2000,2500,500\n'
+script run-E 0 '^E: pin15=[01] pin13=[01] pin12=[01] pin10=[01] pin11=[01]$' '' 'e\n'
+script run-E-time 0 '^E: pin15=' '' 'E 300\n'
+script run-H 0 '^Commands of the test program' '' 'h\n'
+script run-? 0 '^  Ax,y,z ' '' '?\n'
+script run-Q 0 '^1-> q$' '' 's1\nd100\nq\ng\n'
+grep -q '^G:' "$out" && fail run-Q-stops "G ran after Q" || pass run-Q-stops
+script run-O 0 '^O: signal 2 (pin 14) on$' '' 'o2,1\nw200\no2,0\n'
+script run-K 0 '^K: brake keys 28 156 and ESC$' '' 'k28,156\nK\n'
+script run-W 0 '^1-> w100$' '' 'w100\n'
+script run-semicolons 0 '^done: 0 50 0 0$' '' 's2; d50; f5000; r0; g  # a comment\n'
+script run-case 0 '^done: 0 0 0 25$' '' 'S4\nD25\nF5000\nR0\nG\n'
+script run-C 2 '' 'run: .*:2: C: C needs a terminal' 's1\nc\n'
+printf 's1\nd10\nf5000\ng\n' >"$tmp/stdin.x4"
+check run-stdin 0 '^done: 10 0 0 0$' '' sh -c "x4ctl run - <$tmp/stdin.x4"
+
+# ---- x4ctl run: bad input, and nothing moves ---------------------------------------------------
+ended=$(field moves_ended)
+script bad-run-unknown 2 '' 'run: .*:2: x: unknown command: H shows the commands' 's1\nx\nd100\ng\n'
+script bad-run-freq 2 '' 'run: .*:3: f30000: frequency too high: use at most 20000 Hz' 's1\nd100\nf30000\ng\n'
+script bad-run-freq-low 2 '' 'f9: frequency too low: use at least 10 Hz' 'f9\n'
+script bad-run-ramp 2 '' 'r1001: ramp too long: use at most 1000 ms' 'r1001\n'
+script bad-run-ramp-freq 2 '' ':5: G: ramp too long for the frequency.*leader axis 1: F20 R50' 's1\nd100\ng\nf20\ng\n'
+script bad-run-nosteps 2 '' ':1: G: no steps' 'g\n'
+script bad-run-steps 2 '' 'd16777217: path too long' 'd16777217\n'
+script bad-run-axis 2 '' 's5: axis 5 out of range: use 1 to 4' 's5\n'
+script bad-run-number 2 '' "dx: steps 'x' is not a whole number" 'dx\n'
+script bad-run-sweep 2 '' 'a200,500: A needs 3 numbers' 'd100\na200,500\n'
+script bad-run-sweep-ramp 2 '' 'A: ramp too long for the frequency' 'd100\nr300\na200,500,20\n'
+script bad-run-M 2 '' 'm: M needs a direction' 'm\n'
+script bad-run-T 2 '' 'T: no steps' 't 100\n'
+script bad-run-G-arg 2 '' 'g1: G takes no argument' 'g1\n'
+script bad-run-O 2 '' 'o3,1: signal 3' 'o3,1\n'
+script bad-run-K 2 '' 'k0: key code 0 out of range' 'k0\n'
+check bad-run-file 1 '' 'run: cannot read /nonexistent.x4' x4ctl run /nonexistent.x4
+expect_field bad-run-nothing-moved moves_ended "$ended"
+
+# A move halted in a script ends the script: the commands after it do not run.
+printf 's1\nd1000000\nf1000\ng\nd10\ng\n' >"$tmp/long.x4"
+x4ctl run "$tmp/long.x4" >"$tmp/long.out" 2>"$tmp/long.err" &
+pid=$!
+usleep 500000
+x4ctl brake >/dev/null 2>&1
+wait "$pid"
+rc=$?
+if [ "$rc" = 1 ] && grep -q 'run: .*:4: G: halted (brake request) at [0-9]* of 1000000 steps' "$tmp/long.err" &&
+	! grep -q '^done' "$tmp/long.out"; then
+	pass run-halted-ends-script
+else
+	fail run-halted-ends-script "exit $rc: $(show "$tmp/long.err")"
+fi
+settle 50
+
+# ---- interactive mode from a pipe: errors are reported, the session goes on ----------------------
+printf 's1\nd50\nf5000\nr0\nf30000\nd60;f40000;g\ng\nq\n' >"$tmp/session"
+check interactive 0 '^done: 50 0 0 0$' 'error: f30000: frequency too high: use at most 20000 Hz' \
+	sh -c "x4ctl <$tmp/session"
+grep -q '^done: 60' "$out" && fail interactive-line-dropped "g after an error ran" || pass interactive-line-dropped
+grep -q 'f40000: frequency too high' "$err" && pass interactive-error || fail interactive-error "$(show "$err")"
+check interactive-lpt-arg 0 '^1-> q$' '' sh -c "echo q | x4ctl 1"
+
+settle 50
+if [ "$failed" = 0 ]; then echo "x4ctl guest tests: all passed"; else echo "x4ctl guest tests: FAILED"; fi
+exit "$failed"
