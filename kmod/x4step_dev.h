@@ -50,6 +50,8 @@ struct x4_port {
 	u64 brake_time_ns; /* CLOCK_MONOTONIC of the last brake */
 	u64 moves_ended;
 
+	struct x4step_timing timing; /* lateness of the timer, under slock */
+
 	struct irq_work wake_work; /* wake pollers from the hard-irq timer */
 	wait_queue_head_t wait;
 };

@@ -302,6 +302,25 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 	return ret;
 }
 
+static int x4_ioctl_timing(struct x4_port *x4, void __user *uarg)
+{
+	struct x4step_timing *t;
+	unsigned long flags;
+	int ret = 0;
+
+	t = kmalloc(sizeof(*t), GFP_KERNEL);
+	if (!t)
+		return -ENOMEM;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	*t = x4->timing;
+	memset(&x4->timing, 0, sizeof(x4->timing));
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (copy_to_user(uarg, t, sizeof(*t)))
+		ret = -EFAULT;
+	kfree(t);
+	return ret;
+}
+
 static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 {
 	struct x4_port *x4 = file->private_data;
@@ -331,6 +350,8 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		cfg.flags = x4->cfg_flags;
 		mutex_unlock(&x4->lock);
 		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
+	case X4STEP_GET_TIMING:
+		return x4_ioctl_timing(x4, uarg);
 	case X4STEP_LOAD:
 	case X4STEP_START:
 	case X4STEP_BRAKE:

@@ -79,6 +79,25 @@ u32 x4_port_inputs_locked(struct x4_port *x4)
 	return (status >> 3) & 0x1f;
 }
 
+/* Count how late this expiry is. Caller holds slock. */
+static void x4_account_lateness(struct x4_port *x4, struct hrtimer *timer)
+{
+	struct x4step_timing *t = &x4->timing;
+	s64 late = ktime_to_ns(ktime_sub(ktime_get(), hrtimer_get_expires(timer)));
+	u64 bucket;
+
+	if (late < 0)
+		late = 0;
+	bucket = (u64)late / X4STEP_TIMING_BUCKET_NS;
+	t->events++;
+	if (late > t->late_max_ns)
+		t->late_max_ns = late;
+	if (bucket < X4STEP_TIMING_BUCKETS)
+		t->hist[bucket]++;
+	else
+		t->beyond++;
+}
+
 static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 {
 	struct x4_port *x4 = container_of(timer, struct x4_port, timer);
@@ -88,6 +107,7 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4_engine_busy(&x4->eng)) {
+		x4_account_lateness(x4, timer);
 		x4_engine_fire(&x4->eng, &ev);
 		x4_port_write_locked(x4);
 		if (x4_engine_busy(&x4->eng)) {

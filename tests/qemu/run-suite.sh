@@ -29,6 +29,7 @@ tests=(
 	"cpp|tests/guest/cpp.sh|$g/cpp_test||tests/qemu/check-segments.sh"
 	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
 	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
+	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko|"
 )
 
 # The kernels the module must pass on: label, glob under /boot, exclusion.

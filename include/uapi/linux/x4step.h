@@ -111,6 +111,22 @@ struct x4step_config {
 	__u32 reserved[5];
 };
 
+/*
+ * X4STEP_GET_TIMING: how late the step timer fired (hrtimer expiry to the
+ * callback) since the last read, which resets it. hist[i] counts
+ * lateness in [i, i + 1) * X4STEP_TIMING_BUCKET_NS; later ones in
+ * `beyond`.
+ */
+#define X4STEP_TIMING_BUCKETS 512
+#define X4STEP_TIMING_BUCKET_NS 64
+struct x4step_timing {
+	__u64 events;
+	__u64 late_max_ns;
+	__u64 beyond;
+	__u64 reserved;
+	__u32 hist[X4STEP_TIMING_BUCKETS];
+};
+
 #define X4STEP_IOC_MAGIC 0xB4
 
 /* Read the interface version. */
@@ -134,5 +150,7 @@ struct x4step_config {
 /* Set and read the wiring configuration (only while no move runs). */
 #define X4STEP_SET_CONFIG _IOW(X4STEP_IOC_MAGIC, 0x09, struct x4step_config)
 #define X4STEP_GET_CONFIG _IOR(X4STEP_IOC_MAGIC, 0x0a, struct x4step_config)
+/* Read and reset the timer lateness statistics. */
+#define X4STEP_GET_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0b, struct x4step_timing)
 
 #endif /* _UAPI_LINUX_X4STEP_H */

@@ -1,0 +1,779 @@
+// SPDX-License-Identifier: GPL-2.0
+// Host tests of x4ctl: command line parsing, help texts, the TEST.EXE
+// command language and its interpreter on a simulated port, formatting.
+// No device is needed; the in-QEMU sessions are tests/x4ctl/guest-x4ctl.sh.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <deque>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "cli.hpp"
+#include "commands.hpp"
+#include "lang.hpp"
+#include "motion.hpp"
+#include "show.hpp"
+#include "term.hpp"
+
+namespace x4ctl {
+namespace {
+
+using std::chrono::milliseconds;
+
+config parse(std::vector<std::string> args) {
+  args.insert(args.begin(), "x4ctl");
+  return parse_args(args);
+}
+
+// The message of the usage_error that parsing args throws ("" if none).
+std::string usage_message(std::vector<std::string> args) {
+  try {
+    parse(std::move(args));
+  } catch (const usage_error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool contains(const std::string &text, const std::string &part) { return text.find(part) != std::string::npos; }
+
+// ---- command line -----------------------------------------------------------------
+
+TEST(Cli, NoCommandIsInteractiveOnLpt1) {
+  const config c = parse({});
+  EXPECT_EQ(c.cmd, subcommand::interactive);
+  EXPECT_EQ(c.lpt, 1);
+  EXPECT_EQ(device_of(c), "/dev/x4step0");
+}
+
+TEST(Cli, PortLikeTestExe) {
+  EXPECT_EQ(parse({"2"}).lpt, 2);  // TEST 2
+  EXPECT_EQ(parse({"2"}).cmd, subcommand::interactive);
+  EXPECT_EQ(usage_message({"5"}), "port 5 out of range: use 1 to 4 (LPT1..LPT4)");
+}
+
+TEST(Cli, PortAndDeviceOptions) {
+  EXPECT_EQ(parse({"-p", "3", "status"}).lpt, 3);
+  EXPECT_EQ(parse({"-p3", "status"}).lpt, 3);
+  EXPECT_EQ(parse({"--port=4", "status"}).lpt, 4);
+  EXPECT_EQ(parse({"--port", "2", "status"}).lpt, 2);
+  EXPECT_EQ(parse({"status", "-p", "2"}).lpt, 2);  // after the subcommand too
+  EXPECT_EQ(device_of(parse({"-p", "4", "status"})), "/dev/x4step3");
+  EXPECT_EQ(device_of(parse({"-d", "/tmp/node", "status"})), "/tmp/node");
+  EXPECT_EQ(device_of(parse({"-d", "/tmp/node", "-p", "2", "status"})), "/dev/x4step1");  // the last one wins
+  EXPECT_EQ(usage_message({"-p", "0", "status"}), "port 0 out of range: use 1 to 4 (LPT1..LPT4)");
+  EXPECT_EQ(usage_message({"-p", "x", "status"}), "port 'x' is not a whole number");
+  EXPECT_EQ(usage_message({"status", "-p"}), "status: option '-p' needs a value");
+}
+
+TEST(Cli, UnknownThings) {
+  EXPECT_EQ(usage_message({"fly"}), "unknown command 'fly'");
+  EXPECT_EQ(usage_message({"--fly"}), "unknown option '--fly'");
+  EXPECT_EQ(usage_message({"move", "1", "--fly"}), "move: unknown option '--fly'");
+  EXPECT_EQ(usage_message({"move", "1", "-x"}), "move: unknown option '-x'");
+  EXPECT_EQ(usage_message({"status", "extra"}), "status: unexpected argument 'extra'");
+  EXPECT_EQ(usage_message({"move", "1", "--wait=yes"}), "move: option '--wait' takes no value");
+}
+
+TEST(Cli, Move) {
+  const config c = parse({"move", "1000", "-800", "600", "-400", "--freq", "2000", "-r", "40", "-w"});
+  EXPECT_EQ(c.cmd, subcommand::move);
+  EXPECT_EQ(c.move.steps, (std::array<long, 4>{1000, -800, 600, -400}));
+  EXPECT_EQ(c.move.freq_hz, 2000);
+  EXPECT_EQ(c.move.ramp, milliseconds(40));
+  EXPECT_TRUE(c.wait);
+}
+
+TEST(Cli, MoveNegativeNumbersAndDefaults) {
+  const config c = parse({"move", "-5"});
+  EXPECT_EQ(c.move.steps, (std::array<long, 4>{-5, 0, 0, 0}));
+  EXPECT_EQ(c.move.freq_hz, 1000);
+  EXPECT_EQ(c.move.ramp, milliseconds(50));
+  EXPECT_FALSE(c.wait);
+  EXPECT_EQ(parse({"move", "--freq=20", "1"}).move.ramp, milliseconds(20));  // default never exceeds the frequency
+  EXPECT_EQ(parse({"move", "-f20", "1", "-r0"}).move.ramp, milliseconds(0));
+  EXPECT_EQ(parse({"move", "--", "-1", "-2"}).move.steps, (std::array<long, 4>{-1, -2, 0, 0}));
+}
+
+TEST(Cli, MoveErrorsInTheLibrarysWords) {
+  EXPECT_EQ(usage_message({"move", "100", "--freq", "30000"}), "move: frequency too high: use at most 20000 Hz");
+  EXPECT_EQ(usage_message({"move", "100", "--freq", "9"}), "move: frequency too low: use at least 10 Hz");
+  EXPECT_EQ(usage_message({"move", "100", "--ramp", "1001"}), "move: ramp too long: use at most 1000 ms");
+  EXPECT_EQ(usage_message({"move", "100", "--ramp", "-1"}), "move: ramp -1 out of range: use 0 to 1000 ms");
+  EXPECT_EQ(usage_message({"move", "100", "--freq", "100", "--ramp", "101"}),
+            "move: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)");
+  EXPECT_EQ(usage_message({"move", "16777217"}), "move: path too long: at most 16777216 steps per axis");
+  EXPECT_EQ(usage_message({"move", "-16777217"}), "move: path too long: at most 16777216 steps per axis");
+  EXPECT_EQ(usage_message({"move", "0", "0"}), "move: no steps: give at least one axis a non-zero path");
+  EXPECT_EQ(usage_message({"move"}), "move: missing arguments");
+  EXPECT_EQ(usage_message({"move", "1", "2", "3", "4", "5"}), "move: unexpected argument '5'");
+  EXPECT_EQ(usage_message({"move", "12abc"}), "move: steps '12abc' is not a whole number");
+  EXPECT_EQ(usage_message({"move", "0x10"}), "move: steps '0x10' is not a whole number");
+  EXPECT_EQ(usage_message({"move", "99999999999999999999"}), "move: steps 99999999999999999999 out of range");
+  EXPECT_NO_THROW(parse({"move", "16777216", "-16777216"}));
+}
+
+TEST(Cli, Jog) {
+  config c = parse({"jog", "3", "-", "--freq", "500", "--time", "250"});
+  EXPECT_EQ(c.axis, 3);
+  EXPECT_EQ(c.dir, x4step::direction::negative);
+  EXPECT_EQ(c.move.freq_hz, 500);
+  EXPECT_EQ(c.time, milliseconds(250));
+  EXPECT_FALSE(c.wait);
+  c = parse({"jog", "1", "+", "-w"});
+  EXPECT_EQ(c.dir, x4step::direction::positive);
+  EXPECT_FALSE(c.time);
+  EXPECT_TRUE(c.wait);
+  EXPECT_EQ(usage_message({"jog", "1", "up"}), "jog: direction 'up': use + or -");
+  EXPECT_EQ(usage_message({"jog", "0", "+"}), "jog: axis 0 out of range: use 1 to 4");
+  EXPECT_EQ(usage_message({"jog", "1", "+", "--time", "-5"}), "jog: time -5 out of range: use 0 ms or more");
+  EXPECT_EQ(usage_message({"jog", "1", "+", "--freq", "20001"}), "jog: frequency too high: use at most 20000 Hz");
+}
+
+TEST(Cli, Sweep) {
+  const config c = parse({"sweep", "2", "1000", "200", "500", "20"});
+  EXPECT_EQ(c.axis, 2);
+  EXPECT_EQ(c.move.steps[1], 1000);
+  EXPECT_EQ(c.sweep_from, 200);
+  EXPECT_EQ(c.sweep_to, 500);
+  EXPECT_EQ(c.sweep_step, 20);
+  EXPECT_EQ(c.move.ramp, milliseconds(0));  // resonance tests: constant speed
+  EXPECT_EQ(usage_message({"sweep", "2", "1000", "200", "500", "0"}),
+            "sweep: frequency step 0 out of range: use 1 to 20000 Hz");
+  EXPECT_EQ(usage_message({"sweep", "2", "1000", "20", "500", "10", "--ramp", "30"}),
+            "sweep: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)");
+  EXPECT_EQ(usage_message({"sweep", "2", "0", "200", "500", "10"}),
+            "sweep: no steps: give at least one axis a non-zero path");
+  EXPECT_EQ(usage_message({"sweep", "2", "1000", "200", "50000", "10"}),
+            "sweep: frequency too high: use at most 20000 Hz");
+}
+
+TEST(Cli, OutKeysMonitorRunStatus) {
+  config c = parse({"out", "2", "on", "--time", "100"});
+  EXPECT_EQ(c.signal, x4step::signal::two);
+  EXPECT_TRUE(c.level);
+  EXPECT_EQ(c.time, milliseconds(100));
+  EXPECT_FALSE(parse({"out", "1", "off"}).level);
+  EXPECT_EQ(usage_message({"out", "3", "on"}), "out: signal 3: use 1 (pin 1) or 2 (pin 14)");
+  EXPECT_EQ(usage_message({"out", "1", "dim"}), "out: level 'dim': use on or off");
+
+  EXPECT_EQ(parse({"keys", "28", "156"}).codes, (std::vector<int>{28, 156}));
+  EXPECT_TRUE(parse({"keys"}).codes.empty());
+  EXPECT_EQ(usage_message({"keys", "128"}), "keys: key code 128 out of range: use 1..127 (press) or 129..255 (release)");
+  EXPECT_EQ(usage_message({"keys", "256"}), "keys: key code 256 out of range: use 1..127 (press) or 129..255 (release)");
+
+  EXPECT_EQ(parse({"monitor", "-n", "3"}).moves, 3);
+  EXPECT_EQ(usage_message({"monitor", "--moves", "0"}), "monitor: moves 0 out of range: use 1 or more");
+
+  c = parse({"run", "-c", "--echo", "script.x4"});
+  EXPECT_EQ(c.file, "script.x4");
+  EXPECT_TRUE(c.check);
+  EXPECT_TRUE(c.echo);
+  EXPECT_EQ(parse({"run"}).file, "-");
+
+  EXPECT_TRUE(parse({"status", "--json"}).json);
+  EXPECT_TRUE(parse({"in", "-w"}).watch);
+  EXPECT_EQ(parse({"help", "jog"}).topic, subcommand::jog);
+  EXPECT_EQ(usage_message({"help", "fly"}), "help: no command 'fly'");
+}
+
+TEST(Cli, HelpWinsOverMissingArguments) {
+  EXPECT_TRUE(parse({"move", "--help"}).help);
+  EXPECT_TRUE(parse({"sweep", "-h"}).help);
+  EXPECT_EQ(parse({"--help", "jog"}).cmd, subcommand::jog);
+  EXPECT_TRUE(parse({"-h"}).help);
+  EXPECT_TRUE(parse({"--version"}).version);
+}
+
+// Every subcommand has a help with a Usage line and mentions each of its options.
+TEST(Cli, HelpTexts) {
+  const std::vector<std::pair<subcommand, std::vector<std::string>>> expected = {
+      {subcommand::interactive, {"--port", "--device", "--help", "--version", "move", "jog", "brake", "stop",
+                                 "status", "in", "out", "keys", "sweep", "monitor", "run", "Exit status"}},
+      {subcommand::move, {"--freq", "--ramp", "--wait", "--port", "--device", "--help", "Exit status", "background"}},
+      {subcommand::jog, {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
+      {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
+      {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
+      {subcommand::status, {"--json", "--port", "--device", "--help"}},
+      {subcommand::in, {"--watch", "--port", "--device", "--help", "pins 15, 13, 12, 10"}},
+      {subcommand::out, {"--time", "--port", "--device", "--help", "pin 14"}},
+      {subcommand::keys, {"--port", "--device", "--help", "ESC (1)"}},
+      {subcommand::sweep, {"--ramp", "--port", "--device", "--help"}},
+      {subcommand::monitor, {"--moves", "--port", "--device", "--help", "read-only"}},
+      {subcommand::run, {"--check", "--echo", "--port", "--device", "--help", "Ax,y,z", "M+ 500"}},
+  };
+  for (const auto &[cmd, words] : expected) {
+    const std::string h = help_text(cmd);
+    const std::string usage =
+        cmd == subcommand::interactive ? "Usage: x4ctl [" : std::string("Usage: x4ctl ") + name_of(cmd) + " ";
+    EXPECT_EQ(h.rfind(usage, 0), 0u) << h;
+    for (const auto &w : words) EXPECT_TRUE(contains(h, w)) << name_of(cmd) << " help lacks " << w;
+    std::istringstream lines(h);
+    for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 80u) << line;
+  }
+}
+
+// ---- run_main: exit status and streams ------------------------------------------------
+
+struct captured {
+  int status;
+  std::string out, err;
+};
+
+captured run(std::vector<std::string> args) {
+  args.insert(args.begin(), "x4ctl");
+  std::ostringstream out, err;
+  auto *old_out = std::cout.rdbuf(out.rdbuf());
+  auto *old_err = std::cerr.rdbuf(err.rdbuf());
+  const int status = run_main(args);
+  std::cout.rdbuf(old_out);
+  std::cerr.rdbuf(old_err);
+  return {status, out.str(), err.str()};
+}
+
+// A script file that is removed again.
+class temp_file {
+ public:
+  explicit temp_file(const std::string &text) {
+    char name[] = "/tmp/x4ctl-test-XXXXXX";
+    const int fd = ::mkstemp(name);
+    ::close(fd);
+    path_ = name;
+    std::ofstream(path_) << text;
+  }
+  ~temp_file() { std::remove(path_.c_str()); }
+  const std::string &path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+TEST(Main, HelpAndVersion) {
+  captured r = run({"--help"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(contains(r.out, "Usage: x4ctl"));
+  EXPECT_EQ(r.err, "");
+  for (const char *c : {"move", "jog", "brake", "stop", "status", "in", "out", "keys", "sweep", "monitor", "run", "help"}) {
+    r = run({c, "--help"});
+    EXPECT_EQ(r.status, 0) << c;
+    EXPECT_TRUE(contains(r.out, "Usage: x4ctl ")) << c;
+  }
+  r = run({"help", "sweep"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(contains(r.out, "Usage: x4ctl sweep"));
+  r = run({"--version"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out.rfind("x4ctl ", 0), 0u);
+}
+
+TEST(Main, UsageErrorsExit2WithAHint) {
+  captured r = run({"move", "100", "--freq", "30000"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "x4ctl: move: frequency too high: use at most 20000 Hz\nTry 'x4ctl move --help'.\n");
+  r = run({"fly"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "x4ctl: unknown command 'fly'\nTry 'x4ctl --help'.\n");
+}
+
+TEST(Main, MissingPortExits1) {
+  captured r = run({"-d", "/nonexistent/x4step9", "status"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err,
+            "x4ctl: status: /nonexistent/x4step9: port not found: is x4step loaded, the port present and not in use?\n");
+  r = run({"-d", "/nonexistent/x4step9", "move", "10", "--wait"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: move: /nonexistent/x4step9: port not found")) << r.err;
+  r = run({"-d", "/nonexistent/x4step9", "brake"});
+  EXPECT_EQ(r.status, 1);
+  r = run({"-d", "/nonexistent/x4step9"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: /nonexistent/x4step9: port not found")) << r.err;
+}
+
+TEST(Main, RunCheckNeedsNoDevice) {
+  const temp_file good("# the manual's second example\ns1\nd1000\nf10000\nr100\ns2\nd500\ns3\nd100\ng\n");
+  captured r = run({"-d", "/nonexistent", "run", "--check", good.path()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "8 commands, no errors")) << r.out;
+
+  const temp_file bad("s1\nd1000\nf20\ng\n");  // ramp 50 ms > 20 Hz, found before anything moves
+  r = run({"-d", "/nonexistent", "run", bad.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "x4ctl: run: " + bad.path() +
+                                  ":4: G: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)"
+                                  " (G uses the leader axis 1: F20 R50)"))
+      << r.err;
+
+  const temp_file typo("s1\nd100\nz\n");
+  r = run({"run", typo.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "x4ctl: run: " + typo.path() + ":3: z: unknown command: H shows the commands\n");
+
+  r = run({"run", "/nonexistent.x4"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: run: cannot read /nonexistent.x4")) << r.err;
+}
+
+// ---- the command language --------------------------------------------------------------
+
+std::string parse_error(const std::string &text) {
+  try {
+    parse_command(text);
+  } catch (const usage_error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Language, EveryCommandCaseInsensitive) {
+  struct {
+    const char *text;
+    verb what;
+    std::vector<long> args;
+  } cases[] = {
+      {"S2", verb::select, {2}},         {"s 3", verb::select, {3}},       {"D1000", verb::distance, {1000}},
+      {"d-250", verb::distance, {-250}}, {"d +7", verb::distance, {7}},    {"F2000", verb::frequency, {2000}},
+      {"r50", verb::ramp, {50}},         {"g", verb::go, {}},              {"I", verb::info, {}},
+      {"m+", verb::endless, {}},         {"c", verb::cursor, {}},          {"a200,500,20", verb::sweep, {200, 500, 20}},
+      {"A 200, 500 ,20", verb::sweep, {200, 500, 20}},                     {"t", verb::toggle, {}},
+      {"E", verb::inputs, {}},           {"h", verb::help, {}},            {"?", verb::help, {}},
+      {"q", verb::quit, {}},             {"o1,1", verb::output, {1, 1}},   {"k28,156", verb::keys, {28, 156}},
+      {"K", verb::keys, {}},             {"w100", verb::wait, {100}},
+  };
+  for (const auto &c : cases) {
+    const command cmd = parse_command(c.text);
+    EXPECT_EQ(cmd.what, c.what) << c.text;
+    EXPECT_EQ(cmd.args, c.args) << c.text;
+    EXPECT_EQ(cmd.text, c.text) << c.text;
+  }
+}
+
+TEST(Language, EndlessAndTimes) {
+  command c = parse_command("M-");
+  EXPECT_EQ(c.what, verb::endless);
+  EXPECT_EQ(c.dir, x4step::direction::negative);
+  EXPECT_FALSE(c.time_ms);
+  c = parse_command("m+ 500");
+  EXPECT_EQ(c.dir, x4step::direction::positive);
+  EXPECT_EQ(c.time_ms, 500);
+  EXPECT_EQ(parse_command("M-250").time_ms, 250);
+  EXPECT_EQ(parse_command("T 1000").time_ms, 1000);
+  EXPECT_EQ(parse_command("e 300").time_ms, 300);
+}
+
+TEST(Language, BadCommandsSayWhatIsWrong) {
+  EXPECT_EQ(parse_error("x"), "x: unknown command: H shows the commands");
+  EXPECT_EQ(parse_error("S5"), "S5: axis 5 out of range: use 1 to 4");
+  EXPECT_EQ(parse_error("s"), "s: S needs a number, e.g. S1");
+  EXPECT_EQ(parse_error("dx"), "dx: steps 'x' is not a whole number");
+  EXPECT_EQ(parse_error("d16777217"), "d16777217: path too long: at most 16777216 steps per axis");
+  EXPECT_EQ(parse_error("f30000"), "f30000: frequency too high: use at most 20000 Hz");
+  EXPECT_EQ(parse_error("F9"), "F9: frequency too low: use at least 10 Hz");
+  EXPECT_EQ(parse_error("r1001"), "r1001: ramp too long: use at most 1000 ms");
+  EXPECT_EQ(parse_error("r-1"), "r-1: ramp -1 out of range: use 0 to 1000 ms");
+  EXPECT_EQ(parse_error("g1"), "g1: G takes no argument");
+  EXPECT_EQ(parse_error("m"), "m: M needs a direction: M+ or M-");
+  EXPECT_EQ(parse_error("m+ x"), "m+ x: time 'x' is not a whole number");
+  EXPECT_EQ(parse_error("a200,500"), "a200,500: A needs 3 numbers, e.g. A200,500,20");
+  EXPECT_EQ(parse_error("a200,50000,20"), "a200,50000,20: frequency too high: use at most 20000 Hz");
+  EXPECT_EQ(parse_error("a200,500,0"), "a200,500,0: frequency step 0 out of range: use 1 to 20000 Hz");
+  EXPECT_EQ(parse_error("o3,1"), "o3,1: signal 3: use 1 (pin 1) or 2 (pin 14)");
+  EXPECT_EQ(parse_error("o1,2"), "o1,2: level 2: use 1 (on) or 0 (off)");
+  EXPECT_EQ(parse_error("k0"), "k0: key code 0 out of range: use 1..127 (press) or 129..255 (release)");
+  EXPECT_EQ(parse_error("t-5"), "t-5: time -5 out of range: use 0 ms or more");
+}
+
+TEST(Language, Lines) {
+  const auto v = parse_line("s2; d500 ;f1000  # comment; g");
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].what, verb::select);
+  EXPECT_EQ(v[1].args, std::vector<long>{500});
+  EXPECT_EQ(v[2].what, verb::frequency);
+  EXPECT_TRUE(parse_line("   ").empty());
+  EXPECT_TRUE(parse_line("# only a comment").empty());
+  EXPECT_TRUE(parse_line(";;").empty());
+  EXPECT_THROW(parse_line("s1; x; g"), usage_error);
+}
+
+// ---- the interpreter on a simulated port ------------------------------------------------
+
+// A port whose moves advance a quarter of the leader's path per wait().
+class fake_port : public port {
+ public:
+  std::vector<x4step::move> loads;
+  int starts = 0, brakes = 0, stops = 0;
+  std::vector<std::tuple<int, x4step::direction, int, long long>> endless;  // axis, dir, freq, ramp ms
+  std::vector<std::pair<x4step::signal, bool>> outputs;
+  std::vector<std::vector<int>> codes;
+  unsigned inputs = 0x15;
+
+  void load(const x4step::move &m) override {
+    if (loaded_) throw x4step::error(x4step::make_error_code(x4step::errc::is_loaded));
+    loads.push_back(m);
+    loaded_ = true;
+  }
+  void start() override {
+    if (!loaded_) throw x4step::error(x4step::make_error_code(x4step::errc::not_loaded));
+    loaded_ = false;
+    starts++;
+    target_ = steps_of(loads.back());
+    s_.steps = {};
+    s_.active = true;
+    endless_ = false;
+    n_ = 0;
+  }
+  void brake() override {
+    if (!s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
+    brakes++;
+    braking_ = true;
+  }
+  void stop() override {
+    if (!s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
+    stops++;
+    s_.active = false;
+  }
+  void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) override {
+    endless.emplace_back(axis, dir, freq_hz, ramp.count());
+    s_.steps = {};
+    s_.active = true;
+    endless_ = true;
+    axis_ = axis;
+    sign_ = dir == x4step::direction::positive ? 1 : -1;
+  }
+  x4step::status get_status() const override {
+    x4step::status s = s_;
+    s.inputs = inputs;
+    return s;
+  }
+  bool wait(milliseconds) const override {
+    auto *self = const_cast<fake_port *>(this);
+    if (!s_.active) return true;
+    if (self->braking_) {
+      self->s_.active = self->braking_ = false;
+      return true;
+    }
+    self->n_++;
+    if (endless_) {
+      self->s_.steps[axis_ - 1] += sign_ * 10;
+    } else {
+      for (int i = 0; i < x4step::axes; i++) self->s_.steps[i] = target_[i] * std::min(n_, 4) / 4;
+      if (n_ >= 4) self->s_.active = false;
+    }
+    return !s_.active;
+  }
+  void set_output(x4step::signal s, bool high) override { outputs.emplace_back(s, high); }
+  void set_brake_codes(const std::vector<int> &c) override { codes.push_back(c); }
+
+ private:
+  x4step::status s_;
+  step_counts target_{};
+  bool loaded_ = false, braking_ = false, endless_ = false;
+  int n_ = 0, axis_ = 1, sign_ = 1;
+};
+
+// Output into a string; keys from a script, one per read_key.
+class fake_console : public console {
+ public:
+  explicit fake_console(bool keyboard = false) : keyboard_(keyboard) {}
+  std::deque<key> keys;
+  std::ostringstream text;
+  std::ostream &out() override { return text; }
+  bool live() const override { return false; }
+  bool has_keyboard() const override { return keyboard_; }
+  key read_key(milliseconds) override {
+    if (keys.empty()) return key::none;
+    const key k = keys.front();
+    keys.pop_front();
+    return k;
+  }
+
+ private:
+  bool keyboard_;
+};
+
+void run_lines(interpreter &in, const std::string &script) {
+  std::istringstream lines(script);
+  for (std::string line; std::getline(lines, line);)
+    for (const auto &c : parse_line(line)) in.execute(c);
+}
+
+TEST(Interpreter, KeepsValuesPerAxis) {
+  fake_console con;
+  interpreter in(con, nullptr, true);
+  EXPECT_EQ(in.prompt(), "1-> ");
+  run_lines(in, "d100\nf2000\nr20\ns3\nd-50\nF500");
+  EXPECT_EQ(in.prompt(), "3-> ");
+  EXPECT_EQ(in.values(1).distance, 100);
+  EXPECT_EQ(in.values(1).freq_hz, 2000);
+  EXPECT_EQ(in.values(1).ramp_ms, 20);
+  EXPECT_EQ(in.values(3).distance, -50);
+  EXPECT_EQ(in.values(3).freq_hz, 500);
+  EXPECT_EQ(in.values(3).ramp_ms, 50);  // default
+  EXPECT_EQ(in.values(2).distance, 0);
+}
+
+// The manual's second example: G runs at the leader's frequency and ramp.
+TEST(Interpreter, GoUsesTheLeadersFrequencyAndRamp) {
+  fake_console con;
+  fake_port p;
+  interpreter in(con, &p, true);
+  run_lines(in, "s1\nd1000\nf10000\nr100\ns2\nd500\ns3\nd100\ng");
+  ASSERT_EQ(p.loads.size(), 1u);
+  EXPECT_EQ(p.loads[0].steps, (std::array<long, 4>{1000, 500, 100, 0}));
+  EXPECT_EQ(p.loads[0].freq_hz, 10000);
+  EXPECT_EQ(p.loads[0].ramp, milliseconds(100));
+  EXPECT_EQ(p.starts, 1);
+  EXPECT_TRUE(contains(con.text.str(), "G: 1000 500 100 0 at 10000 Hz, ramp 100 ms (leader axis 1)\n"));
+  EXPECT_TRUE(contains(con.text.str(), "done: 1000 500 100 0\n"));
+
+  // A longer negative path leads; equal paths: the first axis.
+  run_lines(in, "s4\nd-2000\nf3000\nr10");
+  EXPECT_EQ(in.leader(), 4);
+  EXPECT_EQ(in.go_move().freq_hz, 3000);
+  run_lines(in, "d1000");
+  EXPECT_EQ(in.leader(), 1);
+}
+
+TEST(Interpreter, InfoNamesTheLeader) {
+  fake_console con;
+  interpreter in(con, nullptr, false);
+  run_lines(in, "i");
+  EXPECT_TRUE(contains(con.text.str(), "No axis has a distance yet")) << con.text.str();
+  run_lines(in, "s2\nd-700\nf4000\nr40\ns1\nd300\ni");
+  const std::string s = con.text.str();
+  EXPECT_TRUE(contains(s, "> 1        300     1000       50\n")) << s;
+  EXPECT_TRUE(contains(s, "  2       -700     4000       40  leader\n")) << s;
+  EXPECT_TRUE(contains(s, "axis 2, 4000 Hz, 40 ms")) << s;
+}
+
+TEST(Interpreter, NothingMovesAfterAnError) {
+  fake_console con;
+  fake_port p;
+  interpreter in(con, &p, true);
+  run_lines(in, "d100\nf20");  // the default ramp, 50 ms, is too long for 20 Hz
+  try {
+    run_lines(in, "g");
+    FAIL() << "G ran";
+  } catch (const usage_error &e) {
+    EXPECT_STREQ(e.what(),
+                 "G: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz) "
+                 "(G uses the leader axis 1: F20 R50)");
+  }
+  EXPECT_THROW(run_lines(in, "s2\ng"), usage_error);  // axis 1 still leads
+  EXPECT_THROW(run_lines(in, "s1\nd0\ng"), usage_error);  // no steps
+  EXPECT_THROW(run_lines(in, "s1\nd10\nr20\nt"), usage_error);
+  EXPECT_THROW(run_lines(in, "a10,100,10"), usage_error);
+  EXPECT_THROW(run_lines(in, "m+"), usage_error);
+  EXPECT_TRUE(p.loads.empty());
+  EXPECT_EQ(p.starts, 0);
+  EXPECT_TRUE(p.endless.empty());
+}
+
+TEST(Interpreter, EscBrakesAndAHaltedGoFailsOnlyInScripts) {
+  fake_console con(true);
+  fake_port p;
+  interpreter in(con, &p, false);
+  con.keys = {key::none, key::esc};
+  run_lines(in, "d1000\ng");
+  EXPECT_EQ(p.brakes, 1);
+  EXPECT_TRUE(contains(con.text.str(), "halted (ESC) at 500 of 1000 steps: 500 0 0 0\n")) << con.text.str();
+
+  fake_console script_con;
+  interpreter strict(script_con, &p, true);
+  script_con.keys = {key::brake_request};
+  try {
+    run_lines(strict, "d1000\ng");
+    FAIL() << "no failure";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(), "G: halted (brake request) at 250 of 1000 steps: 250 0 0 0");
+  }
+}
+
+TEST(Interpreter, CtrlCTwiceStops) {
+  fake_console con(true);
+  fake_port p;
+  interpreter in(con, &p, false);
+  con.keys = {key::interrupt, key::interrupt};
+  // The fake ends a brake at the next wait, so the second Ctrl-C must come
+  // in the same tick: follow reads one key per tick. Brake counts once.
+  run_lines(in, "d1000\ng");
+  EXPECT_EQ(p.brakes, 1);
+  EXPECT_TRUE(contains(con.text.str(), "halted (Ctrl-C)")) << con.text.str();
+}
+
+TEST(Interpreter, EndlessMoves) {
+  fake_console con;
+  fake_port p;
+  interpreter in(con, &p, true);
+  con.keys = {key::none, key::none, key::brake_request};
+  run_lines(in, "s3\nf10000\nr500\nm-");
+  ASSERT_EQ(p.endless.size(), 1u);
+  EXPECT_EQ(p.endless[0], std::make_tuple(3, x4step::direction::negative, 10000, 500LL));
+  EXPECT_EQ(p.brakes, 1);
+  EXPECT_TRUE(contains(con.text.str(), "M-: axis 3 endless at 10000 Hz, ramp 500 ms")) << con.text.str();
+  EXPECT_TRUE(contains(con.text.str(), "halted (brake request): 0 0 -30 0")) << con.text.str();
+
+  run_lines(in, "m+ 0");  // a time: brakes by itself
+  EXPECT_EQ(std::get<1>(p.endless.at(1)), x4step::direction::positive);
+  EXPECT_EQ(p.brakes, 2);
+  EXPECT_TRUE(contains(con.text.str(), "halted (time up)")) << con.text.str();
+}
+
+TEST(Interpreter, BackAndForth) {
+  fake_console con;
+  fake_port p;
+  interpreter in(con, &p, true);
+  // Three full moves, then ESC in the fourth.
+  con.keys.assign(3 * 4, key::none);
+  con.keys.push_back(key::esc);
+  run_lines(in, "s2\nd2000\nf5000\nr100\nt");
+  ASSERT_EQ(p.loads.size(), 4u);
+  EXPECT_EQ(p.loads[0].steps[1], 2000);
+  EXPECT_EQ(p.loads[1].steps[1], -2000);
+  EXPECT_EQ(p.loads[2].steps[1], 2000);
+  EXPECT_EQ(p.loads[3].steps[1], -2000);
+  EXPECT_EQ(p.loads[0].freq_hz, 5000);
+  EXPECT_EQ(p.loads[0].ramp, milliseconds(100));
+  EXPECT_TRUE(contains(con.text.str(), "T: 3 moves, then halted (ESC)")) << con.text.str();
+}
+
+TEST(Interpreter, SweepAlternatesDirection) {
+  fake_console con;
+  fake_port p;
+  interpreter in(con, &p, true);
+  run_lines(in, "s2\nd1000\nr0\na200,260,20");
+  ASSERT_EQ(p.loads.size(), 4u);
+  const int freqs[] = {200, 220, 240, 260};
+  for (int i = 0; i < 4; i++) {
+    EXPECT_EQ(p.loads[i].freq_hz, freqs[i]);
+    EXPECT_EQ(p.loads[i].steps[1], i % 2 ? -1000 : 1000);
+    EXPECT_EQ(p.loads[i].ramp, milliseconds(0));
+  }
+  EXPECT_TRUE(contains(con.text.str(), "A: 220 Hz -1000 steps done\n")) << con.text.str();
+  p.loads.clear();
+  run_lines(in, "a500,300,150");  // downwards: 500, 350
+  ASSERT_EQ(p.loads.size(), 2u);
+  EXPECT_EQ(p.loads[1].freq_hz, 350);
+}
+
+TEST(Interpreter, InputsOutputsKeys) {
+  fake_console con;
+  fake_port p;
+  interpreter in(con, &p, true);
+  run_lines(in, "e\no2,1\no1,0\nk28,156\nk");
+  const std::string s = con.text.str();
+  EXPECT_TRUE(contains(s, "E: pin15=1 pin13=0 pin12=1 pin10=0 pin11=1\n")) << s;
+  ASSERT_EQ(p.outputs.size(), 2u);
+  EXPECT_EQ(p.outputs[0], std::make_pair(x4step::signal::two, true));
+  EXPECT_EQ(p.outputs[1], std::make_pair(x4step::signal::one, false));
+  ASSERT_EQ(p.codes.size(), 2u);
+  EXPECT_EQ(p.codes[0], (std::vector<int>{28, 156}));
+  EXPECT_TRUE(p.codes[1].empty());
+  EXPECT_TRUE(contains(s, "K: brake keys 28 156 and ESC\n")) << s;
+  EXPECT_TRUE(contains(s, "K: only ESC brakes\n")) << s;
+}
+
+TEST(Interpreter, CursorNeedsAKeyboard) {
+  fake_console con(false);
+  fake_port p;
+  interpreter in(con, &p, true);
+  try {
+    run_lines(in, "c");
+    FAIL() << "C ran";
+  } catch (const usage_error &e) {
+    EXPECT_STREQ(e.what(), "C: C needs a terminal for the cursor keys; in scripts use M+ or M- with a time");
+  }
+}
+
+TEST(Interpreter, CursorMovesWhileHeld) {
+  fake_console con(true);
+  fake_port p;
+  interpreter in(con, &p, false);
+  // RIGHT, held (repeats), then LEFT: brake, the other way; ESC ends.
+  con.keys = {key::right, key::right, key::right, key::left, key::esc};
+  run_lines(in, "s2\nf800\nr10\nc");
+  ASSERT_EQ(p.endless.size(), 2u);
+  EXPECT_EQ(p.endless[0], std::make_tuple(2, x4step::direction::positive, 800, 10LL));
+  EXPECT_EQ(std::get<1>(p.endless[1]), x4step::direction::negative);
+  EXPECT_EQ(p.brakes, 2);  // LEFT brakes the RIGHT jog, ESC the LEFT one
+  EXPECT_TRUE(contains(con.text.str(), "C: axis 2 moved")) << con.text.str();
+}
+
+TEST(Interpreter, QuitAndHelp) {
+  fake_console con;
+  interpreter in(con, nullptr, false);
+  EXPECT_FALSE(in.execute(parse_command("Q")));
+  EXPECT_TRUE(in.execute(parse_command("?")));
+  EXPECT_EQ(con.text.str(), language_help());
+  for (const char *w : {"Sx", "Dx", "Fx", "Rx", "G ", "I ", "M+", "M-", "C ", "Ax,y,z", "T ", "E ", "H, ?", "Q ",
+                        "leader", "M+ 500"})
+    EXPECT_TRUE(contains(language_help(), w)) << w;
+}
+
+TEST(Interpreter, CheckOnlyTouchesNothing) {
+  fake_console con;
+  interpreter in(con, nullptr, true);
+  run_lines(in, "s1\nd100\ng\nm+\nt 10\na100,200,50\ne\no1,1\nk1\nw10000");
+  EXPECT_EQ(con.text.str(), "");
+}
+
+// ---- formatting ----------------------------------------------------------------------
+
+TEST(Show, Texts) {
+  EXPECT_EQ(steps_text({1000, -800, 0, 4}), "1000 -800 0 4");
+  EXPECT_EQ(bar(50, 100, 10), "[#####-----]");
+  EXPECT_EQ(bar(-100, -100, 4), "[####]");
+  EXPECT_EQ(bar(0, 0, 4), "[----]");
+  EXPECT_EQ(progress_line({412, 0, 0, 0}, 412, 1000), "      412         0         0         0 [########------------] 41%");
+  EXPECT_EQ(inputs_text(0x1f), "pin15=1 pin13=1 pin12=1 pin10=1 pin11=1");
+  EXPECT_EQ(inputs_text(0x02), "pin15=0 pin13=1 pin12=0 pin10=0 pin11=0");
+  EXPECT_EQ(key_name(1), "ESC");
+  EXPECT_EQ(key_name(28), "key code 28");
+  EXPECT_EQ(key_name(156), "key code 156 (release of 28)");
+}
+
+TEST(Show, StatusJson) {
+  x4step::status s;
+  s.active = true;
+  s.controlled = true;
+  s.steps = {1, -2, 3, 0};
+  s.inputs = 0x11;
+  s.outputs = 0x9;
+  s.last_brake_code = 1;
+  s.moves_ended = 7;
+  EXPECT_EQ(status_json(s, "/dev/x4step0"),
+            "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
+            "\"steps\":[1,-2,3,0],\"inputs\":17,\"input_pins\":{\"15\":1,\"13\":0,\"12\":0,\"10\":0,\"11\":1},"
+            "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
+            "\"moves_ended\":7}");
+  EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
+  const std::string text = status_text(s, "/dev/x4step0");
+  EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;
+  EXPECT_TRUE(contains(text, "braked by    ESC\n")) << text;
+}
+
+// ---- keys from a terminal ------------------------------------------------------------------
+
+TEST(Term, DecodeKeys) {
+  EXPECT_EQ(decode_key("", false).k, key::none);
+  EXPECT_EQ(decode_key("\x1b", false).used, 0u);  // maybe the start of a sequence
+  EXPECT_EQ(decode_key("\x1b", true).k, key::esc);
+  EXPECT_EQ(decode_key("\x1b[C", false).k, key::right);
+  EXPECT_EQ(decode_key("\x1b[D", false).k, key::left);
+  EXPECT_EQ(decode_key("\x1bOD", false).k, key::left);
+  EXPECT_EQ(decode_key("\x1b[1;2C", false).k, key::right);  // shift-right
+  EXPECT_EQ(decode_key("\x1b[1;2C", false).used, 6u);
+  EXPECT_EQ(decode_key("\x1b[A", false).k, key::other);
+  EXPECT_EQ(decode_key("\x1b[", false).used, 0u);
+  EXPECT_EQ(decode_key("\x1bx", false).k, key::esc);
+  EXPECT_EQ(decode_key("\x1bx", false).used, 1u);
+  EXPECT_EQ(decode_key("\x03", false).k, key::interrupt);
+  EXPECT_EQ(decode_key("q", false).k, key::other);
+}
+
+}  // namespace
+}  // namespace x4ctl
