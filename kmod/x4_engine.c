@@ -422,8 +422,11 @@ static void end(struct x4_engine *e)
 	e->phase = X4_IDLE;
 }
 
-/* Apply the pending event (due at x4_engine_due()) and plan the next. */
-void x4_engine_fire(struct x4_engine *e, struct x4_event *ev)
+/*
+ * Apply the pending event (due at x4_engine_due(), fired at now_ns) and
+ * plan the next.
+ */
+void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev)
 {
 	const struct x4_plan *p = &e->run;
 
@@ -437,6 +440,9 @@ void x4_engine_fire(struct x4_engine *e, struct x4_event *ev)
 		e->ctl |= X4_CTL_AKTIV;
 		if (p->n_cruise)
 			e->ctl |= X4_CTL_BOOST;
+		/* Count the setup time from when the directions really go out. */
+		if (now_ns > e->t_pending)
+			e->origin = now_ns + X4_DIR_SETUP_NS;
 		e->phase = e->no_steps ? X4_END : X4_RISE;
 		e->t_pending = e->origin;
 		break;

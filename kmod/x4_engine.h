@@ -154,7 +154,7 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 int x4_engine_brake(struct x4_engine *e);
 int x4_engine_stop(struct x4_engine *e);
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
-void x4_engine_fire(struct x4_engine *e, struct x4_event *ev);
+void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev);
 
 static inline bool x4_engine_busy(const struct x4_engine *e)
 {

@@ -80,10 +80,11 @@ u32 x4_port_inputs_locked(struct x4_port *x4)
 }
 
 /* Count how late this expiry is. Caller holds slock. */
-static void x4_account_lateness(struct x4_port *x4, struct hrtimer *timer)
+static void x4_account_lateness(struct x4_port *x4, struct hrtimer *timer,
+				ktime_t now)
 {
 	struct x4step_timing *t = &x4->timing;
-	s64 late = ktime_to_ns(ktime_sub(ktime_get(), hrtimer_get_expires(timer)));
+	s64 late = ktime_to_ns(ktime_sub(now, hrtimer_get_expires(timer)));
 	u64 bucket;
 
 	if (late < 0)
@@ -104,11 +105,14 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	enum hrtimer_restart ret = HRTIMER_NORESTART;
 	struct x4_event ev;
 	unsigned long flags;
+	ktime_t now;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4_engine_busy(&x4->eng)) {
-		x4_account_lateness(x4, timer);
-		x4_engine_fire(&x4->eng, &ev);
+		now = ktime_get();
+		x4_account_lateness(x4, timer, now);
+		x4_engine_fire(&x4->eng, ktime_to_ns(ktime_sub(now, x4->epoch)),
+			       &ev);
 		x4_port_write_locked(x4);
 		if (x4_engine_busy(&x4->eng)) {
 			hrtimer_set_expires(timer,

@@ -30,7 +30,7 @@ int main(int argc, char **argv) {
   while (x4_engine_busy(&e)) {
     x4_event ev;
     if (per_step && !high) CALLGRIND_ZERO_STATS;  // a leader step: rise + fall
-    x4_engine_fire(&e, &ev);
+    x4_engine_fire(&e, x4_engine_due(&e), &ev);
     const bool clk = ev.data & X4_CLK_BIT(0);
     if (clk == high) continue;  // start or end event
     high = clk;

@@ -14,7 +14,9 @@ cmake --install "$build" --prefix "$stage" >/dev/null
 cxx="g++ -std=c++17 -O2 -Wall -Wextra -Werror -static"
 $cxx -I"$top/include/uapi" -o "$out/module_test" "$top/tests/guest/module_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
-$cxx -I"$top/include/uapi" -o "$out/timing_bench" "$top/tests/guest/timing_bench.cpp"
+gcc -O2 -Wall -Wextra -Werror -c -o "$out/x4_engine.o" "$top/kmod/x4_engine.c"
+$cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod" -o "$out/timing_bench" \
+	"$top/tests/guest/timing_bench.cpp" "$top/tests/host/engine_ref.cpp" "$out/x4_engine.o"
 $cxx -I"$stage/include" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$stage/lib/libx4step.a"
 gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/kmod/x4vctl.c"
 for f in "$top"/tests/guest/manual/*.c; do

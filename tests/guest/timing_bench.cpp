@@ -10,11 +10,15 @@
 #include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include "engine_ref.h"
 
 namespace {
 
@@ -74,8 +78,8 @@ int main() {
   unsigned long long n = 0, b50 = 0, b99 = 0, bmax = 0;
   Check(std::sscanf(bare.c_str(), "events %llu p50 %llu p99 %llu max %llu", &n, &b50, &b99, &bmax) == 4,
         "bare hrtimer baseline ran");
-  std::printf("bare hrtimer:  %llu events at 40000/s, lateness p50 %llu ns, p99 %llu ns, max %llu ns\n", n, b50, b99,
-              bmax);
+  std::printf("bare hrtimer:  %llu events at 40000/s, lateness p50 %llu ns, p99 %llu ns, max %llu ns\n", n,
+              b50, b99, bmax);
   if (b50 && b99)
     std::printf("ratio x4step/bare: p50 %.2f, p99 %.2f, max %.2f\n", double(p50) / b50, double(p99) / b99,
                 bmax ? double(t.late_max_ns) / bmax : 0.0);
@@ -104,10 +108,58 @@ int main() {
     }
     prev = v;
   }
-  std::printf("20 kHz on the virtual port: %u rising edges, min high %llu ns, min low %llu ns\n", rises, min_high,
-              min_low);
+  std::printf("20 kHz on the virtual port: %u rising edges, min high %llu ns, min low %llu ns\n", rises,
+              min_high, min_low);
   Check(rises == 20000, "no step missed or merged at 20 kHz");
   Check(min_high >= 20000 && min_low >= 20000, "every pulse and gap at least 20 us");
+
+  // 3. The manual's example on the virtual port: direction setup, and
+  //    every leader step against the double-precision profile.
+  { std::ofstream("/sys/kernel/debug/x4vport/clear") << "1" << std::endl; }
+  Check(RunMove(dev.c_str(), {{1000, 800, -600, 400}, 1000, 50, 0, 0}, nullptr),
+        "manual example on the virtual port");
+  std::istringstream trace2(Slurp("/sys/kernel/debug/x4vport/trace"));
+  std::vector<unsigned long long> rise_t;
+  unsigned long long dir_t = 0;
+  prev = 0;
+  bool first = true;
+  while (trace2 >> ts >> reg >> val) {
+    if (reg != 'd') continue;
+    const unsigned v = std::strtoul(val.c_str(), nullptr, 16);
+    if (!first && ((v ^ prev) & 0x55) && rise_t.empty()) dir_t = ts;
+    if ((v & 2) && !(prev & 2) && !first) rise_t.push_back(ts);
+    if (first && (v & 0x55) != 0) dir_t = ts;  // directions in the first write
+    first = false;
+    prev = v;
+  }
+  double worst = 0;
+  for (size_t i = 0; i < rise_t.size(); i++) {
+    const double ideal = x4test::ref_step_time(1000, 1000, 50, i) * 1e9;
+    const double d = std::abs(double(rise_t[i] - rise_t[0]) - ideal);
+    if (d > worst) worst = d;
+  }
+  const unsigned long long setup = rise_t.empty() ? 0 : rise_t[0] - dir_t;
+  std::printf(
+      "manual example: %zu leader steps, direction setup %llu ns, max step-time deviation from the profile "
+      "%.0f ns\n",
+      rise_t.size(), setup, worst);
+  Check(rise_t.size() == 1000, "1000 leader steps");
+  Check(setup >= 100000, "direction set at least 100 us before the first step");
+  Check(worst < 10000, "every step within 10 us of the profile");
+
+  // 4. Outputs land on their pins (control register, hardware inversions).
+  const int fd = open(dev.c_str(), O_RDWR);
+  x4step_output out{X4STEP_OUT_SIGNAL1, 1};
+  ioctl(fd, X4STEP_SET_OUTPUT, &out);
+  unsigned c = std::strtoul(Slurp("/sys/kernel/debug/x4vport/control").c_str(), nullptr, 16);
+  Check(!(c & 1) && (c & 2) && !(c & 4) && (c & 8), "signal 1 on: pin 1 high, pins 14, 16, 17 low");
+  out = {X4STEP_OUT_SIGNAL2, 1};
+  ioctl(fd, X4STEP_SET_OUTPUT, &out);
+  out = {X4STEP_OUT_SIGNAL1, 0};
+  ioctl(fd, X4STEP_SET_OUTPUT, &out);
+  c = std::strtoul(Slurp("/sys/kernel/debug/x4vport/control").c_str(), nullptr, 16);
+  Check((c & 1) && !(c & 2), "signal 2 on, 1 off: pin 14 high, pin 1 low");
+  close(fd);
   std::printf("timing_bench: %d failed\n", failures);
   return failures ? 1 : 0;
 }

@@ -42,7 +42,7 @@ void record(x4_engine &e, Recording &rec, size_t max_events) {
   bool moving = false;
   for (size_t i = 0; i < max_events && x4_engine_busy(&e); i++) {
     x4_event ev;
-    x4_engine_fire(&e, &ev);
+    x4_engine_fire(&e, x4_engine_due(&e), &ev);
     rec.events.push_back(ev);
     const uint8_t changed = data ^ ev.data;
     for (int axis = 0; axis < X4_AXES; axis++) {
