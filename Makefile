@@ -48,8 +48,8 @@ bench: deps userspace
 	tests/bench/run.sh
 
 install: all
-	cmake --install $(BUILD)
-	$(MAKE) -C $(KDIR) M=$(CURDIR) INSTALL_MOD_DIR=extra modules_install
+	DESTDIR=$(DESTDIR) cmake --install $(BUILD)
+	$(MAKE) -C $(KDIR) M=$(CURDIR) INSTALL_MOD_DIR=extra INSTALL_MOD_PATH=$(DESTDIR) modules_install
 	install -D -m 0644 tools/60-x4step.rules $(DESTDIR)/etc/udev/rules.d/60-x4step.rules
 
 clean:
