@@ -12,6 +12,7 @@
 #else
 #include <string.h>
 #define x4_div(a, b) ((a) / (b))
+/* noinline: defined by the build (CMakeLists.txt), as the kernel does */
 #endif
 
 #define NSEC_PER_SEC_U64 1000000000ull
@@ -185,12 +186,50 @@ static void plan_axes(struct x4_plan *p, const s32 *steps)
 void x4_engine_init(struct x4_engine *e)
 {
 	memset(e, 0, sizeof(*e));
+	e->timing.dir_setup_ns = X4_DIR_SETUP_NS;
+}
+
+int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
+			u8 mode)
+{
+	if (t->pulse_ns > X4_TIMING_MAX_NS ||
+	    (t->pulse_ns && t->pulse_ns < X4_PULSE_MIN_NS) ||
+	    t->space_ns > X4_TIMING_MAX_NS ||
+	    t->dir_setup_ns > X4_TIMING_MAX_NS ||
+	    t->dir_hold_ns > X4_TIMING_MAX_NS || mode > X4_MODE_SMC_PHASE_HOLD)
+		return X4_ERR_PARAM_FAIL;
+	if (x4_engine_busy(e))
+		return X4_ERR_IS_ACTIVE;
+	e->timing = *t;
+	e->mode = mode;
+	return X4_OK;
+}
+
+/*
+ * Whether steps at freq_hz fit the port's timing: a fixed pulse plus the
+ * minimum space, or half a period each for the symmetric clock.
+ */
+static int timing_check(const struct x4_engine *e, s32 freq_hz)
+{
+	u64 period = x4_div(NSEC_PER_SEC_U64, (u64)freq_hz);
+	const struct x4_timing *t = &e->timing;
+
+	if (e->mode != X4_MODE_CLOCK_DIR)
+		return X4_OK; /* phase patterns have no pulse */
+	if (t->pulse_ns ? t->pulse_ns + t->space_ns > period :
+			  t->space_ns > period / 2)
+		return X4_ERR_FREQ_TOO_HIGH;
+	return X4_OK;
 }
 
 int x4_engine_load(struct x4_engine *e, const struct x4_move *m)
 {
 	int ret = x4_move_check(m);
 
+	if (!ret)
+		ret = timing_check(e, m->freq_hz);
+	if (!ret && e->mode != X4_MODE_CLOCK_DIR && m->steps[3])
+		ret = X4_ERR_PARAM_FAIL; /* the SMC boards drive 3 motors */
 	if (ret)
 		return ret;
 	if (e->loaded)
@@ -212,7 +251,7 @@ static void begin(struct x4_engine *e, u64 now_ns)
 	e->n = 0;
 	e->t_cur = 0;
 	e->t_pending = now_ns;
-	e->origin = now_ns + X4_DIR_SETUP_NS;
+	e->origin = now_ns + e->timing.dir_setup_ns;
 	for (i = 0; i < X4_AXES; i++) {
 		e->steps[i] = 0;
 		e->bres[i] = e->run.bres_2l / 2;
@@ -237,9 +276,12 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 	s32 steps[X4_AXES] = { 0 };
 	int ret;
 
-	if (axis < 1 || axis > X4_AXES)
+	if (axis < 1 || axis > X4_AXES ||
+	    (e->mode != X4_MODE_CLOCK_DIR && axis > X4_SMC_AXES))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_ramp_check(freq_hz, ramp_ms);
+	if (!ret)
+		ret = timing_check(e, freq_hz);
 	if (ret)
 		return ret;
 	if (e->loaded)
@@ -306,18 +348,14 @@ int x4_engine_brake(struct x4_engine *e)
 		break;
 	case X4_END:
 		break;
+	case X4_QUEUED: /* brake what comes after this instant's writes */
+		e->phase = e->phase_after;
+		if (e->phase != X4_IDLE)
+			x4_engine_brake(e);
+		e->phase_after = e->phase;
+		e->phase = X4_QUEUED;
+		break;
 	}
-	return X4_OK;
-}
-
-/* Emergency stop: no further step; clocks, BOOST and AKTIV drop now. */
-int x4_engine_stop(struct x4_engine *e)
-{
-	if (!x4_engine_busy(e))
-		return X4_ERR_NOT_ACTIVE;
-	e->data &= X4_DIR_MASK;
-	e->ctl &= (u8)~(X4_CTL_AKTIV | X4_CTL_BOOST);
-	e->phase = X4_IDLE;
 	return X4_OK;
 }
 
@@ -390,17 +428,183 @@ static u8 dir_bits(u8 axes)
 	return bits;
 }
 
+/* The axes whose clock bits are set in clk. */
+static u8 clk_axes(u8 clk)
+{
+	u8 axes = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (clk & X4_CLK_BIT(i))
+			axes |= 1u << i;
+	return axes;
+}
+
 static bool ramping(const struct x4_plan *p, u64 n)
 {
 	return n + 1 < p->n_cruise || n + 1 >= p->n_decel;
 }
 
-static void rise(struct x4_engine *e)
+/*
+ * SMC800/SMC1500 phase drive (SMCMOT.PAS): the half-step table MOTRUN and
+ * MOTZERO (0 % on both phases). Per phase, bits 0-1 (A) and 3-4 (B) set
+ * the current (11 0 %, 01 20 %, 10 60 %, 00 100 %), bits 2 and 5 its
+ * direction; bits 6-7 select the motor.
+ */
+static const u8 smc_run[8] = { 0x03, 0x09, 0x38, 0x29, 0x27, 0x2d, 0x1c, 0x0d };
+#define SMC_OFF 0x1b
+#define SMC_SELECT(motor) ((u8)((motor) << 6))
+
+/* Reduced holding current: phases at 100 % drop to 20 %. */
+static u8 smc_hold(u8 pattern)
+{
+	if (!(pattern & 0x03))
+		pattern |= 0x01;
+	if (!(pattern & 0x18))
+		pattern |= 0x08;
+	return pattern;
+}
+
+static bool phase_mode(const struct x4_engine *e)
+{
+	return e->mode != X4_MODE_CLOCK_DIR;
+}
+
+/*
+ * Writes due at time t: the first now, the rest queued at the same t,
+ * before whatever e->phase and e->t_pending were going to be next.
+ */
+static void emit(struct x4_engine *e, const u8 *bytes, int n, u64 t)
+{
+	int i;
+
+	e->data = bytes[0];
+	if (n < 2)
+		return;
+	e->queued = 0;
+	e->qhead = 0;
+	for (i = 1; i < n; i++)
+		e->queue[e->queued++] = bytes[i];
+	e->phase_after = e->phase;
+	e->t_after = e->t_pending;
+	e->phase = X4_QUEUED;
+	e->t_pending = t;
+}
+
+/* Phase-mode writes of the motors in `axes`: moving or resting. */
+static int smc_patterns(const struct x4_engine *e, u8 axes, bool rest,
+			u8 *bytes)
+{
+	int m, n = 0;
+
+	for (m = 0; m < X4_SMC_AXES; m++) {
+		u8 run = smc_run[e->smc_phase[m]];
+
+		if (!(axes & (1u << m)))
+			continue;
+		if (rest)
+			run = e->mode == X4_MODE_SMC_PHASE_HOLD ? smc_hold(run) :
+								  SMC_OFF;
+		bytes[n++] = run | SMC_SELECT(m);
+	}
+	return n;
+}
+
+int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes)
+{
+	if (!phase_mode(e)) {
+		bytes[0] = e->data & X4_DIR_MASK;
+		return 1;
+	}
+	return smc_patterns(e, 0x07, true, bytes);
+}
+
+static noinline void smc_energize(struct x4_engine *e, u64 now_ns)
+{
+	u8 bytes[X4_SMC_AXES];
+
+	emit(e, bytes, smc_patterns(e, e->run.axes, false, bytes), now_ns);
+}
+
+static noinline void begin_setup(struct x4_engine *e, u64 now_ns)
 {
 	const struct x4_plan *p = &e->run;
 
+	e->ctl |= X4_CTL_AKTIV;
+	if (p->n_cruise)
+		e->ctl |= X4_CTL_BOOST;
+	/* Count the setup time from when the directions really go out. */
+	if (now_ns > e->t_pending)
+		e->origin = now_ns + e->timing.dir_setup_ns;
+	e->phase = e->no_steps ? X4_END : X4_RISE;
+	e->t_pending = e->origin;
+	if (phase_mode(e))
+		smc_energize(e, now_ns);
+	else /* axes that do not move keep their direction level */
+		e->data = (u8)((e->data & ~dir_bits(p->axes)) | p->dirs);
+}
+
+static noinline void smc_rest(struct x4_engine *e, u64 t)
+{
+	u8 bytes[X4_SMC_AXES];
+
+	emit(e, bytes, x4_engine_rest_writes(e, bytes), t);
+}
+
+static void end(struct x4_engine *e)
+{
+	u64 t = e->t_pending;
+
+	e->ctl &= (u8)~(X4_CTL_AKTIV | X4_CTL_BOOST);
+	e->phase = X4_IDLE;
+	if (phase_mode(e))
+		smc_rest(e, t);
+}
+
+/* After the last step: end now, or after the hold (and settle) time. */
+static noinline void last_step_done(struct x4_engine *e, u64 t)
+{
+	if (!e->timing.dir_hold_ns && !phase_mode(e)) {
+		end(e);
+		return;
+	}
+	/* Phase mode: give the motor its last step period to settle. */
+	e->phase = X4_END;
+	e->t_pending = t + e->timing.dir_hold_ns +
+		       (phase_mode(e) ? 2 * e->half_ns : 0);
+}
+
+/* After step n's clock fell (or its pattern went out): what comes next. */
+static inline void step_done(struct x4_engine *e, u64 t)
+{
+	if (e->n >= e->run.last) {
+		last_step_done(e, t);
+		return;
+	}
+	e->n++;
+	e->t_cur = e->t_next;
+	e->phase = X4_RISE;
+	e->t_pending = e->origin + e->t_cur;
+}
+
+/* Phase mode: walk the table of each motor that steps, write them. */
+static noinline void smc_step(struct x4_engine *e, u64 t)
+{
+	u8 bytes[X4_SMC_AXES];
+	int m;
+
+	for (m = 0; m < X4_SMC_AXES; m++)
+		if (e->stepping & X4_CLK_BIT(m))
+			e->smc_phase[m] = (e->smc_phase[m] + e->run.sign[m]) & 7;
+	emit(e, bytes, smc_patterns(e, clk_axes(e->stepping), false, bytes), t);
+}
+
+static noinline void rise(struct x4_engine *e)
+{
+	const struct x4_plan *p = &e->run;
+	u64 t_step = e->origin + e->t_cur;
+
 	e->stepping = step_axes(e);
-	e->data |= e->stepping;
 	if (e->n < p->last) {
 		e->t_next = next_time(e);
 		e->half_ns = (e->t_next - e->t_cur) / 2;
@@ -411,15 +615,17 @@ static void rise(struct x4_engine *e)
 	} else if (!e->n) {
 		e->half_ns = p->single_half_ns;
 	}
-	/* The last step keeps the high time of the one before. */
-	e->phase = X4_FALL;
-	e->t_pending = e->origin + e->t_cur + e->half_ns;
-}
+	/* (The last step keeps the step time of the one before.) */
 
-static void end(struct x4_engine *e)
-{
-	e->ctl &= (u8)~(X4_CTL_AKTIV | X4_CTL_BOOST);
-	e->phase = X4_IDLE;
+	if (phase_mode(e)) {
+		step_done(e, t_step);
+		smc_step(e, t_step);
+		return;
+	}
+	e->data |= e->stepping;
+	e->phase = X4_FALL;
+	e->t_pending = t_step +
+		       (e->timing.pulse_ns ? e->timing.pulse_ns : e->half_ns);
 }
 
 /*
@@ -428,42 +634,39 @@ static void end(struct x4_engine *e)
  */
 void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev)
 {
-	const struct x4_plan *p = &e->run;
-
 	ev->t_ns = e->t_pending;
-	switch (e->phase) {
-	case X4_IDLE:
-		break;
-	case X4_SETUP:
-		/* Axes that do not move keep their direction level. */
-		e->data = (u8)((e->data & ~dir_bits(p->axes)) | p->dirs);
-		e->ctl |= X4_CTL_AKTIV;
-		if (p->n_cruise)
-			e->ctl |= X4_CTL_BOOST;
-		/* Count the setup time from when the directions really go out. */
-		if (now_ns > e->t_pending)
-			e->origin = now_ns + X4_DIR_SETUP_NS;
-		e->phase = e->no_steps ? X4_END : X4_RISE;
-		e->t_pending = e->origin;
-		break;
-	case X4_RISE:
-		rise(e);
-		break;
-	case X4_FALL:
+	/* The two hot cases first: a clock edge falls, a step rises. */
+	if (e->phase == X4_FALL) {
 		e->data &= (u8)~e->stepping;
-		if (e->n >= p->last) {
-			end(e);
-			break;
-		}
-		e->n++;
-		e->t_cur = e->t_next;
-		e->phase = X4_RISE;
-		e->t_pending = e->origin + e->t_cur;
-		break;
-	case X4_END:
+		step_done(e, ev->t_ns);
+	} else if (e->phase == X4_RISE) {
+		rise(e);
+	} else if (e->phase == X4_SETUP) {
+		begin_setup(e, now_ns);
+	} else if (e->phase == X4_END) {
 		end(e);
-		break;
+	} else if (e->phase == X4_QUEUED) {
+		/* More writes of the same instant (phase mode). */
+		e->data = e->queue[e->qhead++];
+		if (e->qhead == e->queued) {
+			e->phase = e->phase_after;
+			e->t_pending = e->t_after;
+		}
 	}
 	ev->data = e->data;
 	ev->ctl = e->ctl;
+}
+
+/*
+ * Emergency stop: no further step; clocks, BOOST and AKTIV drop now. The
+ * caller writes the port, then fires what x4_engine_busy() still has.
+ */
+int x4_engine_stop(struct x4_engine *e)
+{
+	if (e->phase == X4_IDLE)
+		return X4_ERR_NOT_ACTIVE;
+	e->data &= X4_DIR_MASK;
+	e->t_pending = 0;
+	end(e); /* phase mode: the rest patterns are queued, due at once */
+	return X4_OK;
 }

@@ -39,7 +39,9 @@ typedef int64_t s64;
  * accelerating to braking torque without being torn off.
  */
 #define X4_PLATEAU_STEPS 4
-#define X4_DIR_SETUP_NS 100000u
+#define X4_DIR_SETUP_NS 100000u /* manual 5.2 */
+#define X4_TIMING_MAX_NS 1000000u /* any configured time: at most 1 ms */
+#define X4_PULSE_MIN_NS 1000u /* a configured pulse: at least 1 us */
 
 /* Results: the numbers of the documented X4Step API. */
 enum x4_result {
@@ -70,6 +72,25 @@ enum x4_result {
 #define X4_CTL_SIGNAL2 0x02 /* pin 14 */
 #define X4_CTL_BOOST 0x04 /* pin 16: high while ramping */
 #define X4_CTL_AKTIV 0x08 /* pin 17: high while a move runs */
+
+/*
+ * Step timing of a port (issue: driver boards need their own). pulse_ns 0
+ * is the X4Step behaviour: a symmetric clock (high = low time).
+ */
+struct x4_timing {
+	u32 pulse_ns; /* clock high time, 0: half the step period */
+	u32 space_ns; /* minimum clock low time between steps */
+	u32 dir_setup_ns; /* directions out before the first step */
+	u32 dir_hold_ns; /* directions held after the last step */
+};
+
+/* Output modes of a port. */
+enum x4_output_mode {
+	X4_MODE_CLOCK_DIR = 0, /* step and direction signals (X4Step) */
+	X4_MODE_SMC_PHASE = 1, /* SMC800/SMC1500 half-step phase patterns */
+	X4_MODE_SMC_PHASE_HOLD = 2, /* the same, reduced current at rest */
+};
+#define X4_SMC_AXES 3 /* motors X, Y, Z: select bits 0x00, 0x40, 0x80 */
 
 struct x4_event {
 	u64 t_ns; /* when, since the engine epoch */
@@ -121,6 +142,7 @@ enum x4_phase {
 	X4_RISE, /* clock rising edge of step n pending */
 	X4_FALL, /* clock falling edge of step n pending */
 	X4_END, /* end of move pending */
+	X4_QUEUED, /* phase mode: more writes of the same instant */
 };
 
 struct x4_engine {
@@ -141,10 +163,20 @@ struct x4_engine {
 
 	u8 data; /* current pin levels */
 	u8 ctl;
+	struct x4_timing timing;
+	u8 mode; /* enum x4_output_mode */
+	u8 smc_phase[X4_SMC_AXES]; /* half-step table index of each motor */
+	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
+	u8 queued;
+	u8 qhead;
+	u8 phase_after; /* the phase when the queue is done, due at t_after */
+	u64 t_after;
 	s32 steps[X4_AXES]; /* signed steps since the last start */
 };
 
 void x4_engine_init(struct x4_engine *e);
+int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
+			u8 mode);
 int x4_move_check(const struct x4_move *m);
 int x4_ramp_check(s32 freq_hz, s32 ramp_ms);
 int x4_engine_load(struct x4_engine *e, const struct x4_move *m);
@@ -156,6 +188,7 @@ int x4_engine_stop(struct x4_engine *e);
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
 void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev);
 
+/* Busy: a move runs, or writes of its last instant are still due. */
 static inline bool x4_engine_busy(const struct x4_engine *e)
 {
 	return e->phase != X4_IDLE;
@@ -166,6 +199,9 @@ static inline u64 x4_engine_due(const struct x4_engine *e)
 {
 	return e->t_pending;
 }
+
+/* What the port shows at rest: 1 byte, or one per SMC motor (3). */
+int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes);
 
 /* Exposed for the unit tests. */
 u64 x4_isqrt(u64 x);

@@ -61,6 +61,8 @@ void x4_port_claimed(struct x4_port *x4);
 void x4_port_quiesce(struct x4_port *x4);
 int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless);
 void x4_port_write_locked(struct x4_port *x4);
+void x4_port_write_rest_locked(struct x4_port *x4);
+void x4_port_drain_locked(struct x4_port *x4, u64 until);
 u32 x4_port_inputs_locked(struct x4_port *x4);
 void x4_port_gone(struct x4_port *x4);
 bool x4_port_brake_key(struct x4_port *x4, u32 code);

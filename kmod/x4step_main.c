@@ -227,6 +227,7 @@ static int x4_ioctl_halt(struct x4_port *x4, bool brake)
 		if (ret == X4_OK) {
 			/* The timer finds the engine idle and does nothing. */
 			x4_port_write_locked(x4);
+			x4_port_drain_locked(x4, 0);
 			x4->moves_ended++;
 		}
 	}
@@ -287,19 +288,56 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 		if (cfg.reserved[i])
 			return -EINVAL;
 	if (cfg.clock_invert > 0xf || cfg.dir_invert > 0xf ||
-	    cfg.flags & ~X4STEP_CFG_KEYS_SWALLOW)
+	    cfg.flags & ~X4STEP_CFG_KEYS_SWALLOW ||
+	    cfg.output_mode > X4STEP_MODE_SMC_PHASE_HOLD)
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (x4_engine_busy(&x4->eng)) {
-		ret = -EBUSY;
-	} else {
+	ret = x4_engine_configure(&x4->eng, &x4->eng.timing, cfg.output_mode);
+	if (!ret) {
 		x4->clock_invert = cfg.clock_invert;
 		x4->dir_invert = cfg.dir_invert;
 		x4->cfg_flags = cfg.flags;
-		x4_port_write_locked(x4);
+		x4_port_write_rest_locked(x4);
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return ret;
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_set_step_timing(struct x4_port *x4,
+				    struct x4step_step_timing __user *arg)
+{
+	struct x4step_step_timing ut;
+	struct x4_timing t;
+	unsigned long flags;
+	int i, ret;
+
+	if (copy_from_user(&ut, arg, sizeof(ut)))
+		return -EFAULT;
+	for (i = 0; i < ARRAY_SIZE(ut.reserved); i++)
+		if (ut.reserved[i])
+			return -EINVAL;
+	t.pulse_ns = ut.pulse_ns;
+	t.space_ns = ut.space_ns;
+	t.dir_setup_ns = ut.dir_setup_ns;
+	t.dir_hold_ns = ut.dir_hold_ns;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_engine_configure(&x4->eng, &t, x4->eng.mode);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_get_step_timing(struct x4_port *x4, void __user *uarg)
+{
+	struct x4step_step_timing ut;
+
+	memset(&ut, 0, sizeof(ut));
+	mutex_lock(&x4->lock);
+	ut.pulse_ns = x4->eng.timing.pulse_ns;
+	ut.space_ns = x4->eng.timing.space_ns;
+	ut.dir_setup_ns = x4->eng.timing.dir_setup_ns;
+	ut.dir_hold_ns = x4->eng.timing.dir_hold_ns;
+	mutex_unlock(&x4->lock);
+	return copy_to_user(uarg, &ut, sizeof(ut)) ? -EFAULT : 0;
 }
 
 static int x4_ioctl_timing(struct x4_port *x4, void __user *uarg)
@@ -348,10 +386,13 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		cfg.clock_invert = x4->clock_invert;
 		cfg.dir_invert = x4->dir_invert;
 		cfg.flags = x4->cfg_flags;
+		cfg.output_mode = x4->eng.mode;
 		mutex_unlock(&x4->lock);
 		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
 	case X4STEP_GET_TIMING:
 		return x4_ioctl_timing(x4, uarg);
+	case X4STEP_GET_STEP_TIMING:
+		return x4_ioctl_get_step_timing(x4, uarg);
 	case X4STEP_LOAD:
 	case X4STEP_START:
 	case X4STEP_BRAKE:
@@ -360,6 +401,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_SET_OUTPUT:
 	case X4STEP_SET_BRAKE_CODES:
 	case X4STEP_SET_CONFIG:
+	case X4STEP_SET_STEP_TIMING:
 		break;
 	default:
 		return -ENOTTY;
@@ -394,8 +436,11 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_SET_BRAKE_CODES:
 		ret = x4_ioctl_brake_codes(x4, uarg);
 		break;
-	default: /* X4STEP_SET_CONFIG */
+	case X4STEP_SET_CONFIG:
 		ret = x4_ioctl_set_config(x4, uarg);
+		break;
+	default: /* X4STEP_SET_STEP_TIMING */
+		ret = x4_ioctl_set_step_timing(x4, uarg);
 		break;
 	}
 out:

@@ -6,6 +6,8 @@
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
+#include <linux/limits.h>
+#include <linux/module.h>
 #include <linux/parport.h>
 
 #include "x4step_compat.h"
@@ -46,11 +48,13 @@ static u8 x4_data_invert(const struct x4_port *x4)
 void x4_port_write_locked(struct x4_port *x4)
 {
 	struct parport *port = x4->port;
-	u8 data = x4->eng.data ^ x4_data_invert(x4);
+	u8 data = x4->eng.data;
 	u8 ctl = x4->eng.ctl ^ X4_CTL_HW_INVERT;
 
 	if (!x4->claimed)
 		return;
+	if (x4->eng.mode == X4_MODE_CLOCK_DIR)
+		data ^= x4_data_invert(x4);
 	if (data != x4->data_written || !x4->written_valid)
 		port->ops->write_data(port, data);
 	if (ctl != x4->ctl_written || !x4->written_valid)
@@ -58,6 +62,32 @@ void x4_port_write_locked(struct x4_port *x4)
 	x4->data_written = data;
 	x4->ctl_written = ctl;
 	x4->written_valid = true;
+}
+
+/*
+ * Fire and write what is due by engine time `until` (more writes of one
+ * instant in phase mode, a stop's rest patterns). Caller holds slock.
+ */
+void x4_port_drain_locked(struct x4_port *x4, u64 until)
+{
+	struct x4_event ev;
+
+	while (x4_engine_busy(&x4->eng) && x4_engine_due(&x4->eng) <= until) {
+		x4_engine_fire(&x4->eng, until, &ev);
+		x4_port_write_locked(x4);
+	}
+}
+
+/* Put the port in the engine's rest state (all of it, in phase mode). */
+void x4_port_write_rest_locked(struct x4_port *x4)
+{
+	u8 bytes[X4_SMC_AXES];
+	int i, n = x4_engine_rest_writes(&x4->eng, bytes);
+
+	for (i = 0; i < n; i++) {
+		x4->eng.data = bytes[i];
+		x4_port_write_locked(x4);
+	}
 }
 
 /* The port is going away: no register access from now on. */
@@ -114,6 +144,7 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 		x4_engine_fire(&x4->eng, ktime_to_ns(ktime_sub(now, x4->epoch)),
 			       &ev);
 		x4_port_write_locked(x4);
+		x4_port_drain_locked(x4, ev.t_ns); /* the same instant */
 		if (x4_engine_busy(&x4->eng)) {
 			hrtimer_set_expires(timer,
 					    ktime_add_ns(x4->epoch,
@@ -128,10 +159,28 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	return ret;
 }
 
+/* Default step timing of new ports (X4STEP_SET_STEP_TIMING changes it). */
+static unsigned int pulse_ns;
+module_param(pulse_ns, uint, 0444);
+MODULE_PARM_DESC(pulse_ns, "clock pulse length in ns, 0: symmetric clock (default)");
+static unsigned int space_ns;
+module_param(space_ns, uint, 0444);
+MODULE_PARM_DESC(space_ns, "minimum clock low time in ns (default 0)");
+static unsigned int dir_setup_ns = X4_DIR_SETUP_NS;
+module_param(dir_setup_ns, uint, 0444);
+MODULE_PARM_DESC(dir_setup_ns, "direction setup before the first step in ns (default 100000)");
+static unsigned int dir_hold_ns;
+module_param(dir_hold_ns, uint, 0444);
+MODULE_PARM_DESC(dir_hold_ns, "direction hold after the last step in ns (default 0)");
+
 void x4_port_init(struct x4_port *x4)
 {
+	struct x4_timing t = { pulse_ns, space_ns, dir_setup_ns, dir_hold_ns };
+
 	raw_spin_lock_init(&x4->slock);
 	x4_engine_init(&x4->eng);
+	if (x4_engine_configure(&x4->eng, &t, X4_MODE_CLOCK_DIR))
+		pr_warn("step timing parameters out of range (1000..1000000 ns), using the defaults\n");
 	init_waitqueue_head(&x4->wait);
 	init_irq_work(&x4->wake_work, x4_wake);
 	x4_hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
@@ -150,7 +199,7 @@ void x4_port_claimed(struct x4_port *x4)
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4->claimed = true;
 	x4->written_valid = false; /* the claim restored some other state */
-	x4_port_write_locked(x4);
+	x4_port_write_rest_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
@@ -165,9 +214,10 @@ void x4_port_quiesce(struct x4_port *x4)
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	stopped = x4_engine_stop(&x4->eng) == X4_OK;
+	x4_port_drain_locked(x4, U64_MAX);
 	x4->eng.loaded = false;
 	x4->eng.ctl = 0;
-	x4_port_write_locked(x4);
+	x4_port_write_rest_locked(x4);
 	x4->claimed = false;
 	if (stopped)
 		x4->moves_ended++;

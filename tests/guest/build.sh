@@ -11,15 +11,18 @@ mkdir -p "$out"
 stage=$out/stage
 rm -rf "$stage"
 cmake --install "$build" --prefix "$stage" >/dev/null
+lib=$(find "$stage" -name libx4step.a) # lib/ or lib/<multiarch>/
 cxx="g++ -std=c++17 -O2 -Wall -Wextra -Werror -static"
 $cxx -I"$top/include/uapi" -o "$out/module_test" "$top/tests/guest/module_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
-gcc -O2 -Wall -Wextra -Werror -c -o "$out/x4_engine.o" "$top/kmod/x4_engine.c"
+gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' \
+	-c -o "$out/x4_engine.o" "$top/kmod/x4_engine.c"
 $cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod" -o "$out/timing_bench" \
 	"$top/tests/guest/timing_bench.cpp" "$top/tests/host/engine_ref.cpp" "$out/x4_engine.o"
-$cxx -I"$stage/include" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$stage/lib/libx4step.a"
+$cxx -I"$stage/include" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$lib"
+$cxx -I"$stage/include" -o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$lib"
 gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/kmod/x4vctl.c"
 for f in "$top"/tests/guest/manual/*.c; do
 	gcc -std=c99 -static -O2 -Wall -Wextra -Werror -I"$stage/include" \
-		-o "$out/man_$(basename "$f" .c)" "$f" "$stage/lib/libx4step.a" -lstdc++ -lm
+		-o "$out/man_$(basename "$f" .c)" "$f" "$lib" -lstdc++ -lm
 done

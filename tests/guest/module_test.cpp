@@ -139,7 +139,7 @@ void TestBadInput(int fd) {
   codes.codes[0] = 256;
   Check(Ioctl(fd, X4STEP_SET_BRAKE_CODES, &codes) == EINVAL, "brake code 256: EINVAL");
   x4step_config cfg{};
-  cfg.reserved[4] = 1;
+  cfg.reserved[3] = 1;
   Check(Ioctl(fd, X4STEP_SET_CONFIG, &cfg) == EINVAL, "config reserved field set: EINVAL");
 
   Check(OpenCtl() < 0 && errno == EBUSY, "second controller: EBUSY");

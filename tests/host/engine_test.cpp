@@ -455,3 +455,101 @@ TEST(Signals, DirectionSetupCountsFromALateStart) {
   x4_engine_fire(&eng.e, kStart + 7000, &ev);  // the timer fired 7 us late
   EXPECT_EQ(x4_engine_due(&eng.e), kStart + 7000 + X4_DIR_SETUP_NS);
 }
+
+// ---- step timing settings -----------------------------------------------------
+
+TEST(Timing, ConfiguredTimesAreMetExactly) {
+  Engine eng;
+  const x4_timing t{5000, 2000, 20000, 50000};
+  ASSERT_EQ(x4_engine_configure(&eng.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
+  ASSERT_EQ(eng.Load(Move(200, -50, 0, 0, 10000, 10)), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  const Recording r = eng.Run();
+  ASSERT_EQ(r.rises[0].size(), 200u);
+  EXPECT_EQ(r.rises[0][0] - kStart, 20000u) << "direction setup";
+  for (size_t i = 0; i < 200; i++) EXPECT_EQ(r.falls[0][i] - r.rises[0][i], 5000u) << "pulse " << i;
+  for (size_t i = 0; i < r.rises[1].size(); i++) EXPECT_EQ(r.falls[1][i] - r.rises[1][i], 5000u);
+  const x4_event &last = r.events.back();
+  EXPECT_EQ(last.t_ns - r.falls[0].back(), 50000u) << "direction hold";
+  EXPECT_EQ(last.ctl & X4_CTL_AKTIV, 0);
+  EXPECT_EQ(r.dir_changes, 0);
+}
+
+TEST(Timing, MovesThatCannotFitAreRefused) {
+  Engine eng;
+  const x4_timing fixed{60000, 50000, 100000, 0};  // 110 us per step: < 9090 Hz
+  ASSERT_EQ(x4_engine_configure(&eng.e, &fixed, X4_MODE_CLOCK_DIR), X4_OK);
+  EXPECT_EQ(eng.Load(Move(10, 0, 0, 0, 10000, 0)), X4_ERR_FREQ_TOO_HIGH);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 1, false, 10000, 0, 0), X4_ERR_FREQ_TOO_HIGH);
+  EXPECT_EQ(eng.Load(Move(10, 0, 0, 0, 9090, 0)), X4_OK);
+  Engine sym;
+  const x4_timing space{0, 30000, 100000, 0};  // symmetric: low 25 us at 20 kHz
+  ASSERT_EQ(x4_engine_configure(&sym.e, &space, X4_MODE_CLOCK_DIR), X4_OK);
+  EXPECT_EQ(sym.Load(Move(10, 0, 0, 0, 20000, 0)), X4_ERR_FREQ_TOO_HIGH);
+  EXPECT_EQ(sym.Load(Move(10, 0, 0, 0, 16666, 0)), X4_OK);
+}
+
+TEST(Timing, BadSettingsAreRefusedAndChangeNothing) {
+  Engine eng;
+  const x4_engine before = eng.e;
+  const x4_timing bad[] = {
+      {999, 0, 0, 0}, {1000001, 0, 0, 0}, {0, 1000001, 0, 0}, {0, 0, 1000001, 0}, {0, 0, 0, 1000001}};
+  for (const auto &t : bad) EXPECT_EQ(x4_engine_configure(&eng.e, &t, X4_MODE_CLOCK_DIR), X4_ERR_PARAM_FAIL);
+  const x4_timing ok{1000, 0, 0, 0};
+  EXPECT_EQ(x4_engine_configure(&eng.e, &ok, 3), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(std::memcmp(&before, &eng.e, sizeof before), 0);
+  ASSERT_EQ(eng.Load(Move(10, 0, 0, 0, 1000, 0)), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  EXPECT_EQ(x4_engine_configure(&eng.e, &ok, X4_MODE_CLOCK_DIR), X4_ERR_IS_ACTIVE);
+}
+
+// ---- SMC1500 phase drive --------------------------------------------------------
+
+namespace {
+
+std::vector<uint8_t> PhaseBytes(uint8_t mode, const x4_move &m) {
+  Engine eng;
+  const x4_timing t{0, 0, X4_DIR_SETUP_NS, 0};
+  EXPECT_EQ(x4_engine_configure(&eng.e, &t, mode), X4_OK);
+  EXPECT_EQ(eng.Load(m), X4_OK);
+  EXPECT_EQ(eng.Start(), X4_OK);
+  std::vector<uint8_t> bytes;
+  for (const x4_event &ev : eng.Run().events) bytes.push_back(ev.data);
+  return bytes;
+}
+
+}  // namespace
+
+TEST(PhaseDrive, ExactByteSequenceOfAKnownMove) {
+  // X +3, Y -2 interpolated: Y steps with X's steps 1 and 3.
+  const std::vector<uint8_t> want = {0x03, 0x43,         // energize X, Y at phase 0
+                                     0x09, 0x4d,         // X -> 1, Y -> 7
+                                     0x38,               // X -> 2
+                                     0x29, 0x5c,         // X -> 3, Y -> 6
+                                     0x1b, 0x5b, 0x9b};  // all off at rest
+  EXPECT_EQ(PhaseBytes(X4_MODE_SMC_PHASE, Move(3, -2, 0, 0, 1000, 0)), want);
+}
+
+TEST(PhaseDrive, ReducedHoldingCurrentAtRest) {
+  const std::vector<uint8_t> got = PhaseBytes(X4_MODE_SMC_PHASE_HOLD, Move(3, -2, 0, 0, 1000, 0));
+  ASSERT_EQ(got.size(), 10u);
+  // X at phase 3 (0x29: 20 %/20 % stays), Y at 6 (0x1c: 100 % -> 20 %), Z at 0 (0x03: 100 % -> 20 %).
+  EXPECT_EQ(std::vector<uint8_t>(got.end() - 3, got.end()), (std::vector<uint8_t>{0x29, 0x5d, 0x8b}));
+}
+
+TEST(PhaseDrive, WalksTheTableBothWaysAndKeepsThePhase) {
+  Engine eng;
+  const x4_timing t{0, 0, 0, 0};
+  ASSERT_EQ(x4_engine_configure(&eng.e, &t, X4_MODE_SMC_PHASE), X4_OK);
+  ASSERT_EQ(eng.Load(Move(0, 0, 11, 0, 2000, 5)), X4_OK);  // Z forward 11 (ramps run as usual)
+  ASSERT_EQ(eng.Start(), X4_OK);
+  Recording r = eng.Run();
+  EXPECT_EQ(eng.e.smc_phase[2], 11 % 8);
+  EXPECT_EQ(r.events[r.events.size() - 4].data, 0x29 | 0x80);  // last step: entry 3, Z selected
+  ASSERT_EQ(eng.Load(Move(0, 0, -11, 0, 2000, 5)), X4_OK);
+  ASSERT_EQ(x4_engine_start(&eng.e, r.events.back().t_ns), X4_OK);
+  eng.Run();
+  EXPECT_EQ(eng.e.smc_phase[2], 0);
+  EXPECT_EQ(eng.Load(Move(0, 0, 0, 5, 1000, 0)), X4_ERR_PARAM_FAIL) << "no fourth motor";
+  EXPECT_EQ(x4_engine_endless(&eng.e, 4, false, 1000, 0, 0), X4_ERR_PARAM_FAIL);
+}

@@ -70,6 +70,13 @@ settle() {
 	return 1
 }
 
+has() { # NAME FILE PATTERN: PASS if a line of FILE matches the basic regex
+	if grep -q -e "$3" "$2"; then pass "$1"; else fail "$1" "lacks '$3': $(show "$2")"; fi
+}
+lacks() { # NAME FILE PATTERN: PASS if no line of FILE matches
+	if grep -q -e "$3" "$2"; then fail "$1" "has '$3': $(show "$2")"; else pass "$1"; fi
+}
+
 expect_field() { # NAME FIELD VALUE
 	v=$(field "$2")
 	if [ "$v" = "$3" ]; then pass "$1"; else fail "$1" "$2 is '$v', want '$3'"; fi
@@ -204,7 +211,7 @@ check bad-out-level 2 '' "out: level 'maybe': use on or off" x4ctl out 1 maybe
 
 # ---- sweep --------------------------------------------------------------------------------
 check sweep 0 '^A: 3000 Hz 100 steps done$' '' x4ctl sweep 2 100 2000 3000 500
-grep -q '^A: 2500 Hz -100 steps done$' "$out" && pass sweep-alternates || fail sweep-alternates "$(show "$out")"
+has sweep-alternates "$out" '^A: 2500 Hz -100 steps done$'
 check sweep-down 0 '^A: 2000 Hz -50 steps done$' '' x4ctl sweep 1 50 3000 2000 1000
 check bad-sweep-ramp 2 '' 'sweep: ramp too long for the frequency' x4ctl sweep 1 100 20 40 10 --ramp 30
 check bad-sweep-step 2 '' 'sweep: frequency step 0 out of range' x4ctl sweep 1 100 200 400 0
@@ -229,13 +236,12 @@ wait "$pid" 2>/dev/null
 
 # ---- x4ctl run: every command of the test program -------------------------------------------
 script run-go 0 '^done: 300 0 0 0$' '' 's1\nd300\nf3000\nr20\ng\n'
-grep -q '^1-> g$' "$out" && pass run-echo || fail run-echo "$(show "$out")"
+has run-echo "$out" '^1-> g$'
 # The manual's second example: axes 1..3 interpolated, at axis 1's frequency and ramp.
 script run-interpolated 0 '^done: 1000 500 100 0$' '' 's1\nd1000\nf10000\nr100\ns2\nd500\ns3\nd100\ng\n'
-grep -q '^G: 1000 500 100 0 at 10000 Hz, ramp 100 ms (leader axis 1)$' "$out" &&
-	pass run-leader || fail run-leader "$(show "$out")"
+has run-leader "$out" '^G: 1000 500 100 0 at 10000 Hz, ramp 100 ms (leader axis 1)$'
 script run-I 0 '^> 2  *-700  *1000  *50  leader$' '' 's1\nd300\nS2\nD-700\ni\n'
-grep -q 'axis 2, 1000 Hz, 50 ms' "$out" && pass run-I-leader || fail run-I-leader "$(show "$out")"
+has run-I-leader "$out" 'axis 2, 1000 Hz, 50 ms'
 script run-M+ 0 '^halted (time up): 0 0 [1-9][0-9]* 0$' '' 's3\nf2000\nr10\nm+ 300\n'
 script run-M- 0 '^halted (time up): 0 0 -[1-9][0-9]* 0$' '' 's3\nf2000\nr10\nM- 300\n'
 script run-T 0 '^T: [0-9]* moves' '' 's1\nd40\nf4000\nr0\nt 800\n'
@@ -245,7 +251,7 @@ script run-E-time 0 '^E: pin15=' '' 'E 300\n'
 script run-H 0 '^Commands of the test program' '' 'h\n'
 script run-? 0 '^  Ax,y,z ' '' '?\n'
 script run-Q 0 '^1-> q$' '' 's1\nd100\nq\ng\n'
-grep -q '^G:' "$out" && fail run-Q-stops "G ran after Q" || pass run-Q-stops
+lacks run-Q-stops "$out" '^G:'
 script run-O 0 '^O: signal 2 (pin 14) on$' '' 'o2,1\nw200\no2,0\n'
 script run-K 0 '^K: brake keys 28 156 and ESC$' '' 'k28,156\nK\n'
 script run-W 0 '^1-> w100$' '' 'w100\n'
@@ -296,8 +302,8 @@ settle 50
 printf 's1\nd50\nf5000\nr0\nf30000\nd60;f40000;g\ng\nq\n' >"$tmp/session"
 check interactive 0 '^done: 50 0 0 0$' 'error: f30000: frequency too high: use at most 20000 Hz' \
 	sh -c "x4ctl <$tmp/session"
-grep -q '^done: 60' "$out" && fail interactive-line-dropped "g after an error ran" || pass interactive-line-dropped
-grep -q 'f40000: frequency too high' "$err" && pass interactive-error || fail interactive-error "$(show "$err")"
+lacks interactive-line-dropped "$out" '^done: 60'
+has interactive-error "$err" 'f40000: frequency too high'
 check interactive-lpt-arg 0 '^1-> q$' '' sh -c "echo q | x4ctl 1"
 
 settle 50

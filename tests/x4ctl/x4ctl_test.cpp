@@ -5,11 +5,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <deque>
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <tuple>
+#include <utility>
 
 #include "cli.hpp"
 #include "commands.hpp"
@@ -38,7 +41,9 @@ std::string usage_message(std::vector<std::string> args) {
   return "";
 }
 
-bool contains(const std::string &text, const std::string &part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string &text, const std::string &part) {
+  return text.find(part) != std::string::npos;
+}
 
 // ---- command line -----------------------------------------------------------------
 
@@ -93,13 +98,15 @@ TEST(Cli, MoveNegativeNumbersAndDefaults) {
   EXPECT_EQ(c.move.freq_hz, 1000);
   EXPECT_EQ(c.move.ramp, milliseconds(50));
   EXPECT_FALSE(c.wait);
-  EXPECT_EQ(parse({"move", "--freq=20", "1"}).move.ramp, milliseconds(20));  // default never exceeds the frequency
+  EXPECT_EQ(parse({"move", "--freq=20", "1"}).move.ramp,
+            milliseconds(20));  // default never exceeds the frequency
   EXPECT_EQ(parse({"move", "-f20", "1", "-r0"}).move.ramp, milliseconds(0));
   EXPECT_EQ(parse({"move", "--", "-1", "-2"}).move.steps, (std::array<long, 4>{-1, -2, 0, 0}));
 }
 
 TEST(Cli, MoveErrorsInTheLibrarysWords) {
-  EXPECT_EQ(usage_message({"move", "100", "--freq", "30000"}), "move: frequency too high: use at most 20000 Hz");
+  EXPECT_EQ(usage_message({"move", "100", "--freq", "30000"}),
+            "move: frequency too high: use at most 20000 Hz");
   EXPECT_EQ(usage_message({"move", "100", "--freq", "9"}), "move: frequency too low: use at least 10 Hz");
   EXPECT_EQ(usage_message({"move", "100", "--ramp", "1001"}), "move: ramp too long: use at most 1000 ms");
   EXPECT_EQ(usage_message({"move", "100", "--ramp", "-1"}), "move: ramp -1 out of range: use 0 to 1000 ms");
@@ -130,7 +137,8 @@ TEST(Cli, Jog) {
   EXPECT_EQ(usage_message({"jog", "1", "up"}), "jog: direction 'up': use + or -");
   EXPECT_EQ(usage_message({"jog", "0", "+"}), "jog: axis 0 out of range: use 1 to 4");
   EXPECT_EQ(usage_message({"jog", "1", "+", "--time", "-5"}), "jog: time -5 out of range: use 0 ms or more");
-  EXPECT_EQ(usage_message({"jog", "1", "+", "--freq", "20001"}), "jog: frequency too high: use at most 20000 Hz");
+  EXPECT_EQ(usage_message({"jog", "1", "+", "--freq", "20001"}),
+            "jog: frequency too high: use at most 20000 Hz");
 }
 
 TEST(Cli, Sweep) {
@@ -162,8 +170,10 @@ TEST(Cli, OutKeysMonitorRunStatus) {
 
   EXPECT_EQ(parse({"keys", "28", "156"}).codes, (std::vector<int>{28, 156}));
   EXPECT_TRUE(parse({"keys"}).codes.empty());
-  EXPECT_EQ(usage_message({"keys", "128"}), "keys: key code 128 out of range: use 1..127 (press) or 129..255 (release)");
-  EXPECT_EQ(usage_message({"keys", "256"}), "keys: key code 256 out of range: use 1..127 (press) or 129..255 (release)");
+  EXPECT_EQ(usage_message({"keys", "128"}),
+            "keys: key code 128 out of range: use 1..127 (press) or 129..255 (release)");
+  EXPECT_EQ(usage_message({"keys", "256"}),
+            "keys: key code 256 out of range: use 1..127 (press) or 129..255 (release)");
 
   EXPECT_EQ(parse({"monitor", "-n", "3"}).moves, 3);
   EXPECT_EQ(usage_message({"monitor", "--moves", "0"}), "monitor: moves 0 out of range: use 1 or more");
@@ -191,9 +201,11 @@ TEST(Cli, HelpWinsOverMissingArguments) {
 // Every subcommand has a help with a Usage line and mentions each of its options.
 TEST(Cli, HelpTexts) {
   const std::vector<std::pair<subcommand, std::vector<std::string>>> expected = {
-      {subcommand::interactive, {"--port", "--device", "--help", "--version", "move", "jog", "brake", "stop",
-                                 "status", "in", "out", "keys", "sweep", "monitor", "run", "Exit status"}},
-      {subcommand::move, {"--freq", "--ramp", "--wait", "--port", "--device", "--help", "Exit status", "background"}},
+      {subcommand::interactive,
+       {"--port", "--device", "--help", "--version", "move", "jog", "brake", "stop", "status", "in", "out",
+        "keys", "sweep", "monitor", "run", "Exit status"}},
+      {subcommand::move,
+       {"--freq", "--ramp", "--wait", "--port", "--device", "--help", "Exit status", "background"}},
       {subcommand::jog, {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
       {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
@@ -256,7 +268,8 @@ TEST(Main, HelpAndVersion) {
   EXPECT_EQ(r.status, 0);
   EXPECT_TRUE(contains(r.out, "Usage: x4ctl"));
   EXPECT_EQ(r.err, "");
-  for (const char *c : {"move", "jog", "brake", "stop", "status", "in", "out", "keys", "sweep", "monitor", "run", "help"}) {
+  for (const char *c :
+       {"move", "jog", "brake", "stop", "status", "in", "out", "keys", "sweep", "monitor", "run", "help"}) {
     r = run({c, "--help"});
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_TRUE(contains(r.out, "Usage: x4ctl ")) << c;
@@ -283,7 +296,8 @@ TEST(Main, MissingPortExits1) {
   captured r = run({"-d", "/nonexistent/x4step9", "status"});
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err,
-            "x4ctl: status: /nonexistent/x4step9: port not found: is x4step loaded, the port present and not in use?\n");
+            "x4ctl: status: /nonexistent/x4step9: port not found: is x4step loaded, the port present and not "
+            "in use?\n");
   r = run({"-d", "/nonexistent/x4step9", "move", "10", "--wait"});
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "x4ctl: move: /nonexistent/x4step9: port not found")) << r.err;
@@ -298,14 +312,15 @@ TEST(Main, RunCheckNeedsNoDevice) {
   const temp_file good("# the manual's second example\ns1\nd1000\nf10000\nr100\ns2\nd500\ns3\nd100\ng\n");
   captured r = run({"-d", "/nonexistent", "run", "--check", good.path()});
   EXPECT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(contains(r.out, "8 commands, no errors")) << r.out;
+  EXPECT_TRUE(contains(r.out, "9 commands, no errors")) << r.out;
 
   const temp_file bad("s1\nd1000\nf20\ng\n");  // ramp 50 ms > 20 Hz, found before anything moves
   r = run({"-d", "/nonexistent", "run", bad.path()});
   EXPECT_EQ(r.status, 2);
-  EXPECT_TRUE(contains(r.err, "x4ctl: run: " + bad.path() +
-                                  ":4: G: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)"
-                                  " (G uses the leader axis 1: F20 R50)"))
+  EXPECT_TRUE(
+      contains(r.err, "x4ctl: run: " + bad.path() +
+                          ":4: G: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)"
+                          " (G uses the leader axis 1: F20 R50)"))
       << r.err;
 
   const temp_file typo("s1\nd100\nz\n");
@@ -335,14 +350,28 @@ TEST(Language, EveryCommandCaseInsensitive) {
     verb what;
     std::vector<long> args;
   } cases[] = {
-      {"S2", verb::select, {2}},         {"s 3", verb::select, {3}},       {"D1000", verb::distance, {1000}},
-      {"d-250", verb::distance, {-250}}, {"d +7", verb::distance, {7}},    {"F2000", verb::frequency, {2000}},
-      {"r50", verb::ramp, {50}},         {"g", verb::go, {}},              {"I", verb::info, {}},
-      {"m+", verb::endless, {}},         {"c", verb::cursor, {}},          {"a200,500,20", verb::sweep, {200, 500, 20}},
-      {"A 200, 500 ,20", verb::sweep, {200, 500, 20}},                     {"t", verb::toggle, {}},
-      {"E", verb::inputs, {}},           {"h", verb::help, {}},            {"?", verb::help, {}},
-      {"q", verb::quit, {}},             {"o1,1", verb::output, {1, 1}},   {"k28,156", verb::keys, {28, 156}},
-      {"K", verb::keys, {}},             {"w100", verb::wait, {100}},
+      {"S2", verb::select, {2}},
+      {"s 3", verb::select, {3}},
+      {"D1000", verb::distance, {1000}},
+      {"d-250", verb::distance, {-250}},
+      {"d +7", verb::distance, {7}},
+      {"F2000", verb::frequency, {2000}},
+      {"r50", verb::ramp, {50}},
+      {"g", verb::go, {}},
+      {"I", verb::info, {}},
+      {"m+", verb::endless, {}},
+      {"c", verb::cursor, {}},
+      {"a200,500,20", verb::sweep, {200, 500, 20}},
+      {"A 200, 500 ,20", verb::sweep, {200, 500, 20}},
+      {"t", verb::toggle, {}},
+      {"E", verb::inputs, {}},
+      {"h", verb::help, {}},
+      {"?", verb::help, {}},
+      {"q", verb::quit, {}},
+      {"o1,1", verb::output, {1, 1}},
+      {"k28,156", verb::keys, {28, 156}},
+      {"K", verb::keys, {}},
+      {"w100", verb::wait, {100}},
   };
   for (const auto &c : cases) {
     const command cmd = parse_command(c.text);
@@ -401,7 +430,8 @@ TEST(Language, Lines) {
 
 // ---- the interpreter on a simulated port ------------------------------------------------
 
-// A port whose moves advance a quarter of the leader's path per wait().
+// A port whose moves advance a quarter of the leader's path per wait();
+// a brake takes two more waits, a long wait() runs to the end like the real one.
 class fake_port : public port {
  public:
   std::vector<x4step::move> loads;
@@ -420,16 +450,13 @@ class fake_port : public port {
     if (!loaded_) throw x4step::error(x4step::make_error_code(x4step::errc::not_loaded));
     loaded_ = false;
     starts++;
+    begin(false);
     target_ = steps_of(loads.back());
-    s_.steps = {};
-    s_.active = true;
-    endless_ = false;
-    n_ = 0;
   }
   void brake() override {
     if (!s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
     brakes++;
-    braking_ = true;
+    if (!braking_) braking_ = 2;
   }
   void stop() override {
     if (!s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
@@ -438,9 +465,7 @@ class fake_port : public port {
   }
   void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) override {
     endless.emplace_back(axis, dir, freq_hz, ramp.count());
-    s_.steps = {};
-    s_.active = true;
-    endless_ = true;
+    begin(true);
     axis_ = axis;
     sign_ = dir == x4step::direction::positive ? 1 : -1;
   }
@@ -449,30 +474,41 @@ class fake_port : public port {
     s.inputs = inputs;
     return s;
   }
-  bool wait(milliseconds) const override {
-    auto *self = const_cast<fake_port *>(this);
-    if (!s_.active) return true;
-    if (self->braking_) {
-      self->s_.active = self->braking_ = false;
-      return true;
-    }
-    self->n_++;
-    if (endless_) {
-      self->s_.steps[axis_ - 1] += sign_ * 10;
-    } else {
-      for (int i = 0; i < x4step::axes; i++) self->s_.steps[i] = target_[i] * std::min(n_, 4) / 4;
-      if (n_ >= 4) self->s_.active = false;
-    }
+  bool wait(milliseconds timeout) const override {
+    for (int i = 0; i < (timeout >= milliseconds(1000) ? 100 : 1) && s_.active; i++) advance();
     return !s_.active;
   }
   void set_output(x4step::signal s, bool high) override { outputs.emplace_back(s, high); }
   void set_brake_codes(const std::vector<int> &c) override { codes.push_back(c); }
 
  private:
-  x4step::status s_;
+  void begin(bool endless) {
+    s_.steps = {};
+    s_.active = true;
+    endless_ = endless;
+    braking_ = 0;
+    n_ = 0;
+  }
+  void advance() const {
+    if (braking_) {
+      s_.active = --braking_ > 0;
+      return;
+    }
+    n_++;
+    if (endless_) {
+      s_.steps[axis_ - 1] += sign_ * 10;
+      return;
+    }
+    for (int i = 0; i < x4step::axes; i++) s_.steps[i] = target_[i] * std::min(n_, 4) / 4;
+    s_.active = n_ < 4;
+  }
+
+  // wait() is const in port, as in x4step::controller; the simulation moves on in it.
+  mutable x4step::status s_;
+  mutable int braking_ = 0, n_ = 0;
   step_counts target_{};
-  bool loaded_ = false, braking_ = false, endless_ = false;
-  int n_ = 0, axis_ = 1, sign_ = 1;
+  bool loaded_ = false, endless_ = false;
+  int axis_ = 1, sign_ = 1;
 };
 
 // Output into a string; keys from a script, one per read_key.
@@ -563,9 +599,9 @@ TEST(Interpreter, NothingMovesAfterAnError) {
                  "G: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz) "
                  "(G uses the leader axis 1: F20 R50)");
   }
-  EXPECT_THROW(run_lines(in, "s2\ng"), usage_error);  // axis 1 still leads
+  EXPECT_THROW(run_lines(in, "s2\ng"), usage_error);      // axis 1 still leads
   EXPECT_THROW(run_lines(in, "s1\nd0\ng"), usage_error);  // no steps
-  EXPECT_THROW(run_lines(in, "s1\nd10\nr20\nt"), usage_error);
+  EXPECT_THROW(run_lines(in, "s1\nd10\nr30\nt"), usage_error);
   EXPECT_THROW(run_lines(in, "a10,100,10"), usage_error);
   EXPECT_THROW(run_lines(in, "m+"), usage_error);
   EXPECT_TRUE(p.loads.empty());
@@ -597,12 +633,11 @@ TEST(Interpreter, CtrlCTwiceStops) {
   fake_console con(true);
   fake_port p;
   interpreter in(con, &p, false);
-  con.keys = {key::interrupt, key::interrupt};
-  // The fake ends a brake at the next wait, so the second Ctrl-C must come
-  // in the same tick: follow reads one key per tick. Brake counts once.
+  con.keys = {key::interrupt, key::interrupt};  // the second one while braking
   run_lines(in, "d1000\ng");
   EXPECT_EQ(p.brakes, 1);
-  EXPECT_TRUE(contains(con.text.str(), "halted (Ctrl-C)")) << con.text.str();
+  EXPECT_EQ(p.stops, 1);
+  EXPECT_TRUE(contains(con.text.str(), "halted (Ctrl-C, stopped) at 250 of 1000 steps")) << con.text.str();
 }
 
 TEST(Interpreter, EndlessMoves) {
@@ -627,8 +662,8 @@ TEST(Interpreter, BackAndForth) {
   fake_console con;
   fake_port p;
   interpreter in(con, &p, true);
-  // Three full moves, then ESC in the fourth.
-  con.keys.assign(3 * 4, key::none);
+  // Three full moves (the fake's moves read three keys each), then ESC in the fourth.
+  con.keys.assign(3 * 3, key::none);
   con.keys.push_back(key::esc);
   run_lines(in, "s2\nd2000\nf5000\nr100\nt");
   ASSERT_EQ(p.loads.size(), 4u);
@@ -700,7 +735,7 @@ TEST(Interpreter, CursorMovesWhileHeld) {
   EXPECT_EQ(p.endless[0], std::make_tuple(2, x4step::direction::positive, 800, 10LL));
   EXPECT_EQ(std::get<1>(p.endless[1]), x4step::direction::negative);
   EXPECT_EQ(p.brakes, 2);  // LEFT brakes the RIGHT jog, ESC the LEFT one
-  EXPECT_TRUE(contains(con.text.str(), "C: axis 2 moved")) << con.text.str();
+  EXPECT_TRUE(contains(con.text.str(), "C: axis 2 ended 0 steps from where C began")) << con.text.str();
 }
 
 TEST(Interpreter, QuitAndHelp) {
@@ -709,8 +744,8 @@ TEST(Interpreter, QuitAndHelp) {
   EXPECT_FALSE(in.execute(parse_command("Q")));
   EXPECT_TRUE(in.execute(parse_command("?")));
   EXPECT_EQ(con.text.str(), language_help());
-  for (const char *w : {"Sx", "Dx", "Fx", "Rx", "G ", "I ", "M+", "M-", "C ", "Ax,y,z", "T ", "E ", "H, ?", "Q ",
-                        "leader", "M+ 500"})
+  for (const char *w : {"Sx", "Dx", "Fx", "Rx", "G ", "I ", "M+", "M-", "C ", "Ax,y,z", "T ", "E ", "H, ?",
+                        "Q ", "leader", "M+ 500"})
     EXPECT_TRUE(contains(language_help(), w)) << w;
 }
 
@@ -728,7 +763,8 @@ TEST(Show, Texts) {
   EXPECT_EQ(bar(50, 100, 10), "[#####-----]");
   EXPECT_EQ(bar(-100, -100, 4), "[####]");
   EXPECT_EQ(bar(0, 0, 4), "[----]");
-  EXPECT_EQ(progress_line({412, 0, 0, 0}, 412, 1000), "      412         0         0         0 [########------------] 41%");
+  EXPECT_EQ(progress_line({412, 0, 0, 0}, 412, 1000),
+            "      412         0         0         0 [########------------] 41%");
   EXPECT_EQ(inputs_text(0x1f), "pin15=1 pin13=1 pin12=1 pin10=1 pin11=1");
   EXPECT_EQ(inputs_text(0x02), "pin15=0 pin13=1 pin12=0 pin10=0 pin11=0");
   EXPECT_EQ(key_name(1), "ESC");
@@ -745,11 +781,12 @@ TEST(Show, StatusJson) {
   s.outputs = 0x9;
   s.last_brake_code = 1;
   s.moves_ended = 7;
-  EXPECT_EQ(status_json(s, "/dev/x4step0"),
-            "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
-            "\"steps\":[1,-2,3,0],\"inputs\":17,\"input_pins\":{\"15\":1,\"13\":0,\"12\":0,\"10\":0,\"11\":1},"
-            "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
-            "\"moves_ended\":7}");
+  EXPECT_EQ(
+      status_json(s, "/dev/x4step0"),
+      "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
+      "\"steps\":[1,-2,3,0],\"inputs\":17,\"input_pins\":{\"15\":1,\"13\":0,\"12\":0,\"10\":0,\"11\":1},"
+      "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
+      "\"moves_ended\":7}");
   EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
   const std::string text = status_text(s, "/dev/x4step0");
   EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;
@@ -773,6 +810,15 @@ TEST(Term, DecodeKeys) {
   EXPECT_EQ(decode_key("\x1bx", false).used, 1u);
   EXPECT_EQ(decode_key("\x03", false).k, key::interrupt);
   EXPECT_EQ(decode_key("q", false).k, key::other);
+}
+
+TEST(Term, StripKeysFromTypedLines) {
+  EXPECT_EQ(strip_keys("\x1b"
+                       "d20"),
+            "d20");  // ESC that came after the move's end
+  EXPECT_EQ(strip_keys("s1\x1b[A\x1b[1;5Cd5"), "s1d5");
+  EXPECT_EQ(strip_keys("a200,\t500\x7f"), "a200,\t500\x7f");
+  EXPECT_EQ(strip_keys("g\x03\x1b"), "g");
 }
 
 }  // namespace

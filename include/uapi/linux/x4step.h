@@ -98,6 +98,12 @@ struct x4step_brake_codes {
 	__u32 reserved; /* must be 0 */
 };
 
+/* Output modes (x4step_config.output_mode). */
+#define X4STEP_MODE_CLOCK_DIR 0 /* step and direction signals (X4Step) */
+/* SMC800/SMC1500 half-step phase patterns, motors off at rest */
+#define X4STEP_MODE_SMC_PHASE 1
+#define X4STEP_MODE_SMC_PHASE_HOLD 2 /* the same, reduced current at rest */
+
 /* X4STEP_SET_CONFIG / X4STEP_GET_CONFIG: per-port wiring. */
 /*
  * Brake keys reach applications too unless this is set: then, as in the
@@ -108,7 +114,24 @@ struct x4step_config {
 	__u32 clock_invert; /* bit i: axis i+1 clock is active low */
 	__u32 dir_invert; /* bit i: axis i+1 direction inverted */
 	__u32 flags; /* X4STEP_CFG_* */
-	__u32 reserved[5];
+	__u32 output_mode; /* X4STEP_MODE_* */
+	__u32 reserved[4];
+};
+
+/*
+ * X4STEP_SET_STEP_TIMING / X4STEP_GET_STEP_TIMING: step signal timing of
+ * the port, each at most 1 ms. Defaults from the module parameters (the
+ * X4Step behaviour: symmetric clock, 100 us direction setup). Moves whose
+ * frequency leaves less than pulse_ns + space_ns per step (symmetric
+ * clock: less than space_ns per half period) are refused with
+ * X4ErrFreqTooHigh.
+ */
+struct x4step_step_timing {
+	__u32 pulse_ns; /* clock high time; 0: half the step period */
+	__u32 space_ns; /* minimum clock low time */
+	__u32 dir_setup_ns; /* directions before the first clock edge */
+	__u32 dir_hold_ns; /* directions after the last clock edge */
+	__u32 reserved[4];
 };
 
 /*
@@ -150,6 +173,9 @@ struct x4step_timing {
 /* Set and read the wiring configuration (only while no move runs). */
 #define X4STEP_SET_CONFIG _IOW(X4STEP_IOC_MAGIC, 0x09, struct x4step_config)
 #define X4STEP_GET_CONFIG _IOR(X4STEP_IOC_MAGIC, 0x0a, struct x4step_config)
+/* Set and read the step timing (only while no move runs). */
+#define X4STEP_SET_STEP_TIMING _IOW(X4STEP_IOC_MAGIC, 0x0c, struct x4step_step_timing)
+#define X4STEP_GET_STEP_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0d, struct x4step_step_timing)
 /* Read and reset the timer lateness statistics. */
 #define X4STEP_GET_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0b, struct x4step_timing)
 

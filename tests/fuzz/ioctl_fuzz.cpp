@@ -1,0 +1,1159 @@
+// SPDX-License-Identifier: GPL-2.0
+//
+// ioctl_fuzz: a guest-side fuzzer for the x4step character device.
+//
+//   ioctl_fuzz [--seed N] [--seconds S] [--device /dev/x4step0] [--invalid-only]
+//              [--threads N] [--verbose]
+//
+// Phases (time split of --seconds):
+//   0  probes: valid MOVE_ENDLESS and LOAD arguments in read-only memory (the
+//      call must fail with EFAULT and then must not have started or loaded
+//      anything);
+//   a  random command numbers: every _IOC_NR 0..255 of our magic with every
+//      direction and several sizes, then random ones, exact commands with random
+//      payloads and other magics; bad pointers (NULL, 1, kernel and non-canonical
+//      addresses, PROT_NONE, the end of a page before a guard page, read-only
+//      memory);
+//   b  structurally valid commands with boundary and random field values;
+//   c  several threads on the one controller descriptor with random valid and
+//      invalid sequences, read-only monitors (GET_STATUS, poll), a thread opening
+//      and closing read-only and read-write descriptors (read-write: EBUSY);
+//      then threads racing to become the controller;
+//   d  everything closed: a fresh controller opens, the engine is idle.
+// With --invalid-only only phases a and b run and no call that could be valid is
+// made (state-changing commands only with invalid arguments, START only when
+// nothing is loaded, BRAKE/STOP only when nothing runs): the port trace of such
+// a run must show no clock edge (tests/fuzz/check-no-edges.sh).
+//
+// Invariants checked here (each violation is printed and fails the run):
+//  - unknown commands (our magic or another) fail with ENOTTY;
+//  - state-changing commands on a read-only descriptor fail with EBADF;
+//  - bad pointers fail with EFAULT; flags/reserved fields non-zero, bad
+//    signals, brake codes, config masks fail with EINVAL; X4STEP_LOAD's
+//    out-of-range arguments fail with EINVAL and the documented X4Step code
+//    (frequency, then ramp, then paths) in `result`;
+//  - errors of valid calls are the documented state errors only;
+//  - a call that fails changes nothing (single-threaded phases: ACTIVE and
+//    LOADED do not appear, outputs and config stay);
+//  - GET_STATUS, GET_INFO, GET_CONFIG and GET_TIMING report only sane values;
+//  - poll() never reports an error; at most one controller at a time.
+// The controller descriptor is always closed at the end (the module brakes on
+// close): no motor keeps running after the fuzzer.
+//
+// Exit status: 0 all invariants held, 1 violations, 2 usage or setup errors.
+
+#include <fcntl.h>
+#include <linux/x4step.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <chrono>
+#include <climits>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int64_t kStepsMax = 16777216;
+constexpr unsigned kMagic = X4STEP_IOC_MAGIC;
+constexpr size_t kPage = 4096;
+
+// ------------------------------------------------------------------ options
+
+struct Options {
+  uint64_t seed = 1;
+  double seconds = 30;
+  std::string device = "/dev/x4step0";
+  bool invalid_only = false;
+  int threads = 3;
+  bool verbose = false;
+};
+Options opt;
+
+// ------------------------------------------------------------------ reporting
+
+std::atomic<long> g_violations{0};
+std::mutex g_print;
+
+void note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void note(const char *fmt, ...) {
+  std::lock_guard<std::mutex> lk(g_print);
+  va_list ap;
+  va_start(ap, fmt);
+  std::fputs("x4fuzz: ", stdout);
+  std::vfprintf(stdout, fmt, ap);
+  std::fputc('\n', stdout);
+  std::fflush(stdout);
+  va_end(ap);
+}
+
+void violation(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+// Each kind of violation (its format) is shown 3 times, then only counted.
+struct Kind {
+  const char *fmt;
+  long count;
+};
+Kind g_kinds[64];
+int g_nkinds = 0;
+
+void violation(const char *fmt, ...) {
+  ++g_violations;
+  std::lock_guard<std::mutex> lk(g_print);
+  int i = 0;
+  while (i < g_nkinds && g_kinds[i].fmt != fmt) i++;
+  if (i == g_nkinds && g_nkinds < 64) g_kinds[g_nkinds++] = {fmt, 0};
+  if (i < 64 && ++g_kinds[i].count > 3) return;
+  va_list ap;
+  va_start(ap, fmt);
+  std::fputs("x4fuzz: VIOLATION: ", stdout);
+  std::vfprintf(stdout, fmt, ap);
+  std::fputc('\n', stdout);
+  std::fflush(stdout);
+  va_end(ap);
+}
+
+void violation_summary() {
+  std::lock_guard<std::mutex> lk(g_print);
+  for (int i = 0; i < g_nkinds; i++)
+    std::printf("x4fuzz: %6ld x VIOLATION %s\n", g_kinds[i].count, g_kinds[i].fmt);
+}
+
+[[noreturn]] void die(const char *what) {
+  std::printf("x4fuzz: %s: %s\n", what, std::strerror(errno));
+  std::printf("FAIL ioctl_fuzz setup\n");
+  std::exit(2);
+}
+
+// ------------------------------------------------------------------ random
+
+struct Rng {
+  uint64_t s;
+  explicit Rng(uint64_t seed) : s(seed * 0x9e3779b97f4a7c15ull + 0x1234567ull) {}
+  uint64_t next() {  // splitmix64
+    uint64_t z = (s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  uint32_t below(uint32_t n) { return n ? static_cast<uint32_t>(next() % n) : 0; }
+  bool chance(unsigned pct) { return below(100) < pct; }
+  int32_t s32() { return static_cast<int32_t>(next()); }
+  int32_t range(int32_t lo, int32_t hi) {  // inclusive
+    return static_cast<int32_t>(lo + static_cast<int64_t>(next() % (static_cast<uint64_t>(hi - lo) + 1)));
+  }
+  template <class T, size_t N>
+  T pick(const T (&a)[N]) {
+    return a[below(N)];
+  }
+};
+
+// ------------------------------------------------------------------ commands
+
+struct Cmd {
+  unsigned long nr;
+  const char *name;
+  size_t size;
+  bool state;  // changes state: controller only
+};
+
+const Cmd kCmds[] = {
+    {X4STEP_GET_INFO, "GET_INFO", sizeof(x4step_info), false},
+    {X4STEP_LOAD, "LOAD", sizeof(x4step_move), true},
+    {X4STEP_START, "START", 0, true},
+    {X4STEP_BRAKE, "BRAKE", 0, true},
+    {X4STEP_STOP, "STOP", 0, true},
+    {X4STEP_MOVE_ENDLESS, "MOVE_ENDLESS", sizeof(x4step_endless), true},
+    {X4STEP_GET_STATUS, "GET_STATUS", sizeof(x4step_status), false},
+    {X4STEP_SET_OUTPUT, "SET_OUTPUT", sizeof(x4step_output), true},
+    {X4STEP_SET_BRAKE_CODES, "SET_BRAKE_CODES", sizeof(x4step_brake_codes), true},
+    {X4STEP_SET_CONFIG, "SET_CONFIG", sizeof(x4step_config), true},
+    {X4STEP_GET_CONFIG, "GET_CONFIG", sizeof(x4step_config), false},
+    {X4STEP_GET_TIMING, "GET_TIMING", sizeof(x4step_timing), false},
+};
+constexpr int kNumCmds = sizeof(kCmds) / sizeof(kCmds[0]);
+constexpr int kUnknownOurs = kNumCmds;  // stats slot: our magic, unknown number
+constexpr int kForeign = kNumCmds + 1;  // stats slot: other magics
+constexpr int kSlots = kNumCmds + 2;
+
+int cmd_index(unsigned long cmd) {
+  for (int i = 0; i < kNumCmds; i++)
+    if (kCmds[i].nr == cmd) return i;
+  return _IOC_TYPE(cmd) == kMagic ? kUnknownOurs : kForeign;
+}
+const char *slot_name(int i) {
+  return i < kNumCmds ? kCmds[i].name : i == kUnknownOurs ? "unknown-0xB4" : "other-magic";
+}
+
+// Magics the VFS handles itself before the driver sees them (FIOCLEX,
+// FIONBIO, FIOASYNC, FIOQSIZE, FIONREAD: 'T'; FIFREEZE/FITHAW/FS_IOC_FSGETXATTR:
+// 'X'; FS_IOC_GETFLAGS/FIEMAP: 'f'; FICLONE/FIDEDUPERANGE: 0x94; FIBMAP/FIGETBSZ:
+// 0; FS_IOC_GETFSUUID: 0x15): never sent (FIFREEZE would freeze devtmpfs).
+bool vfs_magic(unsigned magic) {
+  return magic == 0 || magic == 0x15 || magic == 'T' || magic == 'X' || magic == 'f' || magic == 0x94;
+}
+
+// Per-slot statistics: calls, accepted (returned 0), errors by errno.
+struct Stats {
+  std::atomic<long> calls[kSlots];
+  std::atomic<long> ok[kSlots];
+  std::atomic<long> err[kSlots][64];
+  std::atomic<long> skipped{0};
+  Stats() { reset(); }
+  void reset() {
+    for (int i = 0; i < kSlots; i++) {
+      calls[i] = 0;
+      ok[i] = 0;
+      for (auto &e : err[i]) e = 0;
+    }
+    skipped = 0;
+  }
+  long total() const {
+    long n = 0;
+    for (int i = 0; i < kSlots; i++) n += calls[i];
+    return n;
+  }
+  void print(const char *phase) const {
+    std::lock_guard<std::mutex> lk(g_print);
+    std::printf("x4fuzz: phase %s: %ld ioctls (%ld valid-looking calls skipped)\n", phase, total(),
+                skipped.load());
+    for (int i = 0; i < kSlots; i++) {
+      if (!calls[i]) continue;
+      std::printf("x4fuzz:   %-16s %8ld calls %8ld accepted", slot_name(i), calls[i].load(), ok[i].load());
+      for (int e = 1; e < 64; e++)
+        if (err[i][e]) std::printf(" %s:%ld", strerrorname(e), err[i][e].load());
+      std::printf("\n");
+    }
+    std::fflush(stdout);
+  }
+  static const char *strerrorname(int e) {
+    switch (e) {
+      case EPERM: return "EPERM";
+      case ESRCH: return "ESRCH";
+      case EBADF: return "EBADF";
+      case ENOMEM: return "ENOMEM";
+      case EFAULT: return "EFAULT";
+      case EBUSY: return "EBUSY";
+      case EEXIST: return "EEXIST";
+      case ENODEV: return "ENODEV";
+      case EINVAL: return "EINVAL";
+      case ENOTTY: return "ENOTTY";
+      case ENODATA: return "ENODATA";
+      default: return "E?";
+    }
+  }
+};
+Stats g_stats;
+
+uint64_t bit(int e) { return 1ull << e; }
+
+std::string errset(uint64_t m) {
+  std::string s;
+  for (int e = 0; e < 64; e++)
+    if (m & bit(e)) {
+      if (!s.empty()) s += "|";
+      s += e ? Stats::strerrorname(e) : "0";
+    }
+  return s;
+}
+
+// ------------------------------------------------------------------ memory
+
+// Each thread's memory for payloads: a read-write buffer, a page followed by a
+// PROT_NONE guard page, a read-only page and an inaccessible page.
+struct Arena {
+  uint8_t *rw = nullptr;    // 3 pages read-write
+  uint8_t *edge = nullptr;  // 1 page read-write, then the guard page
+  uint8_t *ro = nullptr;    // 1 page read-only
+  uint8_t *none = nullptr;  // 1 page PROT_NONE
+  Arena() {
+    void *m = mmap(nullptr, 7 * kPage, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) die("mmap");
+    auto *p = static_cast<uint8_t *>(m);
+    rw = p;
+    edge = p + 3 * kPage;
+    ro = p + 5 * kPage;
+    none = p + 6 * kPage;
+    if (mprotect(edge + kPage, kPage, PROT_NONE) || mprotect(ro, kPage, PROT_READ) ||
+        mprotect(none, kPage, PROT_NONE))
+      die("mprotect");
+  }
+  Arena(const Arena &) = delete;
+  Arena &operator=(const Arena &) = delete;
+  ~Arena() { munmap(rw, 7 * kPage); }
+};
+
+enum PtrKind { P_BUF, P_EDGE, P_RO, P_NULL, P_ONE, P_KERNEL, P_NONCANON, P_NONE, P_KINDS };
+const char *const kPtrNames[] = {"buf", "page-end", "read-only", "NULL", "(void*)1", "kernel", "non-canonical",
+                                 "PROT_NONE"};
+
+struct Payload {
+  PtrKind kind = P_BUF;
+  unsigned long arg = 0;
+  size_t readable = 0;  // bytes the kernel can read at arg
+  size_t writable = 0;  // bytes the kernel can write at arg
+  const uint8_t *bytes = nullptr;  // what it reads (the first `readable`)
+};
+
+constexpr size_t kMaxPayload = sizeof(x4step_timing) + 64;
+
+// Place `content` (kMaxPayload bytes) where `kind` says; `size` is the size the
+// command uses (for page-end placement).
+Payload place(Arena &ar, Rng &r, PtrKind kind, const uint8_t *content, size_t size) {
+  Payload p;
+  p.kind = kind;
+  switch (kind) {
+    case P_BUF: {
+      size_t off = r.below(8) * 8;
+      std::memcpy(ar.rw + off, content, kMaxPayload);
+      p.arg = reinterpret_cast<unsigned long>(ar.rw + off);
+      p.readable = p.writable = 3 * kPage - off;
+      p.bytes = ar.rw + off;
+      break;
+    }
+    case P_EDGE: {
+      // k bytes before the guard page: fits exactly, one short, random.
+      size_t k;
+      switch (r.below(4)) {
+        case 0: k = size; break;
+        case 1: k = size ? size - 1 : 0; break;
+        case 2: k = 0; break;
+        default: k = r.below(static_cast<uint32_t>(size + 1)); break;
+      }
+      if (k > kPage) k = kPage;
+      uint8_t *at = ar.edge + kPage - k;
+      std::memset(at, 0, k);
+      std::memcpy(at, content, std::min(k, kMaxPayload));
+      p.arg = reinterpret_cast<unsigned long>(at);
+      p.readable = p.writable = k;
+      p.bytes = at;
+      break;
+    }
+    case P_RO: {
+      if (mprotect(ar.ro, kPage, PROT_READ | PROT_WRITE)) die("mprotect");
+      std::memcpy(ar.ro, content, std::min(kMaxPayload, kPage));
+      if (mprotect(ar.ro, kPage, PROT_READ)) die("mprotect");
+      p.arg = reinterpret_cast<unsigned long>(ar.ro);
+      p.readable = kPage;
+      p.writable = 0;
+      p.bytes = ar.ro;
+      break;
+    }
+    case P_NULL: p.arg = 0; break;
+    case P_ONE: p.arg = 1; break;
+    case P_KERNEL: p.arg = 0xffffffff81000000ul + r.below(1 << 20); break;
+    case P_NONCANON: p.arg = 0x0000800000000000ul + r.below(1 << 20); break;
+    case P_NONE: p.arg = reinterpret_cast<unsigned long>(ar.none + r.below(kPage)); break;
+    default: break;
+  }
+  return p;
+}
+
+PtrKind random_ptr_kind(Rng &r, bool mostly_good) {
+  if (mostly_good && r.chance(90)) return P_BUF;
+  unsigned x = r.below(100);
+  if (x < 40) return P_BUF;
+  if (x < 60) return P_EDGE;
+  if (x < 72) return P_RO;
+  return static_cast<PtrKind>(P_NULL + r.below(P_KINDS - P_NULL));
+}
+
+// ------------------------------------------------------------------ expectations
+
+// X4Step result codes (x4_engine.h).
+enum { XR_OK = 0, XR_NO_STEPS = 1, XR_FREQ_HIGH = 2, XR_FREQ_LOW = 3, XR_RAMP_HIGH = 4, XR_RAMP_FREQ = 5,
+       XR_PARAM = 8, XR_STEPS_HIGH = 13 };
+
+int ramp_code(int32_t freq, int32_t ramp) {
+  if (freq > 20000) return XR_FREQ_HIGH;
+  if (freq < 10) return XR_FREQ_LOW;
+  if (ramp > 1000) return XR_RAMP_HIGH;
+  if (ramp < 0) return XR_PARAM;
+  if (ramp > freq) return XR_RAMP_FREQ;
+  return XR_OK;
+}
+
+int load_code(const x4step_move &m) {
+  int c = ramp_code(m.freq_hz, m.ramp_ms);
+  if (c) return c;
+  bool any = false;
+  for (int32_t s : m.steps) {
+    if (s > kStepsMax || s < -kStepsMax) return XR_STEPS_HIGH;
+    any |= s != 0;
+  }
+  return any ? XR_OK : XR_NO_STEPS;
+}
+
+// What a call may return: success (valid) and/or the errnos in `errs`.
+struct Expect {
+  bool may_succeed = false;
+  uint64_t errs = 0;
+  int result_code = -1;    // LOAD/MOVE_ENDLESS: the X4Step code expected in `result` (EINVAL)
+  bool changes = false;    // a successful call may change ACTIVE/LOADED/outputs/config
+  const char *why = "";    // why it is invalid
+};
+
+// What the fuzzer knows about the device when it makes the call.
+struct Known {
+  bool controller = false;  // the descriptor is the controller
+  bool idle = false;        // single-threaded and GET_STATUS said: nothing runs, nothing loaded
+};
+
+Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
+  Expect e;
+  int i = cmd_index(cmd);
+  if (i >= kNumCmds) {
+    e.errs = bit(ENOTTY);
+    e.why = "unknown command";
+    return e;
+  }
+  const Cmd &c = kCmds[i];
+  if (!c.state) {
+    if (p.writable >= c.size) {
+      e.may_succeed = true;
+      if (cmd == X4STEP_GET_TIMING) e.errs = bit(ENOMEM);
+    } else {
+      e.errs = bit(EFAULT);
+      if (cmd == X4STEP_GET_TIMING) e.errs |= bit(ENOMEM);
+      e.why = "bad pointer";
+    }
+    return e;
+  }
+  if (!k.controller) {
+    e.errs = bit(EBADF);
+    e.why = "read-only descriptor";
+    return e;
+  }
+  if (c.size && p.readable < c.size) {
+    e.errs = bit(EFAULT);
+    e.why = "bad pointer";
+    return e;
+  }
+  auto invalid = [&](const char *why, uint64_t errs = bit(EINVAL)) {
+    e.errs = errs;
+    e.why = why;
+    return e;
+  };
+  auto valid = [&](uint64_t errs) {
+    e.may_succeed = true;
+    e.changes = true;
+    e.errs = errs;
+    return e;
+  };
+  switch (cmd) {
+    case X4STEP_START:
+      return k.idle ? invalid("nothing loaded", bit(ENODATA)) : valid(bit(ENODATA) | bit(EBUSY));
+    case X4STEP_BRAKE:
+    case X4STEP_STOP:
+      return k.idle ? invalid("nothing runs", bit(ESRCH)) : valid(bit(ESRCH));
+    case X4STEP_LOAD: {
+      x4step_move m;
+      std::memcpy(&m, p.bytes, sizeof m);
+      if (m.flags) return invalid("flags != 0");
+      int code = load_code(m);
+      // Out of range: EINVAL and the code in `result`, or EFAULT if
+      // `result` cannot be written.
+      uint64_t inval = bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0);
+      if (code) {
+        e.result_code = code;
+        return invalid("argument out of range", inval);
+      }
+      // A valid move whose result cannot be written back: the call fails.
+      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT));
+      return valid(bit(EEXIST));
+    }
+    case X4STEP_MOVE_ENDLESS: {
+      x4step_endless m;
+      std::memcpy(&m, p.bytes, sizeof m);
+      if (m.flags || m.reserved[0] || m.reserved[1]) return invalid("flags/reserved != 0");
+      uint64_t inval = bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0);
+      if (m.direction != 1 && m.direction != -1) {
+        e.result_code = XR_PARAM;
+        return invalid("direction not +-1", inval);
+      }
+      // The module checks "a move runs" before the arguments: EBUSY is fine.
+      if (m.axis < 1 || m.axis > X4STEP_AXES) return invalid("axis", inval | bit(EBUSY));
+      if (ramp_code(m.freq_hz, m.ramp_ms)) return invalid("freq/ramp", inval | bit(EBUSY));
+      // Refused while a move runs (EBUSY) or is loaded (EEXIST).
+      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT) | bit(EBUSY) | bit(EEXIST));
+      return valid(bit(EBUSY) | bit(EEXIST));
+    }
+    case X4STEP_SET_OUTPUT: {
+      x4step_output o;
+      std::memcpy(&o, p.bytes, sizeof o);
+      if ((o.signal != X4STEP_OUT_SIGNAL1 && o.signal != X4STEP_OUT_SIGNAL2) || o.level > 1)
+        return invalid("signal/level");
+      return valid(0);
+    }
+    case X4STEP_SET_BRAKE_CODES: {
+      x4step_brake_codes b;
+      std::memcpy(&b, p.bytes, sizeof b);
+      if (b.reserved) return invalid("reserved != 0");
+      if (b.count > X4STEP_MAX_BRAKE_CODES) return invalid("count > 20");
+      for (uint32_t j = 0; j < b.count; j++)
+        if (b.codes[j] == 0 || b.codes[j] > 255) return invalid("code not 1..255");
+      return valid(0);
+    }
+    case X4STEP_SET_CONFIG: {
+      x4step_config cf;
+      std::memcpy(&cf, p.bytes, sizeof cf);
+      for (uint32_t r : cf.reserved)
+        if (r) return invalid("reserved != 0");
+      if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW))
+        return invalid("mask out of range");
+      return valid(bit(EBUSY));
+    }
+    default:
+      break;
+  }
+  return invalid("?");
+}
+
+// ------------------------------------------------------------------ sanity of reads
+
+bool status_sane(const x4step_status &st, std::string &why) {
+  char buf[200];
+  const uint32_t known = X4STEP_ST_ACTIVE | X4STEP_ST_LOADED | X4STEP_ST_CONTROLLED;
+  if (st.flags & ~known) why = "unknown flags";
+  else if (st.last_brake_code > 255) why = "last_brake_code > 255";
+  else if (st.inputs & ~0x1fu) why = "inputs beyond 5 bits";
+  else if (st.outputs & ~0xfu) why = "outputs beyond 4 bits";
+  else if (st.data > 0xff) why = "data beyond 8 bits";
+  else if (st.reserved0 || st.reserved[0] || st.reserved[1]) why = "reserved != 0";
+  else if ((st.flags & X4STEP_ST_ACTIVE) && !(st.flags & X4STEP_ST_CONTROLLED)) why = "active without controller";
+  else if (!(st.flags & X4STEP_ST_ACTIVE) && (st.outputs & (X4STEP_OUT_AKTIV | X4STEP_OUT_BOOST)))
+    why = "AKTIV/BOOST high while idle";
+  else if (!(st.flags & X4STEP_ST_ACTIVE) && (st.data & 0xaa)) why = "clock high while idle";
+  else {
+    for (int64_t s : st.steps)
+      if (s > 2 * kStepsMax || s < -2 * kStepsMax) why = "step counter out of range";
+  }
+  if (why.empty()) return true;
+  std::snprintf(buf, sizeof buf, " (flags 0x%x code %u in 0x%x out 0x%x data 0x%x steps %lld %lld %lld %lld)",
+                st.flags, st.last_brake_code, st.inputs, st.outputs, st.data,
+                static_cast<long long>(st.steps[0]), static_cast<long long>(st.steps[1]),
+                static_cast<long long>(st.steps[2]), static_cast<long long>(st.steps[3]));
+  why += buf;
+  return false;
+}
+
+void check_read_result(unsigned long cmd, const Payload &p) {
+  std::string why;
+  if (cmd == X4STEP_GET_STATUS) {
+    x4step_status st;
+    std::memcpy(&st, p.bytes, sizeof st);
+    if (!status_sane(st, why)) violation("GET_STATUS: %s", why.c_str());
+  } else if (cmd == X4STEP_GET_INFO) {
+    x4step_info in;
+    std::memcpy(&in, p.bytes, sizeof in);
+    bool res = false;
+    for (uint32_t r : in.reserved) res |= r != 0;
+    if (in.abi_version != X4STEP_ABI_VERSION || in.axes != X4STEP_AXES || in.port > 15 || res)
+      violation("GET_INFO: abi %u axes %u port %u reserved %d", in.abi_version, in.axes, in.port, res);
+  } else if (cmd == X4STEP_GET_CONFIG) {
+    x4step_config cf;
+    std::memcpy(&cf, p.bytes, sizeof cf);
+    bool res = false;
+    for (uint32_t r : cf.reserved) res |= r != 0;
+    if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW) || res)
+      violation("GET_CONFIG: clock 0x%x dir 0x%x flags 0x%x reserved %d", cf.clock_invert, cf.dir_invert,
+                cf.flags, res);
+  } else if (cmd == X4STEP_GET_TIMING) {
+    // Big: read it in place.
+    const auto *t = reinterpret_cast<const x4step_timing *>(p.bytes);
+    uint64_t sum = t->beyond;
+    for (uint32_t h : t->hist) sum += h;
+    if (sum != t->events || t->reserved || (t->events == 0 && t->late_max_ns))
+      violation("GET_TIMING: events %llu, histogram+beyond %llu, max %llu, reserved %llu",
+                static_cast<unsigned long long>(t->events), static_cast<unsigned long long>(sum),
+                static_cast<unsigned long long>(t->late_max_ns), static_cast<unsigned long long>(t->reserved));
+  }
+}
+
+// ------------------------------------------------------------------ one call
+
+bool get_status(int fd, x4step_status &st) {
+  std::memset(&st, 0, sizeof st);
+  if (ioctl(fd, X4STEP_GET_STATUS, &st)) {
+    violation("GET_STATUS failed: %s", std::strerror(errno));
+    return false;
+  }
+  std::string why;
+  if (!status_sane(st, why)) violation("GET_STATUS: %s", why.c_str());
+  return true;
+}
+
+bool get_config(int fd, x4step_config &cf) {
+  std::memset(&cf, 0, sizeof cf);
+  if (ioctl(fd, X4STEP_GET_CONFIG, &cf)) {
+    violation("GET_CONFIG failed: %s", std::strerror(errno));
+    return false;
+  }
+  return true;
+}
+
+struct Ctx {
+  int fd = -1;
+  Known known;
+  bool single = false;  // single-threaded: check that failed calls change nothing
+};
+
+// Make one call and check it. Returns ioctl's result (-1 with errno, or 0).
+int call(Ctx &cx, unsigned long cmd, const Payload &p) {
+  Known k = cx.known;
+  x4step_status before{};
+  x4step_config cfg_before{};
+  bool have_before = false;
+  int idx = cmd_index(cmd);
+  bool state_cmd = idx < kNumCmds && kCmds[idx].state;
+  if (cx.single && k.controller && state_cmd) {
+    have_before = get_status(cx.fd, before) && get_config(cx.fd, cfg_before);
+    k.idle = have_before && !(before.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED));
+  }
+  Expect e = expect(cmd, p, k);
+  if (opt.invalid_only && state_cmd && e.may_succeed) {
+    g_stats.skipped++;
+    return -2;
+  }
+  errno = 0;
+  int ret = ioctl(cx.fd, cmd, p.arg);
+  int err = ret ? errno : 0;
+  g_stats.calls[idx]++;
+  if (!ret) g_stats.ok[idx]++;
+  else if (err > 0 && err < 64) g_stats.err[idx][err]++;
+
+  if (opt.verbose)
+    note("%s 0x%lx %s -> %d %s", slot_name(idx), cmd, kPtrNames[p.kind], ret, ret ? std::strerror(err) : "");
+  if (ret == 0 && !e.may_succeed) {
+    violation("%s (0x%lx, %s pointer) succeeded, expected %s: %s", slot_name(idx), cmd, kPtrNames[p.kind],
+              errset(e.errs).c_str(), e.why);
+  } else if (ret != 0 && (err <= 0 || err >= 64 || !(e.errs & bit(err)))) {
+    violation("%s (0x%lx, %s pointer) failed with %s, expected %s%s%s", slot_name(idx), cmd, kPtrNames[p.kind],
+              std::strerror(err), e.may_succeed ? "success or " : "", errset(e.errs).c_str(),
+              e.may_succeed ? "" : (std::string(": ") + e.why).c_str());
+  }
+  // X4STEP_LOAD writes the X4Step code back on argument errors.
+  if (ret != 0 && err == EINVAL && e.result_code >= 0 && p.writable >= kCmds[idx].size) {
+    int32_t got;
+    size_t off = cmd == X4STEP_LOAD ? offsetof(x4step_move, result) : offsetof(x4step_endless, result);
+    std::memcpy(&got, p.bytes + off, sizeof got);
+    if (got != e.result_code)
+      violation("%s: result %d, expected X4Step code %d (%s)", slot_name(idx), got, e.result_code, e.why);
+  }
+  if (ret == 0 && idx < kNumCmds && !kCmds[idx].state) check_read_result(cmd, p);
+
+  if (have_before) {
+    x4step_status after;
+    x4step_config cfg_after;
+    if (get_status(cx.fd, after) && get_config(cx.fd, cfg_after)) {
+      const uint32_t sig = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
+      if (ret != 0) {
+        if (!(before.flags & X4STEP_ST_ACTIVE) && (after.flags & X4STEP_ST_ACTIVE))
+          violation("%s failed (%s, %s) but a move started", slot_name(idx), std::strerror(err), e.why);
+        if (!(before.flags & X4STEP_ST_LOADED) && (after.flags & X4STEP_ST_LOADED))
+          violation("%s failed (%s, %s) but a move got loaded", slot_name(idx), std::strerror(err), e.why);
+        if ((before.outputs & sig) != (after.outputs & sig))
+          violation("%s failed (%s) but the signal outputs changed 0x%x -> 0x%x", slot_name(idx),
+                    std::strerror(err), before.outputs, after.outputs);
+        if (std::memcmp(&cfg_before, &cfg_after, sizeof cfg_after))
+          violation("%s failed (%s) but the config changed", slot_name(idx), std::strerror(err));
+      } else if (cmd == X4STEP_SET_OUTPUT) {
+        x4step_output o;
+        std::memcpy(&o, p.bytes, sizeof o);
+        if (!!(after.outputs & o.signal) != !!o.level)
+          violation("SET_OUTPUT signal %u level %u: outputs 0x%x", o.signal, o.level, after.outputs);
+      }
+    }
+  }
+  return ret ? -1 : 0;
+}
+
+// ------------------------------------------------------------------ generators
+
+const int32_t kStepVals[] = {0, 1, -1, 2, -2, 100, -100, 16777215, -16777215, 16777216, -16777216,
+                             16777217, -16777217, INT_MAX, INT_MIN, 1 << 30};
+const int32_t kFreqVals[] = {9, 10, 11, 100, 1000, 5000, 19999, 20000, 20001, 0, -1, INT_MIN, INT_MAX};
+const int32_t kRampVals[] = {0, 1, 10, 999, 1000, 1001, -1, INT_MIN, INT_MAX};
+
+int32_t steps_val(Rng &r, bool small) {
+  if (small) return r.range(-200, 200);
+  unsigned x = r.below(10);
+  if (x < 5) return r.pick(kStepVals);
+  if (x < 8) return r.range(-2000, 2000);
+  return r.s32();
+}
+int32_t freq_val(Rng &r, bool small) {
+  if (small) return r.range(1000, 20000);
+  unsigned x = r.below(10);
+  if (x < 6) return r.pick(kFreqVals);
+  if (x < 9) return r.range(10, 20000);
+  return r.s32();
+}
+int32_t ramp_val(Rng &r, int32_t freq, bool small) {
+  if (small) return r.range(0, 20);
+  unsigned x = r.below(10);
+  if (x < 5) return r.pick(kRampVals);
+  if (x < 7) return freq + r.range(-1, 1);  // around ramp == freq
+  if (x < 9) return r.range(0, 1000);
+  return r.s32();
+}
+uint32_t maybe_nonzero(Rng &r, unsigned pct) {
+  if (!r.chance(pct)) return 0;
+  switch (r.below(3)) {
+    case 0: return 1;
+    case 1: return 0x80000000u;
+    default: return static_cast<uint32_t>(r.next()) | 1;
+  }
+}
+
+// A structurally valid command with boundary and random field values (phase b).
+// `small`: short, slow-ramped moves only (quick to brake).
+unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
+  std::memset(c, 0, kMaxPayload);
+  unsigned x = r.below(100);
+  if (x < 22) {
+    x4step_move m{};
+    int axes = r.below(4);
+    for (int a = 0; a < 4; a++)
+      m.steps[a] = (a == axes || r.chance(30)) ? steps_val(r, small) : 0;
+    m.freq_hz = freq_val(r, small);
+    m.ramp_ms = ramp_val(r, m.freq_hz, small);
+    m.flags = maybe_nonzero(r, 8);
+    m.result = r.s32();
+    std::memcpy(c, &m, sizeof m);
+    return X4STEP_LOAD;
+  }
+  if (x < 36) return X4STEP_START;
+  if (x < 46) return X4STEP_BRAKE;
+  if (x < 54) return X4STEP_STOP;
+  if (x < 64) {
+    x4step_endless m{};
+    m.axis = r.chance(85) ? r.range(0, 5) : r.s32();
+    m.direction = r.chance(85) ? r.range(-2, 2) : r.s32();
+    m.freq_hz = freq_val(r, small);
+    m.ramp_ms = ramp_val(r, m.freq_hz, small);
+    m.flags = maybe_nonzero(r, 8);
+    m.reserved[0] = maybe_nonzero(r, 5);
+    m.reserved[1] = maybe_nonzero(r, 5);
+    m.result = r.s32();
+    std::memcpy(c, &m, sizeof m);
+    return X4STEP_MOVE_ENDLESS;
+  }
+  if (x < 74) {
+    x4step_output o{};
+    o.signal = r.chance(90) ? r.range(0, 5) : static_cast<uint32_t>(r.next());
+    o.level = r.chance(90) ? r.range(0, 2) : static_cast<uint32_t>(r.next());
+    std::memcpy(c, &o, sizeof o);
+    return X4STEP_SET_OUTPUT;
+  }
+  if (x < 84) {
+    x4step_brake_codes b{};
+    b.count = r.chance(90) ? r.range(0, 21) : static_cast<uint32_t>(r.next());
+    for (auto &code : b.codes) code = static_cast<uint16_t>(r.chance(90) ? r.range(0, 300) : r.next());
+    if (r.chance(50))  // mostly valid codes
+      for (auto &code : b.codes) code = static_cast<uint16_t>(r.range(1, 255));
+    b.reserved = maybe_nonzero(r, 8);
+    std::memcpy(c, &b, sizeof b);
+    return X4STEP_SET_BRAKE_CODES;
+  }
+  if (x < 92) {
+    x4step_config cf{};
+    cf.clock_invert = r.chance(85) ? r.range(0, 0x10) : static_cast<uint32_t>(r.next());
+    cf.dir_invert = r.chance(85) ? r.range(0, 0x10) : static_cast<uint32_t>(r.next());
+    cf.flags = r.chance(85) ? r.range(0, 2) : static_cast<uint32_t>(r.next());
+    for (auto &res : cf.reserved) res = maybe_nonzero(r, 3);
+    // Wiring changes move the clock pins at rest: keep them rare.
+    if (r.chance(70)) cf.clock_invert = 0;
+    std::memcpy(c, &cf, sizeof cf);
+    return X4STEP_SET_CONFIG;
+  }
+  static const unsigned long reads[] = {X4STEP_GET_STATUS, X4STEP_GET_INFO, X4STEP_GET_CONFIG, X4STEP_GET_TIMING};
+  return r.pick(reads);
+}
+
+const uint32_t kSizes[] = {0, 1, 4, 8, 16, 24, 32, 40, 56, 64, 72, 2080, 2079, 2081, 4096, 16383};
+
+unsigned long random_cmd(Rng &r) {
+  unsigned x = r.below(100);
+  if (x < 40) {  // our magic, any number/direction/size
+    return _IOC(r.below(4), kMagic, r.below(256), r.chance(50) ? r.pick(kSizes) : r.below(1 << 14));
+  }
+  if (x < 75) {  // an exact command, or one bit off
+    unsigned long c = kCmds[r.below(kNumCmds)].nr;
+    if (r.chance(20)) c ^= 1ul << r.below(32);
+    if (vfs_magic(_IOC_TYPE(c))) c = kCmds[0].nr;
+    return c;
+  }
+  unsigned magic;
+  do magic = r.below(256);
+  while (magic == kMagic || vfs_magic(magic));
+  if (r.chance(15)) return (static_cast<uint32_t>(r.next()) & ~(0xfful << _IOC_TYPESHIFT)) | (magic << _IOC_TYPESHIFT);
+  return _IOC(r.below(4), magic, r.below(256), r.below(1 << 14));
+}
+
+void random_bytes(Rng &r, uint8_t *c) {
+  unsigned mode = r.below(4);
+  for (size_t i = 0; i < kMaxPayload; i += 8) {
+    uint64_t v = mode == 0 ? 0 : mode == 1 ? r.next() : (r.next() & 0x0000000f0000000full);
+    std::memcpy(c + i, &v, std::min<size_t>(8, kMaxPayload - i));
+  }
+}
+
+size_t cmd_size(unsigned long cmd) {
+  int i = cmd_index(cmd);
+  return i < kNumCmds ? kCmds[i].size : _IOC_SIZE(cmd);
+}
+
+// ------------------------------------------------------------------ phases
+
+bool time_left(Clock::time_point end) { return Clock::now() < end; }
+
+Clock::time_point after(double s) {
+  return Clock::now() + std::chrono::microseconds(static_cast<long long>(s * 1e6));
+}
+
+int open_dev(int flags) { return open(opt.device.c_str(), flags | O_CLOEXEC); }
+
+// Phase a: command numbers and pointers.
+long phase_a(int ctl, int ro, Rng &r, Arena &ar, double secs) {
+  Ctx cctl{ctl, {true, false}, true}, cro{ro, {false, false}, true};
+  auto end = after(secs);
+  uint8_t content[kMaxPayload];
+  long n = 0;
+  // The sweep: every number of our magic, every direction, a few sizes.
+  static const uint32_t sweep_sizes[] = {0, 8, 32, 40, 64, 72, 2080};
+  for (unsigned nr = 0; nr < 256 && time_left(end); nr++)
+    for (unsigned dir = 0; dir < 4; dir++)
+      for (uint32_t size : sweep_sizes) {
+        if (dir == 0 && size) continue;
+        unsigned long cmd = _IOC(dir, kMagic, nr, size);
+        random_bytes(r, content);
+        Payload p = place(ar, r, random_ptr_kind(r, false), content, cmd_size(cmd));
+        call(r.chance(85) ? cctl : cro, cmd, p);
+        n++;
+      }
+  while (time_left(end)) {
+    unsigned long cmd = random_cmd(r);
+    random_bytes(r, content);
+    Payload p = place(ar, r, random_ptr_kind(r, false), content, cmd_size(cmd));
+    call(r.chance(85) ? cctl : cro, cmd, p);
+    n++;
+  }
+  return n;
+}
+
+// Probes first: valid MOVE_ENDLESS and LOAD arguments in read-only memory,
+// so that `result` cannot be written back. The call fails (EFAULT) and must
+// then have started or loaded nothing. If a motor runs anyway it is stopped
+// (the violation is recorded); a loaded move is dropped by reopening.
+void probes(int &ctl, Rng &r, Arena &ar) {
+  Ctx cx{ctl, {true, false}, true};
+  uint8_t content[kMaxPayload] = {};
+  x4step_endless e{};
+  e.axis = 1;
+  e.direction = 1;
+  e.freq_hz = 1000;
+  std::memcpy(content, &e, sizeof e);
+  call(cx, X4STEP_MOVE_ENDLESS, place(ar, r, P_RO, content, sizeof e));
+  x4step_status st;
+  if (get_status(ctl, st) && (st.flags & X4STEP_ST_ACTIVE)) ioctl(ctl, X4STEP_STOP);
+  x4step_move m{};
+  m.steps[0] = 100;
+  m.freq_hz = 1000;
+  std::memset(content, 0, sizeof content);
+  std::memcpy(content, &m, sizeof m);
+  call(cx, X4STEP_LOAD, place(ar, r, P_RO, content, sizeof m));
+  if (get_status(ctl, st) && (st.flags & X4STEP_ST_LOADED)) {
+    close(ctl);  // the module forgets the loaded move
+    ctl = open_dev(O_RDWR);
+    if (ctl < 0) die("reopen the controller");
+  }
+}
+
+// Phase b: structured commands, one thread, failed calls must change nothing.
+long phase_b(int ctl, int ro, Rng &r, Arena &ar, double secs) {
+  Ctx cctl{ctl, {true, false}, true}, cro{ro, {false, false}, true};
+  auto end = after(secs);
+  uint8_t content[kMaxPayload];
+  long n = 0;
+  while (time_left(end)) {
+    unsigned long cmd = gen_structured(r, content, false);
+    PtrKind kind = random_ptr_kind(r, true);
+    Payload p = place(ar, r, kind, content, cmd_size(cmd));
+    call(r.chance(92) ? cctl : cro, cmd, p);
+    n++;
+  }
+  return n;
+}
+
+// Phase c: threads.
+struct Shared {
+  std::atomic<bool> stop{false};
+  std::atomic<bool> controller_open{true};  // the main controller descriptor is open
+  std::atomic<int> controllers{0};
+  std::atomic<long> iterations{0};
+  std::atomic<long> opens_ro{0}, opens_rw_busy{0}, controller_wins{0}, polls{0};
+};
+
+void hammer(int ctl, uint64_t seed, Shared &sh) {
+  Rng r(seed);
+  Arena ar;
+  Ctx cx{ctl, {true, false}, false};
+  uint8_t content[kMaxPayload];
+  while (!sh.stop) {
+    unsigned long cmd;
+    PtrKind kind;
+    unsigned x = r.below(100);
+    if (x < 65) {
+      cmd = gen_structured(r, content, r.chance(70));
+      kind = random_ptr_kind(r, true);
+    } else {
+      cmd = random_cmd(r);
+      random_bytes(r, content);
+      kind = random_ptr_kind(r, false);
+    }
+    Payload p = place(ar, r, kind, content, cmd_size(cmd));
+    call(cx, cmd, p);
+    sh.iterations++;
+  }
+}
+
+void monitor(uint64_t seed, Shared &sh) {
+  Rng r(seed);
+  Arena ar;
+  int fd = open_dev(O_RDONLY);
+  if (fd < 0) {
+    violation("read-only open for a monitor failed: %s", std::strerror(errno));
+    return;
+  }
+  Ctx cx{fd, {false, false}, false};
+  uint64_t ended = 0;
+  uint8_t content[kMaxPayload];
+  while (!sh.stop) {
+    x4step_status st;
+    if (get_status(fd, st)) {
+      if (st.moves_ended < ended) violation("moves_ended went back: %llu -> %llu",
+                                            static_cast<unsigned long long>(ended),
+                                            static_cast<unsigned long long>(st.moves_ended));
+      ended = st.moves_ended;
+    }
+    pollfd pfd{fd, static_cast<short>(POLLIN | POLLRDNORM), 0};
+    int pr = poll(&pfd, 1, r.below(3) ? static_cast<int>(r.below(20)) : 0);
+    sh.polls++;
+    if (pr < 0) violation("poll: %s", std::strerror(errno));
+    else if (pfd.revents & ~(POLLIN | POLLRDNORM))
+      violation("poll revents 0x%x", pfd.revents);
+    if (r.chance(30)) {  // anything on a read-only descriptor
+      unsigned long cmd = r.chance(50) ? gen_structured(r, content, true) : random_cmd(r);
+      if (cmd_index(cmd) >= kNumCmds || !kCmds[cmd_index(cmd)].state) random_bytes(r, content);
+      Payload p = place(ar, r, random_ptr_kind(r, true), content, cmd_size(cmd));
+      call(cx, cmd, p);
+    }
+    sh.iterations++;
+  }
+  close(fd);
+}
+
+// Opens and closes descriptors: read-only always works, read-write gets EBUSY
+// while the controller is open.
+void opener(uint64_t seed, Shared &sh) {
+  Rng r(seed);
+  while (!sh.stop) {
+    int mode = r.chance(50) ? O_RDONLY : r.chance(70) ? O_RDWR : O_WRONLY;
+    int fd = open_dev(mode | (r.chance(20) ? O_NONBLOCK : 0));
+    if (mode == O_RDONLY) {
+      if (fd < 0) violation("read-only open failed: %s", std::strerror(errno));
+      else sh.opens_ro++;
+    } else if (sh.controller_open) {
+      if (fd >= 0) violation("a second read-write open succeeded while the controller is open");
+      else if (errno != EBUSY) violation("read-write open failed with %s, expected EBUSY", std::strerror(errno));
+      else sh.opens_rw_busy++;
+    }
+    if (fd >= 0) {
+      if (r.chance(50)) {
+        x4step_status st;
+        get_status(fd, st);
+      }
+      if (r.chance(30)) {
+        pollfd pfd{fd, POLLIN, 0};
+        poll(&pfd, 1, 0);
+      }
+      close(fd);
+    }
+    sh.iterations++;
+  }
+}
+
+// Phase c2: threads race to become the controller; at most one at a time.
+void racer(uint64_t seed, Shared &sh) {
+  Rng r(seed);
+  Arena ar;
+  uint8_t content[kMaxPayload];
+  while (!sh.stop) {
+    int fd = open_dev(O_RDWR);
+    if (fd < 0) {
+      if (errno != EBUSY) violation("controller race: open failed with %s", std::strerror(errno));
+      else sh.opens_rw_busy++;
+      continue;
+    }
+    if (++sh.controllers > 1) violation("two controllers at once");
+    sh.controller_wins++;
+    Ctx cx{fd, {true, false}, false};
+    int ops = r.below(6);
+    for (int i = 0; i < ops; i++) {
+      unsigned long cmd = gen_structured(r, content, true);
+      if (cmd == X4STEP_SET_CONFIG) continue;
+      Payload p = place(ar, r, random_ptr_kind(r, true), content, cmd_size(cmd));
+      call(cx, cmd, p);
+    }
+    if (r.chance(50)) ioctl(fd, X4STEP_STOP);
+    sh.controllers--;
+    close(fd);  // brakes what runs
+    sh.iterations++;
+  }
+}
+
+// Phase d: all closed; a fresh controller opens and finds the engine idle.
+void phase_d() {
+  int fd = open_dev(O_RDWR);
+  if (fd < 0) {
+    violation("phase d: the controller does not open again: %s", std::strerror(errno));
+    return;
+  }
+  x4step_status st;
+  if (get_status(fd, st)) {
+    if (st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED))
+      violation("phase d: a fresh controller finds flags 0x%x (expected idle, nothing loaded)", st.flags);
+    if (!(st.flags & X4STEP_ST_CONTROLLED)) violation("phase d: CONTROLLED not set with a controller open");
+  }
+  // Back to the default wiring and outputs for whatever runs next.
+  x4step_config cf{};
+  if (ioctl(fd, X4STEP_SET_CONFIG, &cf)) violation("phase d: SET_CONFIG 0: %s", std::strerror(errno));
+  x4step_brake_codes bc{};
+  if (ioctl(fd, X4STEP_SET_BRAKE_CODES, &bc)) violation("phase d: SET_BRAKE_CODES 0: %s", std::strerror(errno));
+  close(fd);
+  fd = open_dev(O_RDONLY);
+  if (fd < 0) {
+    violation("phase d: read-only open: %s", std::strerror(errno));
+    return;
+  }
+  if (get_status(fd, st) && (st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_CONTROLLED)))
+    violation("phase d: after close flags 0x%x (expected no move, no controller)", st.flags);
+  pollfd pfd{fd, POLLIN, 0};
+  if (poll(&pfd, 1, 100) != 1 || !(pfd.revents & POLLIN)) violation("phase d: idle device not readable in poll");
+  close(fd);
+}
+
+void usage() {
+  std::fprintf(stderr,
+               "usage: ioctl_fuzz [--seed N] [--seconds S] [--device PATH] [--invalid-only]\n"
+               "                  [--threads N] [--verbose]\n");
+  std::exit(2);
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  for (int i = 1; i < argc; i++) {
+    std::string a = argv[i];
+    auto val = [&]() -> const char * {
+      if (i + 1 >= argc) usage();
+      return argv[++i];
+    };
+    if (a == "--seed") opt.seed = std::strtoull(val(), nullptr, 0);
+    else if (a == "--seconds") opt.seconds = std::atof(val());
+    else if (a == "--device") opt.device = val();
+    else if (a == "--invalid-only") opt.invalid_only = true;
+    else if (a == "--threads") opt.threads = std::atoi(val());
+    else if (a == "--verbose") opt.verbose = true;
+    else usage();
+  }
+  if (opt.seconds <= 0 || opt.threads < 1 || opt.threads > 16) usage();
+  setvbuf(stdout, nullptr, _IOLBF, 0);
+  note("seed %llu, %.0f s, %s%s", static_cast<unsigned long long>(opt.seed), opt.seconds, opt.device.c_str(),
+       opt.invalid_only ? ", invalid calls only" : "");
+
+  auto t0 = Clock::now();
+  int ctl = open_dev(O_RDWR);
+  if (ctl < 0) die(("open " + opt.device + " read-write").c_str());
+  int ro = open_dev(O_RDONLY);
+  if (ro < 0) die(("open " + opt.device + " read-only").c_str());
+  Rng rng(opt.seed);
+  long total = 0;
+  {
+    Arena ar;
+    probes(ctl, rng, ar);
+    double s = opt.invalid_only ? opt.seconds * 0.5 : opt.seconds * 0.2;
+    total += phase_a(ctl, ro, rng, ar, s);
+    g_stats.print("a (command numbers, pointers)");
+    g_stats.reset();
+    s = opt.invalid_only ? opt.seconds * 0.5 : opt.seconds * 0.3;
+    total += phase_b(ctl, ro, rng, ar, s);
+    g_stats.print("b (structured, boundary values)");
+    g_stats.reset();
+  }
+
+  if (!opt.invalid_only) {
+    Shared sh;
+    std::vector<std::thread> th;
+    for (int i = 0; i < opt.threads; i++) th.emplace_back(hammer, ctl, opt.seed * 1000 + 10 + i, std::ref(sh));
+    for (int i = 0; i < 2; i++) th.emplace_back(monitor, opt.seed * 1000 + 20 + i, std::ref(sh));
+    th.emplace_back(opener, opt.seed * 1000 + 30, std::ref(sh));
+    std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(opt.seconds * 0.35e6)));
+    sh.stop = true;
+    for (auto &t : th) t.join();
+    th.clear();
+    note("phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld polls",
+         sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load());
+    g_stats.print("c (threads on one controller)");
+    g_stats.reset();
+    total += sh.iterations;
+
+    // c2: the controller goes; threads race to become the next one.
+    ioctl(ctl, X4STEP_STOP);
+    sh.controller_open = false;
+    close(ctl);
+    ctl = -1;
+    Shared sh2;
+    sh2.controller_open = false;
+    for (int i = 0; i < opt.threads; i++) th.emplace_back(racer, opt.seed * 1000 + 40 + i, std::ref(sh2));
+    th.emplace_back(monitor, opt.seed * 1000 + 50, std::ref(sh2));
+    th.emplace_back(opener, opt.seed * 1000 + 51, std::ref(sh2));
+    std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(opt.seconds * 0.15e6)));
+    sh2.stop = true;
+    for (auto &t : th) t.join();
+    note("phase c2: %ld controller sessions, %ld read-write opens refused (EBUSY), %ld iterations",
+         sh2.controller_wins.load(), sh2.opens_rw_busy.load(), sh2.iterations.load());
+    if (!sh2.controller_wins) violation("phase c2: no thread ever became the controller");
+    g_stats.print("c2 (controller races)");
+    total += sh2.iterations;
+  }
+
+  // Never leave a motor running: stop, then close (the module brakes on close).
+  if (ctl >= 0) {
+    ioctl(ctl, X4STEP_STOP);
+    close(ctl);
+  }
+  close(ro);
+  phase_d();
+
+  double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+  long v = g_violations;
+  violation_summary();
+  note("%ld calls/iterations in %.1f s, %ld violations", total, secs, v);
+  std::printf("%s ioctl_fuzz%s seed %llu\n", v ? "FAIL" : "PASS", opt.invalid_only ? " invalid-only" : "",
+              static_cast<unsigned long long>(opt.seed));
+  return v ? 1 : 0;
+}

@@ -1,0 +1,156 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+#
+# Guest script (busybox sh): x4ctl with a keyboard. Keys are typed on QEMU's
+# emulated PS/2 keyboard ("X4MON sendkey ..." lines, which run-guest.sh
+# forwards to QEMU's monitor), so this needs run-guest.sh --monitor:
+#   run-guest.sh --kver K --out DIR --monitor SOCK --module x4step.ko \
+#       --bin x4ctl tests/x4ctl/guest-x4ctl-keys.sh
+# Covers: the module's brake keys ending x4ctl's moves (ESC, a code set
+# with `x4ctl keys`), and an interactive session on the virtual console
+# /dev/tty1: M+ and T until ESC, C with the cursor keys, E, I, Q.
+# Prints PASS/FAIL lines, exits nonzero if anything failed.
+
+mod=${X4MOD:-/lib/x4}/x4step.ko
+dev=/dev/x4step0
+tmp=${TMPDIR:-/tmp}/x4ctl-keys
+out=$tmp/out
+err=$tmp/err
+failed=0
+mkdir -p "$tmp"
+
+pass() { echo "PASS $1"; }
+fail() {
+	echo "FAIL $1${2:+: $2}"
+	failed=1
+}
+show() { tr '\r\033\n' '~~|' <"$1" | head -c 400; }
+has() { # NAME FILE PATTERN
+	if grep -q -e "$3" "$2"; then pass "$1"; else fail "$1" "lacks '$3': $(show "$2")"; fi
+}
+field() { x4ctl status --json | sed -n "s/.*\"$1\":\(\[[^]]*\]\|[a-z0-9]*\).*/\1/p"; }
+settle() {
+	n=0
+	while [ "$n" -lt "${1:-50}" ]; do
+		[ "$(field active)" = false ] && [ "$(field controlled)" = false ] && return 0
+		usleep 100000
+		n=$((n + 1))
+	done
+	return 1
+}
+expect_field() { # NAME FIELD VALUE
+	v=$(field "$2")
+	if [ "$v" = "$3" ]; then pass "$1"; else fail "$1" "$2 is '$v', want '$3'"; fi
+}
+
+# key KEY [PAUSE_US]: press and release KEY (QEMU's names: esc, ret, right,
+# shift-equal; "right 1000" holds it 1 s), then give the host time to send it.
+key() {
+	echo "X4MON sendkey $1"
+	usleep "${2:-400000}"
+}
+# typ TEXT: type a command line on the keyboard, then Enter.
+typ() {
+	s=$1
+	while [ -n "$s" ]; do
+		c=${s%"${s#?}"}
+		s=${s#?}
+		case "$c" in
+		+) k=shift-equal ;;
+		-) k=minus ;;
+		,) k=comma ;;
+		' ') k=spc ;;
+		*) k=$c ;;
+		esac
+		key "$k"
+	done
+	key ret
+}
+
+if ! grep -q '^x4step ' /proc/modules && ! insmod "$mod"; then
+	fail setup "insmod $mod"
+	exit 1
+fi
+for _ in 1 2 3 4 5 6 7 8 9 10; do [ -c "$dev" ] && break; usleep 100000; done
+if [ ! -c "$dev" ] || [ ! -c /dev/tty1 ]; then
+	fail setup "no $dev or /dev/tty1"
+	exit 1
+fi
+pass setup
+
+# ---- the module's brake keys end x4ctl's moves ----------------------------------
+x4ctl jog 1 + --freq 1000 >/dev/null 2>&1
+usleep 500000
+key esc 1000000
+if settle 50; then pass esc-brakes-background-jog; else fail esc-brakes-background-jog "still running"; fi
+expect_field esc-brake-code last_brake_code 1
+
+x4ctl keys 28 >/dev/null
+x4ctl move 1000000 --freq 1000 >/dev/null 2>&1
+usleep 500000
+key ret 1000000
+if settle 50; then pass enter-brakes-background-move; else fail enter-brakes-background-move "still running"; fi
+expect_field enter-brake-code last_brake_code 28
+x4ctl keys >/dev/null
+
+(
+	x4ctl move 1000000 --freq 1000 --wait >"$out" 2>"$err"
+	echo $? >"$tmp/rc"
+) &
+usleep 800000
+key esc 1500000
+wait
+if [ "$(cat "$tmp/rc")" = 1 ]; then pass move-wait-esc-exit-1; else fail move-wait-esc-exit-1 "exit $(cat "$tmp/rc")"; fi
+has move-wait-esc-message "$err" '^x4ctl: move: halted (ESC) at [0-9]* of 1000000 steps'
+settle 30
+
+# ---- an interactive session on the virtual console ------------------------------------
+x4ctl </dev/tty1 >"$tmp/ia.out" 2>"$tmp/ia.err" &
+pid=$!
+sleep 1
+typ s2
+typ f500
+typ r0
+typ m+
+sleep 1
+key esc 1000000
+# With no ramp the move may end before the ESC reaches the terminal: the
+# ESC then lands in the next line, which x4ctl must ignore.
+typ d20
+typ g
+sleep 1
+typ d400
+typ r200
+typ t
+sleep 2
+key esc 1500000
+typ c
+key "right 1000" 2000000
+key esc
+typ e
+sleep 1
+key esc
+typ i
+typ q
+n=0
+while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
+if kill -0 "$pid" 2>/dev/null; then
+	kill "$pid"
+	fail interactive-quit "Q did not end x4ctl"
+else
+	wait "$pid"
+	rc=$?
+	if [ "$rc" = 0 ]; then pass interactive-quit; else fail interactive-quit "exit $rc"; fi
+fi
+has interactive-help-at-start "$tmp/ia.out" '^Commands of the test program'
+has interactive-M+-esc "$tmp/ia.out" '^halted (ESC): 0 [1-9][0-9]* 0 0$'
+has interactive-esc-ignored "$tmp/ia.out" 'done: 0 20 0 0$'
+has interactive-T-esc "$tmp/ia.out" 'T: [0-9]* moves, then halted (ESC)'
+has interactive-C "$tmp/ia.out" 'C: axis 2 ended [1-9][0-9]* steps from where C began'
+has interactive-E "$tmp/ia.out" 'E: pin15=[01] pin13=[01]'
+has interactive-I "$tmp/ia.out" '^> 2  *400  *500  *200  leader$'
+if [ -s "$tmp/ia.err" ]; then fail interactive-no-errors "$(show "$tmp/ia.err")"; else pass interactive-no-errors; fi
+settle 30
+
+if [ "$failed" = 0 ]; then echo "x4ctl key tests: all passed"; else echo "x4ctl key tests: FAILED"; fi
+exit "$failed"

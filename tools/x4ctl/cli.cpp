@@ -1,0 +1,629 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: command line parsing and help texts.
+//
+// The options follow getopt_long (--name VALUE, --name=VALUE, -n VALUE,
+// -nVALUE, bundled flags, "--"), but the parser is our own: getopt takes
+// "-1000" for options, and negative step counts are everyday operands here.
+#include "cli.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
+#include <iterator>
+#include <string_view>
+
+#include "lang.hpp"
+
+#ifndef X4CTL_VERSION
+#define X4CTL_VERSION "0.1.0"
+#endif
+
+namespace x4ctl {
+namespace {
+
+using std::chrono::milliseconds;
+
+enum opt_id {
+  opt_port,
+  opt_device,
+  opt_help,
+  opt_version,
+  opt_freq,
+  opt_ramp,
+  opt_wait,
+  opt_time,
+  opt_json,
+  opt_watch,
+  opt_moves,
+  opt_check,
+  opt_echo
+};
+
+struct option_spec {
+  const char *name;
+  char short_name;
+  bool takes_value;
+  opt_id id;
+};
+
+const option_spec common_options[] = {
+    {"port", 'p', true, opt_port},
+    {"device", 'd', true, opt_device},
+    {"help", 'h', false, opt_help},
+};
+
+struct option_value {
+  opt_id id;
+  std::string name;  // as written, for messages
+  std::string value;
+};
+
+struct split_result {
+  std::vector<option_value> options;
+  std::vector<std::string> operands;
+};
+
+bool is_negative_number(const std::string &a) {
+  return a.size() > 1 && a[0] == '-' && a[1] >= '0' && a[1] <= '9';
+}
+
+// Splits args[from..] into options and operands. With stop_at_operand, the
+// first operand and everything after it are operands (the global options
+// end at the subcommand).
+split_result split(const std::vector<std::string> &args, size_t from, const std::vector<option_spec> &specs,
+                   const std::string &ctx, bool stop_at_operand) {
+  split_result r;
+  const std::string prefix = ctx.empty() ? "" : ctx + ": ";
+  auto find_long = [&](std::string_view name) -> const option_spec * {
+    for (const auto &s : specs)
+      if (name == s.name) return &s;
+    return nullptr;
+  };
+  auto find_short = [&](char c) -> const option_spec * {
+    for (const auto &s : specs)
+      if (c == s.short_name) return &s;
+    return nullptr;
+  };
+  for (size_t i = from; i < args.size(); i++) {
+    const std::string &a = args[i];
+    if (a == "--") {
+      r.operands.insert(r.operands.end(), args.begin() + i + 1, args.end());
+      break;
+    }
+    if (a.size() < 2 || a[0] != '-' || is_negative_number(a)) {
+      if (stop_at_operand) {
+        r.operands.insert(r.operands.end(), args.begin() + i, args.end());
+        break;
+      }
+      r.operands.push_back(a);
+      continue;
+    }
+    if (a[1] == '-') {
+      const size_t eq = a.find('=');
+      const std::string name = a.substr(2, eq == std::string::npos ? std::string::npos : eq - 2);
+      const option_spec *s = find_long(name);
+      if (!s) throw usage_error(prefix + "unknown option '--" + name + "'");
+      if (!s->takes_value) {
+        if (eq != std::string::npos) throw usage_error(prefix + "option '--" + name + "' takes no value");
+        r.options.push_back({s->id, "--" + name, ""});
+      } else if (eq != std::string::npos) {
+        r.options.push_back({s->id, "--" + name, a.substr(eq + 1)});
+      } else if (i + 1 < args.size()) {
+        r.options.push_back({s->id, "--" + name, args[++i]});
+      } else {
+        throw usage_error(prefix + "option '--" + name + "' needs a value");
+      }
+      continue;
+    }
+    for (size_t k = 1; k < a.size(); k++) {
+      const option_spec *s = find_short(a[k]);
+      if (!s) throw usage_error(prefix + "unknown option '-" + std::string(1, a[k]) + "'");
+      const std::string name = std::string("-") + a[k];
+      if (!s->takes_value) {
+        r.options.push_back({s->id, name, ""});
+      } else if (k + 1 < a.size()) {
+        r.options.push_back({s->id, name, a.substr(k + 1)});
+        break;
+      } else if (i + 1 < args.size()) {
+        r.options.push_back({s->id, name, args[++i]});
+      } else {
+        throw usage_error(prefix + "option '" + name + "' needs a value");
+      }
+    }
+  }
+  return r;
+}
+
+struct command_entry {
+  subcommand cmd;
+  const char *name;
+};
+
+const command_entry commands[] = {
+    {subcommand::move, "move"},       {subcommand::jog, "jog"},       {subcommand::brake, "brake"},
+    {subcommand::stop, "stop"},       {subcommand::status, "status"}, {subcommand::in, "in"},
+    {subcommand::out, "out"},         {subcommand::keys, "keys"},     {subcommand::sweep, "sweep"},
+    {subcommand::monitor, "monitor"}, {subcommand::run, "run"},       {subcommand::help, "help"},
+};
+
+int parse_lpt(const std::string &text, const std::string &prefix) {
+  const long v = parse_number(text, prefix + "port");
+  if (v < 1 || v > 4) throw usage_error(prefix + "port " + text + " out of range: use 1 to 4 (LPT1..LPT4)");
+  return static_cast<int>(v);
+}
+
+int parse_freq(const std::string &text, const std::string &prefix) {
+  const long v = parse_number(text, prefix + "frequency");
+  if (v > x4step::freq_max_hz) throw usage_error(prefix + message(x4step::errc::freq_too_high));
+  if (v < x4step::freq_min_hz) throw usage_error(prefix + message(x4step::errc::freq_too_low));
+  return static_cast<int>(v);
+}
+
+int parse_ramp(const std::string &text, const std::string &prefix) {
+  const long v = parse_number(text, prefix + "ramp");
+  if (v > x4step::ramp_max.count()) throw usage_error(prefix + message(x4step::errc::ramp_too_high));
+  if (v < 0) throw usage_error(prefix + "ramp " + text + " out of range: use 0 to 1000 ms");
+  return static_cast<int>(v);
+}
+
+long parse_steps(const std::string &text, const std::string &prefix) {
+  const long v = parse_number(text, prefix + "steps");
+  if (v > x4step::steps_max || v < -x4step::steps_max)
+    throw usage_error(prefix + message(x4step::errc::steps_too_high));
+  return v;
+}
+
+int parse_axis(const std::string &text, const std::string &prefix) {
+  const long v = parse_number(text, prefix + "axis");
+  if (v < 1 || v > x4step::axes) throw usage_error(prefix + "axis " + text + " out of range: use 1 to 4");
+  return static_cast<int>(v);
+}
+
+milliseconds parse_time(const std::string &text, const std::string &prefix) {
+  const long v = parse_number(text, prefix + "time");
+  if (v < 0) throw usage_error(prefix + "time " + text + " out of range: use 0 ms or more");
+  return milliseconds(v);
+}
+
+void need_operands(const split_result &r, size_t min, size_t max, const std::string &prefix) {
+  if (r.operands.size() < min) throw usage_error(prefix + "missing arguments");
+  if (r.operands.size() > max) throw usage_error(prefix + "unexpected argument '" + r.operands[max] + "'");
+}
+
+// The options every subcommand has, and -p/-d/-h before the subcommand.
+bool apply_common(config &c, const option_value &o, const std::string &prefix) {
+  switch (o.id) {
+    case opt_port:
+      c.lpt = parse_lpt(o.value, prefix);
+      c.device.clear();
+      return true;
+    case opt_device:
+      if (o.value.empty()) throw usage_error(prefix + "--device needs a path");
+      c.device = o.value;
+      return true;
+    case opt_help:
+      c.help = true;
+      return true;
+    default:
+      return false;
+  }
+}
+
+// move, jog, sweep: the shared --freq/--ramp/--wait/--time; ramp defaults last.
+struct motion_options {
+  int freq = default_freq_hz;
+  std::optional<int> ramp;
+};
+
+void parse_subcommand(config &c, const std::vector<std::string> &args, size_t from) {
+  const std::string prefix = std::string(name_of(c.cmd)) + ": ";
+  std::vector<option_spec> specs(std::begin(common_options), std::end(common_options));
+  auto add = [&](const char *name, char s, bool value, opt_id id) { specs.push_back({name, s, value, id}); };
+  switch (c.cmd) {
+    case subcommand::move:
+      add("freq", 'f', true, opt_freq);
+      add("ramp", 'r', true, opt_ramp);
+      add("wait", 'w', false, opt_wait);
+      break;
+    case subcommand::jog:
+      add("freq", 'f', true, opt_freq);
+      add("ramp", 'r', true, opt_ramp);
+      add("time", 't', true, opt_time);
+      add("wait", 'w', false, opt_wait);
+      break;
+    case subcommand::sweep:
+      add("ramp", 'r', true, opt_ramp);
+      break;
+    case subcommand::status:
+      add("json", 'j', false, opt_json);
+      break;
+    case subcommand::in:
+      add("watch", 'w', false, opt_watch);
+      break;
+    case subcommand::out:
+      add("time", 't', true, opt_time);
+      break;
+    case subcommand::monitor:
+      add("moves", 'n', true, opt_moves);
+      break;
+    case subcommand::run:
+      add("check", 'c', false, opt_check);
+      add("echo", 'e', false, opt_echo);
+      break;
+    default:
+      break;
+  }
+  const split_result r = split(args, from, specs, name_of(c.cmd), false);
+  motion_options mo;
+  for (const auto &o : r.options) {
+    if (apply_common(c, o, prefix)) continue;
+    switch (o.id) {
+      case opt_freq:
+        mo.freq = parse_freq(o.value, prefix);
+        break;
+      case opt_ramp:
+        mo.ramp = parse_ramp(o.value, prefix);
+        break;
+      case opt_wait:
+        c.wait = true;
+        break;
+      case opt_time:
+        c.time = parse_time(o.value, prefix);
+        break;
+      case opt_json:
+        c.json = true;
+        break;
+      case opt_watch:
+        c.watch = true;
+        break;
+      case opt_check:
+        c.check = true;
+        break;
+      case opt_echo:
+        c.echo = true;
+        break;
+      case opt_moves: {
+        const long n = parse_number(o.value, prefix + "moves");
+        if (n < 1) throw usage_error(prefix + "moves " + o.value + " out of range: use 1 or more");
+        c.moves = n;
+        break;
+      }
+      default:
+        break;
+    }
+  }
+  if (c.help) return;  // --help wins over missing or bad operands
+
+  const auto &ops = r.operands;
+  c.move.freq_hz = mo.freq;
+  c.move.ramp = milliseconds(mo.ramp.value_or(default_ramp_ms(mo.freq)));
+  switch (c.cmd) {
+    case subcommand::move: {
+      need_operands(r, 1, x4step::axes, prefix);
+      for (size_t i = 0; i < ops.size(); i++) c.move.steps[i] = parse_steps(ops[i], prefix);
+      if (const auto e = x4step::check(c.move); e != x4step::errc::ok) throw usage_error(prefix + message(e));
+      break;
+    }
+    case subcommand::jog: {
+      need_operands(r, 2, 2, prefix);
+      c.axis = parse_axis(ops[0], prefix);
+      if (ops[1] == "+" || ops[1] == "pos")
+        c.dir = x4step::direction::positive;
+      else if (ops[1] == "-" || ops[1] == "neg")
+        c.dir = x4step::direction::negative;
+      else
+        throw usage_error(prefix + "direction '" + ops[1] + "': use + or -");
+      if (const auto e = x4step::check_endless(c.axis, c.move.freq_hz, c.move.ramp); e != x4step::errc::ok)
+        throw usage_error(prefix + message(e));
+      break;
+    }
+    case subcommand::sweep: {
+      need_operands(r, 5, 5, prefix);
+      c.axis = parse_axis(ops[0], prefix);
+      c.move.steps[c.axis - 1] = parse_steps(ops[1], prefix);
+      c.sweep_from = parse_freq(ops[2], prefix);
+      c.sweep_to = parse_freq(ops[3], prefix);
+      const long step = parse_number(ops[4], prefix + "frequency step");
+      if (step < 1 || step > x4step::freq_max_hz)
+        throw usage_error(prefix + "frequency step " + ops[4] + " out of range: use 1 to 20000 Hz");
+      c.sweep_step = static_cast<int>(step);
+      // Resonance tests want constant speed: no ramp unless asked for.
+      c.move.ramp = milliseconds(mo.ramp.value_or(0));
+      c.move.freq_hz = std::min(c.sweep_from, c.sweep_to);  // the strictest for the ramp check
+      if (const auto e = x4step::check(c.move); e != x4step::errc::ok) throw usage_error(prefix + message(e));
+      break;
+    }
+    case subcommand::out: {
+      need_operands(r, 2, 2, prefix);
+      const long s = parse_number(ops[0], prefix + "signal");
+      if (s != 1 && s != 2) throw usage_error(prefix + "signal " + ops[0] + ": use 1 (pin 1) or 2 (pin 14)");
+      c.signal = s == 1 ? x4step::signal::one : x4step::signal::two;
+      const std::string &v = ops[1];
+      if (v == "on" || v == "1" || v == "high")
+        c.level = true;
+      else if (v == "off" || v == "0" || v == "low")
+        c.level = false;
+      else
+        throw usage_error(prefix + "level '" + v + "': use on or off");
+      break;
+    }
+    case subcommand::keys: {
+      need_operands(r, 0, 20, prefix);
+      for (const auto &o : ops) {
+        const long k = parse_number(o, prefix + "key code");
+        if (k < 1 || k > 255 || k == 128)
+          throw usage_error(prefix + "key code " + o +
+                            " out of range: use 1..127 (press) or 129..255 (release)");
+        c.codes.push_back(static_cast<int>(k));
+      }
+      break;
+    }
+    case subcommand::run:
+      need_operands(r, 0, 1, prefix);
+      if (!ops.empty()) c.file = ops[0];
+      break;
+    case subcommand::help:
+      need_operands(r, 0, 1, prefix);
+      if (!ops.empty()) {
+        const auto t = find_command(ops[0]);
+        if (!t) throw usage_error(prefix + "no command '" + ops[0] + "'");
+        c.topic = *t;
+      }
+      break;
+    default:  // brake, stop, status, in, monitor
+      need_operands(r, 0, 0, prefix);
+      break;
+  }
+}
+
+const char *const port_help =
+    "  -p, --port=LPT       parallel port 1..4 (/dev/x4step0..3), default 1\n"
+    "  -d, --device=PATH    device node to use instead of --port\n"
+    "  -h, --help           show this help\n";
+
+const char *const motion_help =
+    "  -f, --freq=HZ        frequency of the leader axis, 10..20000 Hz (default 1000)\n"
+    "  -r, --ramp=MS        ramp time, 0..1000 ms and at most the frequency in Hz\n"
+    "                       (default 50, or the frequency if that is lower)\n";
+
+const char *const background_help =
+    "Without --wait, x4ctl returns once the motors run, and a background x4ctl\n"
+    "holds the port until the move ends (the module brakes a move whose program\n"
+    "exits). 'x4ctl brake', 'x4ctl stop' or ESC on the console keyboard end it\n"
+    "early; 'x4ctl monitor' follows it.\n";
+
+}  // namespace
+
+long parse_number(const std::string &text, const std::string &what) {
+  const char *s = text.c_str();
+  // strtol alone would take " 12", "0x1f" and "12abc".
+  const bool digits = !text.empty() && text.find_first_not_of("+-0123456789") == std::string::npos;
+  errno = 0;
+  char *end = nullptr;
+  const long v = std::strtol(s, &end, 10);
+  if (!digits || end == s || *end != '\0') throw usage_error(what + " '" + text + "' is not a whole number");
+  if (errno == ERANGE) throw usage_error(what + " " + text + " out of range");
+  return v;
+}
+
+std::string message(x4step::errc e) { return x4step::make_error_code(e).message(); }
+
+int default_ramp_ms(int freq_hz) { return std::min(50, freq_hz); }
+
+std::string device_of(const config &c) { return c.device.empty() ? x4step::device_path(c.lpt) : c.device; }
+
+std::optional<subcommand> find_command(const std::string &name) {
+  for (const auto &c : commands)
+    if (name == c.name) return c.cmd;
+  return std::nullopt;
+}
+
+const char *name_of(subcommand c) {
+  for (const auto &e : commands)
+    if (e.cmd == c) return e.name;
+  return "x4ctl";
+}
+
+std::string version_text() { return "x4ctl " X4CTL_VERSION "\n"; }
+
+config parse_args(const std::vector<std::string> &args) {
+  config c;
+  const std::vector<option_spec> specs = {{"port", 'p', true, opt_port},
+                                          {"device", 'd', true, opt_device},
+                                          {"help", 'h', false, opt_help},
+                                          {"version", 'v', false, opt_version}};
+  const split_result r = split(args, 1, specs, "", true);
+  for (const auto &o : r.options)
+    if (!apply_common(c, o, "") && o.id == opt_version) c.version = true;
+  const std::string name = r.operands.empty() ? "" : r.operands[0];
+  if (c.help || c.version) {
+    // "x4ctl --help move" shows the help of move.
+    if (const auto cmd = find_command(name); cmd && c.help) c.cmd = *cmd;
+    return c;
+  }
+  if (r.operands.empty()) return c;  // interactive
+  if (name.find_first_not_of("0123456789") == std::string::npos) {
+    // TEST.EXE's "TEST 2": the test program on LPT2.
+    if (r.operands.size() > 1) throw usage_error("unexpected argument '" + r.operands[1] + "'");
+    c.lpt = parse_lpt(name, "");
+    c.device.clear();
+    return c;
+  }
+  const auto cmd = find_command(name);
+  if (!cmd) throw usage_error("unknown command '" + name + "'");
+  c.cmd = *cmd;
+  const size_t at = args.size() - r.operands.size() + 1;  // after the subcommand's name
+  parse_subcommand(c, args, at);
+  return c;
+}
+
+std::string help_text(subcommand c) {
+  switch (c) {
+    case subcommand::interactive:
+    case subcommand::help:
+      return "Usage: x4ctl [-p LPT | -d PATH] [COMMAND [ARGS...]]\n"
+             "       x4ctl [LPT]\n"
+             "\n"
+             "Drive up to four stepper motors on a PC parallel port through the x4step\n"
+             "kernel module. Without a COMMAND, x4ctl is X4Step's test program: a prompt\n"
+             "that takes the commands of TEST.EXE (H lists them, see also 'x4ctl run --help').\n"
+             "\n"
+             "Options:\n" +
+             std::string(port_help) +
+             "  -v, --version        show the version\n"
+             "\n"
+             "Commands:\n"
+             "  move STEPS...        interpolated move of up to four axes\n"
+             "  jog AXIS +|-         endless move of one axis until braked\n"
+             "  brake                brake the running move along its ramp\n"
+             "  stop                 stop the running move at once (emergency stop)\n"
+             "  status               show the state of the port\n"
+             "  in                   show the five inputs\n"
+             "  out SIGNAL on|off    set output signal 1 (pin 1) or 2 (pin 14)\n"
+             "  keys [CODE...]       set the keys that brake a move (ESC always does)\n"
+             "  sweep AXIS STEPS FROM TO STEP\n"
+             "                       frequency sweep of one axis, to find resonances\n"
+             "  monitor              follow the moves on the port, read-only\n"
+             "  run [FILE]           run test program commands from FILE or standard input\n"
+             "  help [COMMAND]       show the help of a command\n"
+             "\n"
+             "Run 'x4ctl COMMAND --help' for the options of a command.\n"
+             "\n"
+             "Exit status: 0 success; 1 the port refused, or a move did not reach its\n"
+             "target; 2 bad usage (checked before the port is opened: nothing moved).\n";
+    case subcommand::move:
+      return "Usage: x4ctl move [OPTIONS] STEPS1 [STEPS2 [STEPS3 [STEPS4]]]\n"
+             "\n"
+             "Move axes 1..4 by the given steps (signed, -16777216..16777216; missing\n"
+             "axes stay) interpolated (X4Load, X4Start): the axis with the longest path\n"
+             "runs at the frequency, the others follow it, all start and stop together.\n"
+             "\n"
+             "Options:\n" +
+             std::string(motion_help) +
+             "  -w, --wait           stay until the move ends, showing progress; Ctrl-C\n"
+             "                       brakes, a second Ctrl-C stops\n" +
+             port_help + "\n" + background_help +
+             "\n"
+             "Exit status: 0 the move runs (with --wait: it reached its target); 1 the port\n"
+             "refused, or (with --wait) the move was braked or stopped; 2 bad usage.\n"
+             "Example: x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --wait\n";
+    case subcommand::jog:
+      return "Usage: x4ctl jog [OPTIONS] AXIS +|-\n"
+             "\n"
+             "Move AXIS (1..4) endlessly in the positive (+) or negative (-) direction\n"
+             "(X4MovePos, X4MoveNeg) until it is braked: by ESC or a brake key on the\n"
+             "console keyboard, by 'x4ctl brake' or 'x4ctl stop', or after --time.\n"
+             "\n"
+             "Options:\n" +
+             std::string(motion_help) +
+             "  -t, --time=MS        brake after MS milliseconds\n"
+             "  -w, --wait           stay until the move ends, showing the steps; Ctrl-C\n"
+             "                       brakes, a second Ctrl-C stops\n" +
+             port_help + "\n" + background_help +
+             "\n"
+             "Exit status: 0 the axis ran (and, with --wait, was braked); 1 the port\n"
+             "refused; 2 bad usage.\n";
+    case subcommand::brake:
+    case subcommand::stop: {
+      const bool brake = c == subcommand::brake;
+      return std::string("Usage: x4ctl ") + (brake ? "brake" : "stop") +
+             " [OPTIONS]\n"
+             "\n" +
+             (brake ? "Brake the running move along its ramp (X4Brake).\n"
+                    : "Stop the running move at once, without ramp (X4Stop): an emergency stop,\n"
+                      "the motors may lose steps.\n") +
+             "A move belongs to the program that started it; when that is an x4ctl (in\n"
+             "the background, another shell, or a 'run' script), it is asked to " +
+             (brake ? "brake" : "stop") +
+             ",\n"
+             "and this command waits until the motors stand and shows the steps made.\n"
+             "\n"
+             "Options:\n" +
+             port_help +
+             "\n"
+             "Exit status: 0 done; 1 no move was running, or another program holds the port.\n";
+    }
+    case subcommand::status:
+      return "Usage: x4ctl status [OPTIONS]\n"
+             "\n"
+             "Show the state of the port, read-only (also while another program moves the\n"
+             "motors): running, loaded, controlled, the steps of the last move, inputs,\n"
+             "outputs, the key that braked the last move, the number of moves ended.\n"
+             "\n"
+             "Options:\n"
+             "  -j, --json           one JSON object instead of text\n" +
+             std::string(port_help);
+    case subcommand::in:
+      return "Usage: x4ctl in [OPTIONS]\n"
+             "\n"
+             "Show the levels of the five inputs (X4GetIn), 1 = HIGH: pins 15, 13, 12, 10\n"
+             "and 11 are bits 0..4 of the value. Read-only.\n"
+             "\n"
+             "Options:\n"
+             "  -w, --watch          show them continuously until Ctrl-C\n" +
+             std::string(port_help);
+    case subcommand::out:
+      return "Usage: x4ctl out [OPTIONS] SIGNAL on|off\n"
+             "\n"
+             "Set output signal 1 (pin 1) or 2 (pin 14) high (on) or low (off) (X4SetOut).\n"
+             "The module drives every output low when its controller lets go of the port,\n"
+             "so x4ctl holds the port, and the level, until Ctrl-C or SIGTERM, or for\n"
+             "--time; no move can run meanwhile. To switch outputs around moves, use the\n"
+             "O command in 'x4ctl run'.\n"
+             "\n"
+             "Options:\n"
+             "  -t, --time=MS        let go of the port after MS milliseconds\n" +
+             std::string(port_help);
+    case subcommand::keys:
+      return "Usage: x4ctl keys [OPTIONS] [CODE...]\n"
+             "\n"
+             "Set up to 20 keys that brake a running move (X4BrakeCodes), as PC/AT set-1\n"
+             "scan codes: CODE (1..127) brakes when the key is pressed, CODE+128 when it\n"
+             "is released; e.g. 28 Enter, 57 Space, 72/75/77/80 the cursor keys. ESC (1)\n"
+             "always brakes; without codes only ESC does. The module keeps the codes\n"
+             "after x4ctl exits, until they are set again.\n"
+             "\n"
+             "Options:\n" +
+             std::string(port_help) + "\nExample: x4ctl keys 28 156   (Enter pressed or released)\n";
+    case subcommand::sweep:
+      return "Usage: x4ctl sweep [OPTIONS] AXIS STEPS FROM TO STEP\n"
+             "\n"
+             "Frequency sweep of one axis to find its resonances (TEST.EXE's A command):\n"
+             "AXIS moves STEPS at FROM Hz, FROM+STEP Hz, ... up to TO Hz, alternately\n"
+             "forth and back so that it stays within its travel. FROM > TO sweeps down.\n"
+             "Ctrl-C or ESC on the console keyboard brakes and ends the sweep.\n"
+             "\n"
+             "Options:\n"
+             "  -r, --ramp=MS        ramp time, at most FROM and TO in Hz (default 0)\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 every frequency ran; 1 the port refused or a move was braked;\n"
+             "2 bad usage.\n"
+             "Example: x4ctl sweep 2 1000 200 500 20\n";
+    case subcommand::monitor:
+      return "Usage: x4ctl monitor [OPTIONS]\n"
+             "\n"
+             "Follow the moves on the port without disturbing the program that controls\n"
+             "it (read-only): a line when a move starts and when it ends, with the steps\n"
+             "of the four axes; on a terminal the steps count live. Ends with Ctrl-C.\n"
+             "\n"
+             "Options:\n"
+             "  -n, --moves=N        end after N moves have ended\n" +
+             std::string(port_help);
+    case subcommand::run:
+      return "Usage: x4ctl run [OPTIONS] [FILE]\n"
+             "\n"
+             "Run test program commands from FILE (standard input if FILE is - or missing),\n"
+             "without a terminal. The whole script is checked first, and nothing moves if\n"
+             "a line is wrong; then the first error, or a G or A move that is braked, ends\n"
+             "the run.\n"
+             "\n"
+             "Options:\n"
+             "  -c, --check          only check the script; do not open the port\n"
+             "  -e, --echo           print each command after the prompt before it runs\n" +
+             std::string(port_help) + "\n" + language_help();
+  }
+  return "";
+}
+
+}  // namespace x4ctl

@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: the command line: one config struct for all subcommands, the
+// parser that fills it and the help texts.
+#ifndef X4CTL_CLI_HPP
+#define X4CTL_CLI_HPP
+
+#include <chrono>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "x4step.hpp"
+
+namespace x4ctl {
+
+/// A mistake in the command line or in a script: exit status 2.
+class usage_error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The port or the machine did not do what was asked: exit status 1.
+class failure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class subcommand {
+  interactive,
+  move,
+  jog,
+  brake,
+  stop,
+  status,
+  in,
+  out,
+  keys,
+  sweep,
+  monitor,
+  run,
+  help
+};
+
+/// Everything the command line says.
+struct config {
+  subcommand cmd = subcommand::interactive;
+  int lpt = 1;
+  std::string device;  ///< -d PATH; empty: the device of lpt
+  bool help = false;   ///< --help: show the help of cmd
+  bool version = false;
+  subcommand topic = subcommand::interactive;  ///< help COMMAND
+
+  x4step::move move;  ///< move, sweep (the distance on axis): steps, freq, ramp
+  int axis = 1;       ///< jog, sweep
+  x4step::direction dir = x4step::direction::positive;
+  std::optional<std::chrono::milliseconds> time;  ///< jog: brake after; out: hold for
+  bool wait = false;
+  int sweep_from = 0, sweep_to = 0, sweep_step = 0;
+
+  bool json = false;   ///< status
+  bool watch = false;  ///< in
+  x4step::signal signal = x4step::signal::one;
+  bool level = false;         ///< out
+  std::vector<int> codes;     ///< keys
+  std::optional<long> moves;  ///< monitor: end after this many moves
+  std::string file = "-";     ///< run; "-" is stdin
+  bool check = false;         ///< run: check the script, move nothing
+  bool echo = false;          ///< run: print each command
+};
+
+/// Parses and checks the whole command line (values too, without a device).
+/// Throws usage_error.
+config parse_args(const std::vector<std::string> &args);
+
+/// The subcommand called name, if there is one.
+std::optional<subcommand> find_command(const std::string &name);
+
+/// The `Usage:` text of a subcommand (interactive: the program's).
+std::string help_text(subcommand c);
+const char *name_of(subcommand c);
+std::string version_text();
+
+/// /dev/x4stepN of -p, or -d.
+std::string device_of(const config &c);
+
+/// A whole decimal number, optionally signed; throws usage_error naming what.
+long parse_number(const std::string &text, const std::string &what);
+
+/// The library's sentence for an X4Step error code.
+std::string message(x4step::errc e);
+
+/// Ramp when none is given: 50 ms, but never more than the frequency allows.
+int default_ramp_ms(int freq_hz);
+
+constexpr int default_freq_hz = 1000;
+
+}  // namespace x4ctl
+
+#endif  // X4CTL_CLI_HPP

@@ -1,0 +1,384 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: the subcommands.
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <utility>
+
+#include "cli.hpp"
+#include "holder.hpp"
+#include "lang.hpp"
+#include "term.hpp"
+
+namespace x4ctl {
+namespace {
+
+// For checking a script: says nothing, has no keys.
+class null_console : public console {
+ public:
+  std::ostream &out() override { return null_; }
+  bool live() const override { return false; }
+  bool has_keyboard() const override { return false; }
+  key read_key(milliseconds) override { return key::none; }
+
+ private:
+  std::ostream null_{nullptr};
+};
+
+// The message of any exception, the X4Step ones in the library's words.
+std::string what_of(const std::exception &e) {
+  if (const auto *x = dynamic_cast<const x4step::error *>(&e);
+      x && x->code().category() == x4step::category())
+    return x->code().message();
+  return e.what();
+}
+
+x4step::controller open_controller(const std::string &dev) {
+  try {
+    return x4step::controller(dev);
+  } catch (const x4step::error &e) {
+    if (e.code() != x4step::errc::lpt_not_found) throw;
+    if (const auto h = find_controller(dev))
+      throw failure(dev + ": port busy: PID " + std::to_string(h->pid) + " (" + h->name + ") controls it" +
+                    (h->is_x4ctl() ? "; 'x4ctl brake' ends its move" : ""));
+    throw failure(dev + ": " + e.code().message());
+  }
+}
+
+x4step::monitor open_monitor(const std::string &dev) {
+  try {
+    return x4step::monitor(dev);
+  } catch (const x4step::error &e) {
+    if (e.code() != x4step::errc::lpt_not_found) throw;
+    throw failure(dev + ": " + e.code().message());
+  }
+}
+
+std::string describe_move(const x4step::move &m) {
+  return steps_text(steps_of(m)) + " at " + std::to_string(m.freq_hz) + " Hz, ramp " +
+         std::to_string(m.ramp.count()) + " ms";
+}
+
+deadline deadline_of(const config &c) {
+  if (!c.time) return std::nullopt;
+  return steady::now() + *c.time;
+}
+
+int cmd_move(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  std_console con(c.wait);
+  std::cout << "move: " << describe_move(c.move) << "\n" << std::flush;
+  if (!c.wait) {
+    p.load(c.move);
+    p.start();
+    hold_in_background(p, steps_of(c.move), std::nullopt);
+    return 0;  // the background process, after the move
+  }
+  const outcome o = run_move(p, con, c.move);
+  if (!o.completed) throw failure(describe(o, steps_of(c.move)));
+  std::cout << describe(o, steps_of(c.move)) << "\n";
+  return 0;
+}
+
+int cmd_jog(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  std_console con(c.wait);
+  std::cout << "jog: axis " << c.axis << (c.dir == x4step::direction::positive ? " +" : " -") << " at "
+            << c.move.freq_hz << " Hz, ramp " << c.move.ramp.count() << " ms"
+            << (c.time ? ", for " + std::to_string(c.time->count()) + " ms" : "") << "\n"
+            << std::flush;
+  if (!c.wait) {
+    p.move_endless(c.axis, c.dir, c.move.freq_hz, c.move.ramp);
+    hold_in_background(p, std::nullopt, deadline_of(c));
+    return 0;
+  }
+  const outcome o = run_endless(p, con, c.axis, c.dir, c.move.freq_hz, c.move.ramp, deadline_of(c));
+  std::cout << describe(o, std::nullopt) << "\n";
+  return 0;
+}
+
+// brake and stop: the move belongs to the process that holds the port.
+int cmd_halt(const config &c, bool stop) {
+  const std::string dev = device_of(c);
+  const x4step::monitor mon = open_monitor(dev);
+  if (!mon.get_status().active) throw failure(message(x4step::errc::not_active));
+  const auto h = find_controller(dev);
+  if (!h) throw failure(dev + ": a move runs, but its program is not visible here (another user's?)");
+  if (!h->is_x4ctl())
+    throw failure(dev + " is controlled by PID " + std::to_string(h->pid) + " (" + h->name +
+                  "), not by x4ctl: brake it there, or press ESC on the console keyboard");
+  if (::kill(h->pid, stop ? SIGUSR2 : SIGUSR1) != 0)
+    throw failure("cannot signal PID " + std::to_string(h->pid) + ": " + std::strerror(errno));
+  // A brake takes at most the longest ramp, 1 s.
+  if (!mon.wait(milliseconds(5000))) throw failure("the move still runs 5 s later");
+  std::cout << (stop ? "stopped: " : "braked: ") << steps_text(mon.get_status().steps) << "\n";
+  return 0;
+}
+
+int cmd_status(const config &c) {
+  const std::string dev = device_of(c);
+  const x4step::status s = open_monitor(dev).get_status();
+  std::cout << (c.json ? status_json(s, dev) + "\n" : status_text(s, dev));
+  return 0;
+}
+
+int cmd_in(const config &c) {
+  const x4step::monitor mon = open_monitor(device_of(c));
+  auto line = [&] {
+    const unsigned v = mon.get_status().inputs;
+    return inputs_text(v) + " (" + std::to_string(v) + ")";
+  };
+  if (!c.watch) {
+    std::cout << line() << "\n";
+    return 0;
+  }
+  std_console con(false);
+  std::string last;
+  while (take_signal() == key::none) {  // until Ctrl-C
+    const std::string now = line();
+    if (con.live())
+      draw_live(con, now);
+    else if (now != last)
+      std::cout << now << "\n" << std::flush;
+    last = now;
+    nap(milliseconds(100));
+  }
+  if (con.live()) std::cout << "\n";
+  return 0;
+}
+
+int cmd_out(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  p.set_output(c.signal, c.level);
+  std::cout << "signal " << (c.signal == x4step::signal::one ? "1 (pin 1) " : "2 (pin 14) ")
+            << (c.level ? "on" : "off") << "; holding the port "
+            << (c.time ? "for " + std::to_string(c.time->count()) + " ms" : std::string("until Ctrl-C"))
+            << "\n"
+            << std::flush;
+  const deadline until = deadline_of(c);
+  while (take_signal() == key::none && !(until && steady::now() >= *until)) nap(milliseconds(50));
+  std::cout << "released the port: the module drives the outputs low\n";
+  return 0;
+}
+
+int cmd_keys(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  p.set_brake_codes(c.codes);
+  std::string list;
+  for (int k : c.codes) list += " " + std::to_string(k);
+  std::cout << (c.codes.empty() ? "brake keys: ESC only\n" : "brake keys:" + list + " and ESC\n");
+  return 0;
+}
+
+int cmd_sweep(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  std_console con(true);
+  interpreter in(con, &p, true);
+  // The A command of the test program, on the given axis.
+  const std::string script = "S" + std::to_string(c.axis) + "; D" + std::to_string(c.move.steps[c.axis - 1]) +
+                             "; R" + std::to_string(c.move.ramp.count()) + "; A" +
+                             std::to_string(c.sweep_from) + "," + std::to_string(c.sweep_to) + "," +
+                             std::to_string(c.sweep_step);
+  for (const command &cmd : parse_line(script)) in.execute(cmd);
+  return 0;
+}
+
+int cmd_monitor(const config &c) {
+  const x4step::monitor mon = open_monitor(device_of(c));
+  std_console con(false);
+  x4step::status s = mon.get_status();
+  std::uint64_t seen = s.moves_ended;
+  bool was_active = s.active;
+  long ended = 0;
+  std::cout << (s.active ? "move running\n" : "idle, waiting for moves\n") << std::flush;
+  while (take_signal() == key::none) {
+    s = mon.get_status();
+    if (s.active && !was_active)
+      std::cout << (con.live() ? "\r\x1b[K" : "") << "move started\n" << std::flush;
+    if (s.moves_ended != seen) {
+      if (con.live()) draw_live(con, "");
+      std::cout << "move ended: steps " << steps_text(s.steps)
+                << (s.last_brake_code ? ", braked by " + key_name(s.last_brake_code) : "") << "\n"
+                << std::flush;
+      ended += static_cast<long>(s.moves_ended - seen);
+      seen = s.moves_ended;
+      if (c.moves && ended >= *c.moves) return 0;
+    }
+    if (s.active && con.live()) draw_live(con, "steps " + steps_text(s.steps));
+    was_active = s.active;
+    if (s.active)
+      mon.wait(tick);  // returns at the move's end
+    else
+      nap(milliseconds(20));
+  }
+  if (con.live()) std::cout << "\n";
+  return 0;
+}
+
+struct script_line {
+  int number;
+  command cmd;
+};
+
+// Reads and parses the whole script, so that a bad line is found before anything moves.
+std::vector<script_line> read_script(const std::string &file, const std::string &name) {
+  std::ifstream f;
+  if (file != "-") {
+    f.open(file);
+    if (!f) throw failure("cannot read " + file + ": " + std::strerror(errno));
+  }
+  std::istream &in = file == "-" ? std::cin : f;
+  std::vector<script_line> lines;
+  std::string text;
+  for (int n = 1; std::getline(in, text); n++) {
+    try {
+      for (auto &cmd : parse_line(text)) lines.push_back({n, std::move(cmd)});
+    } catch (const usage_error &e) {
+      throw usage_error("run: " + name + ":" + std::to_string(n) + ": " + e.what());
+    }
+  }
+  return lines;
+}
+
+int cmd_run(const config &c) {
+  const std::string name = c.file == "-" ? "stdin" : c.file;
+  const auto lines = read_script(c.file, name);
+  auto where = [&](const script_line &l) { return name + ":" + std::to_string(l.number) + ": "; };
+
+  // First a dry run: every value and combination (ramp against frequency,
+  // C without a terminal) is checked before the port is opened.
+  null_console quiet;
+  interpreter dry(quiet, nullptr, true);
+  for (const auto &l : lines) {
+    try {
+      if (!dry.execute(l.cmd)) break;
+    } catch (const usage_error &e) {
+      throw usage_error("run: " + where(l) + e.what());
+    }
+  }
+  if (c.check) {
+    std::cout << name << ": " << lines.size() << " commands, no errors\n";
+    return 0;
+  }
+
+  controller_port p(open_controller(device_of(c)));
+  std_console con(false);
+  interpreter in(con, &p, true);
+  for (const auto &l : lines) {
+    if (quit_requested()) throw failure(where(l) + "interrupted before " + l.cmd.text);
+    if (c.echo) std::cout << in.prompt() << l.cmd.text << "\n" << std::flush;
+    try {
+      if (!in.execute(l.cmd)) break;
+    } catch (const std::exception &e) {
+      throw failure(where(l) + what_of(e));
+    }
+  }
+  return 0;
+}
+
+int cmd_interactive(const config &c) {
+  const std::string dev = device_of(c);
+  controller_port p(open_controller(dev));
+  std_console con(true);
+  interpreter in(con, &p, false);
+  const bool tty = ::isatty(STDIN_FILENO);
+  std::cout << "x4ctl: X4Step test program on " << dev << "\n";
+  if (tty) std::cout << language_help();  // as TEST.EXE does at its start
+  for (;;) {
+    std::cout << in.prompt() << std::flush;
+    std::string line;
+    if (!std::getline(std::cin, line)) break;  // end of input, or Ctrl-C
+    if (!tty) std::cout << line << "\n";       // a readable transcript
+    try {
+      for (const command &cmd : parse_line(strip_keys(line)))
+        if (!in.execute(cmd)) return 0;
+    } catch (const std::exception &e) {
+      // The rest of the line is dropped: nothing moves after an error.
+      std::cout << std::flush;
+      std::cerr << "error: " << what_of(e) << "\n";
+    }
+    if (quit_requested()) break;
+  }
+  std::cout << "\n";
+  return 0;
+}
+
+int dispatch(const config &c) {
+  switch (c.cmd) {
+    case subcommand::interactive:
+      return cmd_interactive(c);
+    case subcommand::move:
+      return cmd_move(c);
+    case subcommand::jog:
+      return cmd_jog(c);
+    case subcommand::brake:
+      return cmd_halt(c, false);
+    case subcommand::stop:
+      return cmd_halt(c, true);
+    case subcommand::status:
+      return cmd_status(c);
+    case subcommand::in:
+      return cmd_in(c);
+    case subcommand::out:
+      return cmd_out(c);
+    case subcommand::keys:
+      return cmd_keys(c);
+    case subcommand::sweep:
+      return cmd_sweep(c);
+    case subcommand::monitor:
+      return cmd_monitor(c);
+    case subcommand::run:
+      return cmd_run(c);
+    case subcommand::help:
+      std::cout << help_text(c.topic);
+      return 0;
+  }
+  return 2;
+}
+
+}  // namespace
+
+int run_main(const std::vector<std::string> &args) {
+  config c;
+  try {
+    c = parse_args(args);
+  } catch (const usage_error &e) {
+    std::cerr << "x4ctl: " << e.what() << "\n";
+    // The first known subcommand's help, else x4ctl's.
+    std::string sub;
+    for (size_t i = 1; i < args.size() && sub.empty(); i++)
+      if (find_command(args[i])) sub = args[i] + " ";
+    std::cerr << "Try 'x4ctl " << sub << "--help'.\n";
+    return 2;
+  }
+  if (c.version) {
+    std::cout << version_text();
+    return 0;
+  }
+  if (c.help) {
+    std::cout << help_text(c.cmd);
+    return 0;
+  }
+  const std::string prefix =
+      std::string("x4ctl: ") + (c.cmd == subcommand::interactive ? "" : std::string(name_of(c.cmd)) + ": ");
+  install_signal_handlers();
+  try {
+    return dispatch(c);
+  } catch (const usage_error &e) {
+    std::cout << std::flush;
+    std::cerr << "x4ctl: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception &e) {
+    std::cout << std::flush;
+    std::cerr << prefix << what_of(e) << "\n";
+    return 1;
+  }
+}
+
+}  // namespace x4ctl

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: who holds a port. The module brakes a move when its controller
+// closes the device, so a one-shot `x4ctl move` keeps the port in a
+// background process until the move ends, and `x4ctl brake` asks that
+// process (by signal) to brake.
+#ifndef X4CTL_HOLDER_HPP
+#define X4CTL_HOLDER_HPP
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+
+#include "motion.hpp"
+
+namespace x4ctl {
+
+/// A process with the device open for writing: the port's controller.
+struct holder {
+  pid_t pid = 0;
+  std::string name;  ///< its /proc/PID/comm
+  bool is_x4ctl() const { return name.rfind("x4ctl", 0) == 0; }
+};
+
+/// Looks through /proc for the controller of device (processes of other
+/// users stay hidden unless we may read their /proc/PID/fd).
+std::optional<holder> find_controller(const std::string &device);
+
+/// Forks: the parent prints the child's PID and exits 0 at once, without
+/// closing the port (no destructors run); the child leaves the terminal
+/// and follows the running move on p until it ends, then returns.
+void hold_in_background(port &p, const std::optional<step_counts> &target, deadline until);
+
+}  // namespace x4ctl
+
+#endif  // X4CTL_HOLDER_HPP

@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: what the command interpreter needs from a port and from its user.
+// Both are interfaces so that the host tests can run the interpreter
+// against a simulated port and scripted keys.
+#ifndef X4CTL_IO_HPP
+#define X4CTL_IO_HPP
+
+#include <chrono>
+#include <ostream>
+#include <utility>
+#include <vector>
+
+#include "x4step.hpp"
+
+namespace x4ctl {
+
+using std::chrono::milliseconds;
+
+/// The controller calls x4ctl makes; see x4step::controller.
+class port {
+ public:
+  virtual ~port() = default;
+  virtual void load(const x4step::move &m) = 0;
+  virtual void start() = 0;
+  virtual void brake() = 0;
+  virtual void stop() = 0;
+  virtual void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) = 0;
+  virtual x4step::status get_status() const = 0;
+  /// True once no move runs; false after timeout.
+  virtual bool wait(milliseconds timeout) const = 0;
+  virtual void set_output(x4step::signal s, bool high) = 0;
+  virtual void set_brake_codes(const std::vector<int> &codes) = 0;
+};
+
+/// A port that is a real x4step::controller.
+class controller_port : public port {
+ public:
+  explicit controller_port(x4step::controller c) : c_(std::move(c)) {}
+  void load(const x4step::move &m) override { c_.load(m); }
+  void start() override { c_.start(); }
+  void brake() override { c_.brake(); }
+  void stop() override { c_.stop(); }
+  void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) override {
+    c_.move_endless(axis, dir, freq_hz, ramp);
+  }
+  x4step::status get_status() const override { return c_.get_status(); }
+  bool wait(milliseconds timeout) const override { return c_.wait(timeout); }
+  void set_output(x4step::signal s, bool high) override { c_.set_output(s, high); }
+  void set_brake_codes(const std::vector<int> &codes) override { c_.set_brake_codes(codes); }
+
+ private:
+  x4step::controller c_;
+};
+
+/// What the user did while something runs.
+enum class key {
+  none,
+  esc,
+  left,
+  right,
+  other,          ///< any other key
+  brake_request,  ///< SIGTERM, SIGHUP, SIGUSR1 (`x4ctl brake`)
+  interrupt,      ///< Ctrl-C: brakes; a second one stops
+  stop_request,   ///< SIGUSR2 (`x4ctl stop`)
+};
+
+/// The user's side: output, and keys while a move runs.
+class console {
+ public:
+  virtual ~console() = default;
+  virtual std::ostream &out() = 0;
+  /// Output is a terminal: progress is redrawn in place.
+  virtual bool live() const = 0;
+  /// ESC and the cursor keys can be read (a terminal on stdin).
+  virtual bool has_keyboard() const = 0;
+  /// Keys are read from here on (raw terminal) until keys_off().
+  virtual void keys_on() {}
+  virtual void keys_off() {}
+  /// The next key, waiting up to timeout; key::none on timeout.
+  /// Signals (brake/stop requests) are reported even without a keyboard.
+  virtual key read_key(milliseconds timeout) = 0;
+};
+
+/// keys_on() for as long as it lives.
+class keys_guard {
+ public:
+  explicit keys_guard(console &c) : c_(c) { c_.keys_on(); }
+  ~keys_guard() { c_.keys_off(); }
+  keys_guard(const keys_guard &) = delete;
+  keys_guard &operator=(const keys_guard &) = delete;
+
+ private:
+  console &c_;
+};
+
+}  // namespace x4ctl
+
+#endif  // X4CTL_IO_HPP

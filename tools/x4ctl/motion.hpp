@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: start a move and follow it to its end, with live steps, ESC,
+// signals and time limits. Shared by the interpreter and the subcommands.
+#ifndef X4CTL_MOTION_HPP
+#define X4CTL_MOTION_HPP
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include "io.hpp"
+#include "show.hpp"
+
+namespace x4ctl {
+
+using steady = std::chrono::steady_clock;
+using deadline = std::optional<steady::time_point>;
+
+/// How often a running move is looked at (keys, signals, display).
+constexpr milliseconds tick{50};
+
+/// How a move ended.
+struct outcome {
+  x4step::status end;      ///< status once the motors stand
+  bool completed = false;  ///< a move reached its target (never for endless moves)
+  std::string halted_by;   ///< why it ended early ("ESC", "time up", ...); empty if completed
+};
+
+/// Loads and starts m and follows it until it ends. ESC, Ctrl-C, a brake
+/// request or the deadline brake it; a stop request stops it.
+outcome run_move(port &p, console &con, const x4step::move &m, deadline until = std::nullopt);
+
+/// Starts an endless move and follows it until it is braked.
+outcome run_endless(port &p, console &con, int axis, x4step::direction dir, int freq_hz, milliseconds ramp,
+                    deadline until = std::nullopt);
+
+/// Follows whatever runs on p, as run_move does after starting; target
+/// (the loaded steps) decides completed, and the progress bar.
+outcome follow(port &p, console &con, const std::optional<step_counts> &target, deadline until);
+
+/// "done: 1000 800 600 400" or "halted (ESC) at 412 of 1000 steps: 412 330 247 165".
+std::string describe(const outcome &o, const std::optional<step_counts> &target);
+
+/// brake() and stop() that accept finding the move ended already.
+void brake_quietly(port &p);
+void stop_quietly(port &p);
+
+/// Redraws the live line of a terminal.
+void draw_live(console &con, const std::string &line);
+
+/// The steps of a move as the status reports them.
+step_counts steps_of(const x4step::move &m);
+
+/// The index of the axis with the longest path (0..3; the first of equals).
+int leader_index(const step_counts &steps);
+
+}  // namespace x4ctl
+
+#endif  // X4CTL_MOTION_HPP

@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: how states, steps and progress look, as text and as JSON.
+#ifndef X4CTL_SHOW_HPP
+#define X4CTL_SHOW_HPP
+
+#include <array>
+#include <string>
+
+#include "x4step.hpp"
+
+namespace x4ctl {
+
+using step_counts = std::array<long long, x4step::axes>;
+
+/// "1000 800 600 400"
+std::string steps_text(const step_counts &steps);
+/// "[#####-----]" for done of total (absolute values), width characters inside.
+std::string bar(long long done, long long total, int width);
+/// Live progress line of a move: per-axis steps, a bar, percent.
+std::string progress_line(const step_counts &steps, long long done, long long total);
+/// "pin15=1 pin13=0 pin12=0 pin10=1 pin11=0"
+std::string inputs_text(unsigned inputs);
+/// "ESC" for 1, else "key code N" (release codes say so).
+std::string key_name(int code);
+/// Multi-line text of `x4ctl status`.
+std::string status_text(const x4step::status &s, const std::string &device);
+/// One line of JSON for `x4ctl status --json`.
+std::string status_json(const x4step::status &s, const std::string &device);
+/// A JSON string literal.
+std::string json_string(const std::string &s);
+
+}  // namespace x4ctl
+
+#endif  // X4CTL_SHOW_HPP
