@@ -97,11 +97,27 @@ struct status {
 };
 std::ostream &operator<<(std::ostream &os, const status &s);
 
+/// How a port drives its motors.
+enum class output_mode {
+  clock_dir = 0,       ///< step and direction signals (X4Step)
+  smc_phase = 1,       ///< SMC800/SMC1500 half-step phase patterns, motors off at rest
+  smc_phase_hold = 2,  ///< the same, reduced holding current at rest
+};
+
 /// Per-port wiring.
 struct config {
   unsigned clock_invert = 0;  ///< bit i: axis i+1 takes active-low clocks
   unsigned dir_invert = 0;    ///< bit i: axis i+1 direction inverted
   bool keys_swallow = false;  ///< brake keys pressed while moving do not reach applications
+  output_mode mode = output_mode::clock_dir;
+};
+
+/// Step signal timing of a port; each time at most 1 ms.
+struct step_timing {
+  std::chrono::nanoseconds pulse{0};           ///< clock high time; 0: symmetric clock (X4Step)
+  std::chrono::nanoseconds space{0};           ///< minimum clock low time
+  std::chrono::nanoseconds dir_setup{100000};  ///< directions before the first step
+  std::chrono::nanoseconds dir_hold{0};        ///< directions after the last step
 };
 
 /// Device path of LPT1..4 (/dev/x4step0..3); throws param_fail otherwise.
@@ -144,6 +160,9 @@ class controller {
   void set_brake_codes(const std::vector<int> &codes);
   void set_config(const config &c);
   config get_config() const;
+  /// Moves that cannot fit the timing are then refused with freq_too_high.
+  void set_step_timing(const step_timing &t);
+  step_timing get_step_timing() const;
 
   /// Release the port now (what the destructor does); idempotent.
   void close();

@@ -599,7 +599,7 @@ static noinline void smc_step(struct x4_engine *e, u64 t)
 	emit(e, bytes, smc_patterns(e, clk_axes(e->stepping), false, bytes), t);
 }
 
-static noinline void rise(struct x4_engine *e)
+static noinline void rise(struct x4_engine *e, u64 now_ns)
 {
 	const struct x4_plan *p = &e->run;
 	u64 t_step = e->origin + e->t_cur;
@@ -624,8 +624,10 @@ static noinline void rise(struct x4_engine *e)
 	}
 	e->data |= e->stepping;
 	e->phase = X4_FALL;
-	e->t_pending = t_step +
-		       (e->timing.pulse_ns ? e->timing.pulse_ns : e->half_ns);
+	/* A configured pulse is a minimum: count it from the real edge. */
+	e->t_pending = e->timing.pulse_ns ?
+		(now_ns > t_step ? now_ns : t_step) + e->timing.pulse_ns :
+		t_step + e->half_ns;
 }
 
 /*
@@ -639,8 +641,12 @@ void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev)
 	if (e->phase == X4_FALL) {
 		e->data &= (u8)~e->stepping;
 		step_done(e, ev->t_ns);
+		/* A configured space is a minimum too: from the real edge. */
+		if (e->timing.space_ns && e->phase == X4_RISE &&
+		    now_ns + e->timing.space_ns > e->t_pending)
+			e->t_pending = now_ns + e->timing.space_ns;
 	} else if (e->phase == X4_RISE) {
-		rise(e);
+		rise(e, now_ns);
 	} else if (e->phase == X4_SETUP) {
 		begin_setup(e, now_ns);
 	} else if (e->phase == X4_END) {

@@ -16,6 +16,12 @@
 /* Pins 1, 14 and 17 (C0, C1, C3) are inverted by the port hardware. */
 #define X4_CTL_HW_INVERT 0x0b
 /* Pin 11 (S7, Busy) is inverted by the port hardware. */
+/*
+ * Events due sooner than this after the last are waited for in the timer
+ * callback instead of re-arming the timer: only configured short pulses
+ * (the X4Step clock's shortest half period is 25 us).
+ */
+#define X4_SPIN_NS 10000
 #define X4_STATUS_HW_INVERT 0x80
 
 static void x4_wake(struct irq_work *work)
@@ -135,16 +141,29 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	enum hrtimer_restart ret = HRTIMER_NORESTART;
 	struct x4_event ev;
 	unsigned long flags;
-	ktime_t now;
+	ktime_t now, due;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4_engine_busy(&x4->eng)) {
 		now = ktime_get();
 		x4_account_lateness(x4, timer, now);
-		x4_engine_fire(&x4->eng, ktime_to_ns(ktime_sub(now, x4->epoch)),
-			       &ev);
-		x4_port_write_locked(x4);
-		x4_port_drain_locked(x4, ev.t_ns); /* the same instant */
+		for (;;) {
+			x4_engine_fire(&x4->eng,
+				       ktime_to_ns(ktime_sub(now, x4->epoch)), &ev);
+			x4_port_write_locked(x4);
+			x4_port_drain_locked(x4, ev.t_ns); /* the same instant */
+			if (!x4_engine_busy(&x4->eng))
+				break;
+			/*
+			 * A configured pulse shorter than the timer's jitter
+			 * is waited for here, so that it lasts what was asked.
+			 */
+			due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
+			if (ktime_to_ns(ktime_sub(due, ktime_get())) > X4_SPIN_NS)
+				break;
+			while (ktime_before(now = ktime_get(), due))
+				cpu_relax();
+		}
 		if (x4_engine_busy(&x4->eng)) {
 			hrtimer_set_expires(timer,
 					    ktime_add_ns(x4->epoch,

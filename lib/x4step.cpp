@@ -281,13 +281,36 @@ void controller::set_config(const config &c) {
   kc.clock_invert = c.clock_invert;
   kc.dir_invert = c.dir_invert;
   kc.flags = c.keys_swallow ? X4STEP_CFG_KEYS_SWALLOW : 0;
+  kc.output_mode = static_cast<uint32_t>(c.mode);
   need().call(X4STEP_SET_CONFIG, &kc, "X4STEP_SET_CONFIG");
 }
 
 config controller::get_config() const {
   x4step_config kc{};
   need().call(X4STEP_GET_CONFIG, &kc, "X4STEP_GET_CONFIG");
-  return {kc.clock_invert, kc.dir_invert, (kc.flags & X4STEP_CFG_KEYS_SWALLOW) != 0};
+  return {kc.clock_invert, kc.dir_invert, (kc.flags & X4STEP_CFG_KEYS_SWALLOW) != 0,
+          static_cast<output_mode>(kc.output_mode)};
+}
+
+void controller::set_step_timing(const step_timing &t) {
+  const auto ns = [](std::chrono::nanoseconds v) {
+    if (v.count() < 0 || v.count() > X4_TIMING_MAX_NS) fail(errc::param_fail);
+    return static_cast<uint32_t>(v.count());
+  };
+  x4step_step_timing kt{};
+  kt.pulse_ns = ns(t.pulse);
+  kt.space_ns = ns(t.space);
+  kt.dir_setup_ns = ns(t.dir_setup);
+  kt.dir_hold_ns = ns(t.dir_hold);
+  need().call(X4STEP_SET_STEP_TIMING, &kt, "X4STEP_SET_STEP_TIMING");
+}
+
+step_timing controller::get_step_timing() const {
+  x4step_step_timing kt{};
+  need().call(X4STEP_GET_STEP_TIMING, &kt, "X4STEP_GET_STEP_TIMING");
+  using std::chrono::nanoseconds;
+  return {nanoseconds(kt.pulse_ns), nanoseconds(kt.space_ns), nanoseconds(kt.dir_setup_ns),
+          nanoseconds(kt.dir_hold_ns)};
 }
 
 void controller::close() {

@@ -8,6 +8,7 @@
 
 #include "x4step.h"
 #include "x4step.hpp"
+#include "x4step_ext.h"
 
 namespace {
 
@@ -123,6 +124,25 @@ int X4SetOut(int sig) {
   const auto which = sig <= SIGNAL1OFF ? x4step::signal::one : x4step::signal::two;
   const bool high = sig == SIGNAL1ON || sig == SIGNAL2ON;
   return guarded([&] { port->set_output(which, high); });
+}
+
+int X4SetStepTiming(long pulse_ns, long space_ns, long dir_setup_ns, long dir_hold_ns) {
+  if (!port) return X4ErrInitNotDone;
+  using std::chrono::nanoseconds;
+  return guarded([&] {
+    port->set_step_timing(
+        {nanoseconds(pulse_ns), nanoseconds(space_ns), nanoseconds(dir_setup_ns), nanoseconds(dir_hold_ns)});
+  });
+}
+
+int X4SetOutputMode(int mode) {
+  if (!port) return X4ErrInitNotDone;
+  if (mode < X4MODE_CLOCK_DIR || mode > X4MODE_SMC_PHASE_HOLD) return X4ErrParamFail;
+  return guarded([&] {
+    x4step::config c = port->get_config();
+    c.mode = static_cast<x4step::output_mode>(mode);
+    port->set_config(c);
+  });
 }
 
 }  // extern "C"

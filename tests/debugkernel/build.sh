@@ -151,6 +151,9 @@ if [ "$(id -u)" -eq 0 ]; then
 	install -m 0644 "$tree/.config" "/boot/config-$release"
 	rm -rf "/lib/modules/$release"
 	cp -a "$modsrc" "/lib/modules/$release"
+	# run-guest.sh looks for uinput and evdev in these directories (built in
+	# here): a missing directory makes its find fail under pipefail.
+	mkdir -p "/lib/modules/$release/kernel/drivers/input/misc"
 	rm -f "/lib/modules/$release/build" "/lib/modules/$release/source"
 	ln -s "$tree" "/lib/modules/$release/build"
 	ln -s "$tree" "/lib/modules/$release/source"

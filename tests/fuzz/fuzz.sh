@@ -12,6 +12,7 @@ secs=${X4FUZZ_SECONDS:-33}
 isecs=${X4FUZZ_INVALID_SECONDS:-12}
 dev=/dev/x4step0
 mark() { # two bytes to the status register (addr 1 = 0x379)
+	# shellcheck disable=SC2059 # the octal escape is the point
 	for v in "$@"; do printf "\\$v" | dd of=/dev/port bs=1 seek=889 2>/dev/null; done
 }
 rc=0

@@ -182,6 +182,8 @@ const Cmd kCmds[] = {
     {X4STEP_SET_CONFIG, "SET_CONFIG", sizeof(x4step_config), true},
     {X4STEP_GET_CONFIG, "GET_CONFIG", sizeof(x4step_config), false},
     {X4STEP_GET_TIMING, "GET_TIMING", sizeof(x4step_timing), false},
+    {X4STEP_SET_STEP_TIMING, "SET_STEP_TIMING", sizeof(x4step_step_timing), true},
+    {X4STEP_GET_STEP_TIMING, "GET_STEP_TIMING", sizeof(x4step_step_timing), false},
 };
 constexpr int kNumCmds = sizeof(kCmds) / sizeof(kCmds[0]);
 constexpr int kUnknownOurs = kNumCmds;  // stats slot: our magic, unknown number
@@ -240,18 +242,30 @@ struct Stats {
   }
   static const char *strerrorname(int e) {
     switch (e) {
-      case EPERM: return "EPERM";
-      case ESRCH: return "ESRCH";
-      case EBADF: return "EBADF";
-      case ENOMEM: return "ENOMEM";
-      case EFAULT: return "EFAULT";
-      case EBUSY: return "EBUSY";
-      case EEXIST: return "EEXIST";
-      case ENODEV: return "ENODEV";
-      case EINVAL: return "EINVAL";
-      case ENOTTY: return "ENOTTY";
-      case ENODATA: return "ENODATA";
-      default: return "E?";
+      case EPERM:
+        return "EPERM";
+      case ESRCH:
+        return "ESRCH";
+      case EBADF:
+        return "EBADF";
+      case ENOMEM:
+        return "ENOMEM";
+      case EFAULT:
+        return "EFAULT";
+      case EBUSY:
+        return "EBUSY";
+      case EEXIST:
+        return "EEXIST";
+      case ENODEV:
+        return "ENODEV";
+      case EINVAL:
+        return "EINVAL";
+      case ENOTTY:
+        return "ENOTTY";
+      case ENODATA:
+        return "ENODATA";
+      default:
+        return "E?";
     }
   }
 };
@@ -296,14 +310,14 @@ struct Arena {
 };
 
 enum PtrKind { P_BUF, P_EDGE, P_RO, P_NULL, P_ONE, P_KERNEL, P_NONCANON, P_NONE, P_KINDS };
-const char *const kPtrNames[] = {"buf", "page-end", "read-only", "NULL", "(void*)1", "kernel", "non-canonical",
-                                 "PROT_NONE"};
+const char *const kPtrNames[] = {"buf",      "page-end", "read-only",     "NULL",
+                                 "(void*)1", "kernel",   "non-canonical", "PROT_NONE"};
 
 struct Payload {
   PtrKind kind = P_BUF;
   unsigned long arg = 0;
-  size_t readable = 0;  // bytes the kernel can read at arg
-  size_t writable = 0;  // bytes the kernel can write at arg
+  size_t readable = 0;             // bytes the kernel can read at arg
+  size_t writable = 0;             // bytes the kernel can write at arg
   const uint8_t *bytes = nullptr;  // what it reads (the first `readable`)
 };
 
@@ -327,10 +341,18 @@ Payload place(Arena &ar, Rng &r, PtrKind kind, const uint8_t *content, size_t si
       // k bytes before the guard page: fits exactly, one short, random.
       size_t k;
       switch (r.below(4)) {
-        case 0: k = size; break;
-        case 1: k = size ? size - 1 : 0; break;
-        case 2: k = 0; break;
-        default: k = r.below(static_cast<uint32_t>(size + 1)); break;
+        case 0:
+          k = size;
+          break;
+        case 1:
+          k = size ? size - 1 : 0;
+          break;
+        case 2:
+          k = 0;
+          break;
+        default:
+          k = r.below(static_cast<uint32_t>(size + 1));
+          break;
       }
       if (k > kPage) k = kPage;
       uint8_t *at = ar.edge + kPage - k;
@@ -351,12 +373,23 @@ Payload place(Arena &ar, Rng &r, PtrKind kind, const uint8_t *content, size_t si
       p.bytes = ar.ro;
       break;
     }
-    case P_NULL: p.arg = 0; break;
-    case P_ONE: p.arg = 1; break;
-    case P_KERNEL: p.arg = 0xffffffff81000000ul + r.below(1 << 20); break;
-    case P_NONCANON: p.arg = 0x0000800000000000ul + r.below(1 << 20); break;
-    case P_NONE: p.arg = reinterpret_cast<unsigned long>(ar.none + r.below(kPage)); break;
-    default: break;
+    case P_NULL:
+      p.arg = 0;
+      break;
+    case P_ONE:
+      p.arg = 1;
+      break;
+    case P_KERNEL:
+      p.arg = 0xffffffff81000000ul + r.below(1 << 20);
+      break;
+    case P_NONCANON:
+      p.arg = 0x0000800000000000ul + r.below(1 << 20);
+      break;
+    case P_NONE:
+      p.arg = reinterpret_cast<unsigned long>(ar.none + r.below(kPage));
+      break;
+    default:
+      break;
   }
   return p;
 }
@@ -373,8 +406,16 @@ PtrKind random_ptr_kind(Rng &r, bool mostly_good) {
 // ------------------------------------------------------------------ expectations
 
 // X4Step result codes (x4_engine.h).
-enum { XR_OK = 0, XR_NO_STEPS = 1, XR_FREQ_HIGH = 2, XR_FREQ_LOW = 3, XR_RAMP_HIGH = 4, XR_RAMP_FREQ = 5,
-       XR_PARAM = 8, XR_STEPS_HIGH = 13 };
+enum {
+  XR_OK = 0,
+  XR_NO_STEPS = 1,
+  XR_FREQ_HIGH = 2,
+  XR_FREQ_LOW = 3,
+  XR_RAMP_HIGH = 4,
+  XR_RAMP_FREQ = 5,
+  XR_PARAM = 8,
+  XR_STEPS_HIGH = 13
+};
 
 int ramp_code(int32_t freq, int32_t ramp) {
   if (freq > 20000) return XR_FREQ_HIGH;
@@ -400,16 +441,38 @@ int load_code(const x4step_move &m) {
 struct Expect {
   bool may_succeed = false;
   uint64_t errs = 0;
-  int result_code = -1;    // LOAD/MOVE_ENDLESS: the X4Step code expected in `result` (EINVAL)
-  bool changes = false;    // a successful call may change ACTIVE/LOADED/outputs/config
-  const char *why = "";    // why it is invalid
+  int result_code = -1;  // LOAD/MOVE_ENDLESS: the X4Step code expected in `result` (EINVAL)
+  bool changes = false;  // a successful call may change ACTIVE/LOADED/outputs/config
+  const char *why = "";  // why it is invalid
 };
 
 // What the fuzzer knows about the device when it makes the call.
 struct Known {
-  bool controller = false;  // the descriptor is the controller
-  bool idle = false;        // single-threaded and GET_STATUS said: nothing runs, nothing loaded
+  bool controller = false;   // the descriptor is the controller
+  bool idle = false;         // single-threaded and GET_STATUS said: nothing runs, nothing loaded
+  bool state_known = false;  // single-threaded: mode and timing below are the device's
+  uint32_t mode = 0;         // x4step_config.output_mode
+  x4step_step_timing timing{};
 };
+
+// Whether steps at freq fit the port's step timing (x4step.h): X4ErrFreqTooHigh if not.
+int fit_code(const Known &k, int32_t freq) {
+  if (k.mode != X4STEP_MODE_CLOCK_DIR) return XR_OK;
+  uint64_t period = 1000000000ull / static_cast<uint64_t>(freq);
+  const x4step_step_timing &t = k.timing;
+  bool fits = t.pulse_ns ? uint64_t{t.pulse_ns} + t.space_ns <= period : t.space_ns <= period / 2;
+  return fits ? XR_OK : XR_FREQ_HIGH;
+}
+
+bool timing_in_range(const x4step_step_timing &t) {
+  const uint32_t max = 1000000;
+  return t.pulse_ns <= max && (t.pulse_ns == 0 || t.pulse_ns >= 1000) && t.space_ns <= max &&
+         t.dir_setup_ns <= max && t.dir_hold_ns <= max;
+}
+
+// Set before any SET_CONFIG to a phase mode goes out: the data register then
+// holds phase patterns, not clock and direction bits.
+std::atomic<bool> g_phase_mode_possible{false};
 
 Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
   Expect e;
@@ -463,6 +526,8 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       std::memcpy(&m, p.bytes, sizeof m);
       if (m.flags) return invalid("flags != 0");
       int code = load_code(m);
+      if (!code && k.state_known) code = fit_code(k, m.freq_hz);
+      if (!code && k.state_known && k.mode != X4STEP_MODE_CLOCK_DIR && m.steps[3]) code = XR_PARAM;
       // Out of range: EINVAL and the code in `result`, or EFAULT if
       // `result` cannot be written.
       uint64_t inval = bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0);
@@ -471,8 +536,10 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
         return invalid("argument out of range", inval);
       }
       // A valid move whose result cannot be written back: the call fails.
-      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT));
-      return valid(bit(EEXIST));
+      // Unknown mode and step timing (threads): they may refuse it.
+      uint64_t maybe = k.state_known ? 0 : bit(EINVAL);
+      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT) | maybe);
+      return valid(bit(EEXIST) | maybe);
     }
     case X4STEP_MOVE_ENDLESS: {
       x4step_endless m;
@@ -484,11 +551,15 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
         return invalid("direction not +-1", inval);
       }
       // The module checks "a move runs" before the arguments: EBUSY is fine.
-      if (m.axis < 1 || m.axis > X4STEP_AXES) return invalid("axis", inval | bit(EBUSY));
+      int max_axis = k.state_known && k.mode != X4STEP_MODE_CLOCK_DIR ? 3 : X4STEP_AXES;
+      if (m.axis < 1 || m.axis > max_axis) return invalid("axis", inval | bit(EBUSY));
       if (ramp_code(m.freq_hz, m.ramp_ms)) return invalid("freq/ramp", inval | bit(EBUSY));
-      // Refused while a move runs (EBUSY) or is loaded (EEXIST).
-      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT) | bit(EBUSY) | bit(EEXIST));
-      return valid(bit(EBUSY) | bit(EEXIST));
+      if (k.state_known && fit_code(k, m.freq_hz)) return invalid("freq vs step timing", inval | bit(EBUSY));
+      // Refused while a move runs (EBUSY) or is loaded (EEXIST); with unknown
+      // mode and step timing (threads) maybe for the axis or frequency.
+      uint64_t maybe = bit(EBUSY) | bit(EEXIST) | (k.state_known ? 0 : bit(EINVAL));
+      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT) | maybe);
+      return valid(maybe);
     }
     case X4STEP_SET_OUTPUT: {
       x4step_output o;
@@ -513,6 +584,15 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
         if (r) return invalid("reserved != 0");
       if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW))
         return invalid("mask out of range");
+      if (cf.output_mode > X4STEP_MODE_SMC_PHASE_HOLD) return invalid("output_mode > 2");
+      return valid(bit(EBUSY));
+    }
+    case X4STEP_SET_STEP_TIMING: {
+      x4step_step_timing t;
+      std::memcpy(&t, p.bytes, sizeof t);
+      for (uint32_t r : t.reserved)
+        if (r) return invalid("reserved != 0");
+      if (!timing_in_range(t)) return invalid("timing out of range");
       return valid(bit(EBUSY));
     }
     default:
@@ -526,16 +606,24 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
 bool status_sane(const x4step_status &st, std::string &why) {
   char buf[200];
   const uint32_t known = X4STEP_ST_ACTIVE | X4STEP_ST_LOADED | X4STEP_ST_CONTROLLED;
-  if (st.flags & ~known) why = "unknown flags";
-  else if (st.last_brake_code > 255) why = "last_brake_code > 255";
-  else if (st.inputs & ~0x1fu) why = "inputs beyond 5 bits";
-  else if (st.outputs & ~0xfu) why = "outputs beyond 4 bits";
-  else if (st.data > 0xff) why = "data beyond 8 bits";
-  else if (st.reserved0 || st.reserved[0] || st.reserved[1]) why = "reserved != 0";
-  else if ((st.flags & X4STEP_ST_ACTIVE) && !(st.flags & X4STEP_ST_CONTROLLED)) why = "active without controller";
+  if (st.flags & ~known)
+    why = "unknown flags";
+  else if (st.last_brake_code > 255)
+    why = "last_brake_code > 255";
+  else if (st.inputs & ~0x1fu)
+    why = "inputs beyond 5 bits";
+  else if (st.outputs & ~0xfu)
+    why = "outputs beyond 4 bits";
+  else if (st.data > 0xff)
+    why = "data beyond 8 bits";
+  else if (st.reserved0 || st.reserved[0] || st.reserved[1])
+    why = "reserved != 0";
+  else if ((st.flags & X4STEP_ST_ACTIVE) && !(st.flags & X4STEP_ST_CONTROLLED))
+    why = "active without controller";
   else if (!(st.flags & X4STEP_ST_ACTIVE) && (st.outputs & (X4STEP_OUT_AKTIV | X4STEP_OUT_BOOST)))
     why = "AKTIV/BOOST high while idle";
-  else if (!(st.flags & X4STEP_ST_ACTIVE) && (st.data & 0xaa)) why = "clock high while idle";
+  else if (!(st.flags & X4STEP_ST_ACTIVE) && (st.data & 0xaa) && !g_phase_mode_possible)
+    why = "clock high while idle";
   else {
     for (int64_t s : st.steps)
       if (s > 2 * kStepsMax || s < -2 * kStepsMax) why = "step counter out of range";
@@ -567,9 +655,18 @@ void check_read_result(unsigned long cmd, const Payload &p) {
     std::memcpy(&cf, p.bytes, sizeof cf);
     bool res = false;
     for (uint32_t r : cf.reserved) res |= r != 0;
-    if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW) || res)
-      violation("GET_CONFIG: clock 0x%x dir 0x%x flags 0x%x reserved %d", cf.clock_invert, cf.dir_invert,
-                cf.flags, res);
+    if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW) ||
+        cf.output_mode > X4STEP_MODE_SMC_PHASE_HOLD || res)
+      violation("GET_CONFIG: clock 0x%x dir 0x%x flags 0x%x mode %u reserved %d", cf.clock_invert,
+                cf.dir_invert, cf.flags, cf.output_mode, res);
+  } else if (cmd == X4STEP_GET_STEP_TIMING) {
+    x4step_step_timing t;
+    std::memcpy(&t, p.bytes, sizeof t);
+    bool res = false;
+    for (uint32_t r : t.reserved) res |= r != 0;
+    if (!timing_in_range(t) || res)
+      violation("GET_STEP_TIMING: pulse %u space %u setup %u hold %u reserved %d", t.pulse_ns, t.space_ns,
+                t.dir_setup_ns, t.dir_hold_ns, res);
   } else if (cmd == X4STEP_GET_TIMING) {
     // Big: read it in place.
     const auto *t = reinterpret_cast<const x4step_timing *>(p.bytes);
@@ -578,7 +675,8 @@ void check_read_result(unsigned long cmd, const Payload &p) {
     if (sum != t->events || t->reserved || (t->events == 0 && t->late_max_ns))
       violation("GET_TIMING: events %llu, histogram+beyond %llu, max %llu, reserved %llu",
                 static_cast<unsigned long long>(t->events), static_cast<unsigned long long>(sum),
-                static_cast<unsigned long long>(t->late_max_ns), static_cast<unsigned long long>(t->reserved));
+                static_cast<unsigned long long>(t->late_max_ns),
+                static_cast<unsigned long long>(t->reserved));
   }
 }
 
@@ -604,6 +702,15 @@ bool get_config(int fd, x4step_config &cf) {
   return true;
 }
 
+bool get_step_timing(int fd, x4step_step_timing &t) {
+  std::memset(&t, 0, sizeof t);
+  if (ioctl(fd, X4STEP_GET_STEP_TIMING, &t)) {
+    violation("GET_STEP_TIMING failed: %s", std::strerror(errno));
+    return false;
+  }
+  return true;
+}
+
 struct Ctx {
   int fd = -1;
   Known known;
@@ -615,12 +722,22 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
   Known k = cx.known;
   x4step_status before{};
   x4step_config cfg_before{};
+  x4step_step_timing tim_before{};
   bool have_before = false;
   int idx = cmd_index(cmd);
   bool state_cmd = idx < kNumCmds && kCmds[idx].state;
   if (cx.single && k.controller && state_cmd) {
-    have_before = get_status(cx.fd, before) && get_config(cx.fd, cfg_before);
+    have_before =
+        get_status(cx.fd, before) && get_config(cx.fd, cfg_before) && get_step_timing(cx.fd, tim_before);
     k.idle = have_before && !(before.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED));
+    k.state_known = have_before;
+    k.mode = cfg_before.output_mode;
+    k.timing = tim_before;
+  }
+  if (cmd == X4STEP_SET_CONFIG && p.readable >= sizeof(x4step_config)) {
+    x4step_config cf;
+    std::memcpy(&cf, p.bytes, sizeof cf);
+    if (cf.output_mode != X4STEP_MODE_CLOCK_DIR) g_phase_mode_possible = true;
   }
   Expect e = expect(cmd, p, k);
   if (opt.invalid_only && state_cmd && e.may_succeed) {
@@ -631,8 +748,10 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
   int ret = ioctl(cx.fd, cmd, p.arg);
   int err = ret ? errno : 0;
   g_stats.calls[idx]++;
-  if (!ret) g_stats.ok[idx]++;
-  else if (err > 0 && err < 64) g_stats.err[idx][err]++;
+  if (!ret)
+    g_stats.ok[idx]++;
+  else if (err > 0 && err < 64)
+    g_stats.err[idx][err]++;
 
   if (opt.verbose)
     note("%s 0x%lx %s -> %d %s", slot_name(idx), cmd, kPtrNames[p.kind], ret, ret ? std::strerror(err) : "");
@@ -640,9 +759,9 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
     violation("%s (0x%lx, %s pointer) succeeded, expected %s: %s", slot_name(idx), cmd, kPtrNames[p.kind],
               errset(e.errs).c_str(), e.why);
   } else if (ret != 0 && (err <= 0 || err >= 64 || !(e.errs & bit(err)))) {
-    violation("%s (0x%lx, %s pointer) failed with %s, expected %s%s%s", slot_name(idx), cmd, kPtrNames[p.kind],
-              std::strerror(err), e.may_succeed ? "success or " : "", errset(e.errs).c_str(),
-              e.may_succeed ? "" : (std::string(": ") + e.why).c_str());
+    violation("%s (0x%lx, %s pointer) failed with %s, expected %s%s%s", slot_name(idx), cmd,
+              kPtrNames[p.kind], std::strerror(err), e.may_succeed ? "success or " : "",
+              errset(e.errs).c_str(), e.may_succeed ? "" : (std::string(": ") + e.why).c_str());
   }
   // X4STEP_LOAD writes the X4Step code back on argument errors.
   if (ret != 0 && err == EINVAL && e.result_code >= 0 && p.writable >= kCmds[idx].size) {
@@ -657,7 +776,9 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
   if (have_before) {
     x4step_status after;
     x4step_config cfg_after;
-    if (get_status(cx.fd, after) && get_config(cx.fd, cfg_after)) {
+    x4step_step_timing tim_after;
+    if (get_status(cx.fd, after) && get_config(cx.fd, cfg_after) && get_step_timing(cx.fd, tim_after)) {
+      if (cfg_after.output_mode == X4STEP_MODE_CLOCK_DIR) g_phase_mode_possible = false;
       const uint32_t sig = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
       if (ret != 0) {
         if (!(before.flags & X4STEP_ST_ACTIVE) && (after.flags & X4STEP_ST_ACTIVE))
@@ -669,6 +790,8 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
                     std::strerror(err), before.outputs, after.outputs);
         if (std::memcmp(&cfg_before, &cfg_after, sizeof cfg_after))
           violation("%s failed (%s) but the config changed", slot_name(idx), std::strerror(err));
+        if (std::memcmp(&tim_before, &tim_after, sizeof tim_after))
+          violation("%s failed (%s) but the step timing changed", slot_name(idx), std::strerror(err));
       } else if (cmd == X4STEP_SET_OUTPUT) {
         x4step_output o;
         std::memcpy(&o, p.bytes, sizeof o);
@@ -682,8 +805,8 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
 
 // ------------------------------------------------------------------ generators
 
-const int32_t kStepVals[] = {0, 1, -1, 2, -2, 100, -100, 16777215, -16777215, 16777216, -16777216,
-                             16777217, -16777217, INT_MAX, INT_MIN, 1 << 30};
+const int32_t kStepVals[] = {0,         1,        -1,        2,        -2,        100,     -100,    16777215,
+                             -16777215, 16777216, -16777216, 16777217, -16777217, INT_MAX, INT_MIN, 1 << 30};
 const int32_t kFreqVals[] = {9, 10, 11, 100, 1000, 5000, 19999, 20000, 20001, 0, -1, INT_MIN, INT_MAX};
 const int32_t kRampVals[] = {0, 1, 10, 999, 1000, 1001, -1, INT_MIN, INT_MAX};
 
@@ -712,9 +835,12 @@ int32_t ramp_val(Rng &r, int32_t freq, bool small) {
 uint32_t maybe_nonzero(Rng &r, unsigned pct) {
   if (!r.chance(pct)) return 0;
   switch (r.below(3)) {
-    case 0: return 1;
-    case 1: return 0x80000000u;
-    default: return static_cast<uint32_t>(r.next()) | 1;
+    case 0:
+      return 1;
+    case 1:
+      return 0x80000000u;
+    default:
+      return static_cast<uint32_t>(r.next()) | 1;
   }
 }
 
@@ -726,8 +852,7 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
   if (x < 22) {
     x4step_move m{};
     int axes = r.below(4);
-    for (int a = 0; a < 4; a++)
-      m.steps[a] = (a == axes || r.chance(30)) ? steps_val(r, small) : 0;
+    for (int a = 0; a < 4; a++) m.steps[a] = (a == axes || r.chance(30)) ? steps_val(r, small) : 0;
     m.freq_hz = freq_val(r, small);
     m.ramp_ms = ramp_val(r, m.freq_hz, small);
     m.flags = maybe_nonzero(r, 8);
@@ -774,12 +899,25 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
     cf.dir_invert = r.chance(85) ? r.range(0, 0x10) : static_cast<uint32_t>(r.next());
     cf.flags = r.chance(85) ? r.range(0, 2) : static_cast<uint32_t>(r.next());
     for (auto &res : cf.reserved) res = maybe_nonzero(r, 3);
+    unsigned m = r.below(100);
+    cf.output_mode = m < 70 ? 0 : m < 90 ? r.range(1, 2) : m < 95 ? 3 : static_cast<uint32_t>(r.next());
     // Wiring changes move the clock pins at rest: keep them rare.
     if (r.chance(70)) cf.clock_invert = 0;
     std::memcpy(c, &cf, sizeof cf);
     return X4STEP_SET_CONFIG;
   }
-  static const unsigned long reads[] = {X4STEP_GET_STATUS, X4STEP_GET_INFO, X4STEP_GET_CONFIG, X4STEP_GET_TIMING};
+  if (x < 96) {
+    static const uint32_t vals[] = {0,      1,      999,     1000,    1001,      20000,
+                                    100000, 999999, 1000000, 1000001, 0xffffffff};
+    x4step_step_timing t{};
+    for (uint32_t *f : {&t.pulse_ns, &t.space_ns, &t.dir_setup_ns, &t.dir_hold_ns})
+      *f = r.chance(40) ? 0 : r.chance(70) ? r.pick(vals) : r.below(1100000);
+    for (auto &res : t.reserved) res = maybe_nonzero(r, 3);
+    std::memcpy(c, &t, sizeof t);
+    return X4STEP_SET_STEP_TIMING;
+  }
+  static const unsigned long reads[] = {X4STEP_GET_STATUS, X4STEP_GET_INFO, X4STEP_GET_CONFIG,
+                                        X4STEP_GET_TIMING, X4STEP_GET_STEP_TIMING};
   return r.pick(reads);
 }
 
@@ -799,7 +937,8 @@ unsigned long random_cmd(Rng &r) {
   unsigned magic;
   do magic = r.below(256);
   while (magic == kMagic || vfs_magic(magic));
-  if (r.chance(15)) return (static_cast<uint32_t>(r.next()) & ~(0xfful << _IOC_TYPESHIFT)) | (magic << _IOC_TYPESHIFT);
+  if (r.chance(15))
+    return (static_cast<uint32_t>(r.next()) & ~(0xfful << _IOC_TYPESHIFT)) | (magic << _IOC_TYPESHIFT);
   return _IOC(r.below(4), magic, r.below(256), r.below(1 << 14));
 }
 
@@ -944,15 +1083,16 @@ void monitor(uint64_t seed, Shared &sh) {
   while (!sh.stop) {
     x4step_status st;
     if (get_status(fd, st)) {
-      if (st.moves_ended < ended) violation("moves_ended went back: %llu -> %llu",
-                                            static_cast<unsigned long long>(ended),
-                                            static_cast<unsigned long long>(st.moves_ended));
+      if (st.moves_ended < ended)
+        violation("moves_ended went back: %llu -> %llu", static_cast<unsigned long long>(ended),
+                  static_cast<unsigned long long>(st.moves_ended));
       ended = st.moves_ended;
     }
     pollfd pfd{fd, static_cast<short>(POLLIN | POLLRDNORM), 0};
     int pr = poll(&pfd, 1, r.below(3) ? static_cast<int>(r.below(20)) : 0);
     sh.polls++;
-    if (pr < 0) violation("poll: %s", std::strerror(errno));
+    if (pr < 0)
+      violation("poll: %s", std::strerror(errno));
     else if (pfd.revents & ~(POLLIN | POLLRDNORM))
       violation("poll revents 0x%x", pfd.revents);
     if (r.chance(30)) {  // anything on a read-only descriptor
@@ -974,12 +1114,17 @@ void opener(uint64_t seed, Shared &sh) {
     int mode = r.chance(50) ? O_RDONLY : r.chance(70) ? O_RDWR : O_WRONLY;
     int fd = open_dev(mode | (r.chance(20) ? O_NONBLOCK : 0));
     if (mode == O_RDONLY) {
-      if (fd < 0) violation("read-only open failed: %s", std::strerror(errno));
-      else sh.opens_ro++;
+      if (fd < 0)
+        violation("read-only open failed: %s", std::strerror(errno));
+      else
+        sh.opens_ro++;
     } else if (sh.controller_open) {
-      if (fd >= 0) violation("a second read-write open succeeded while the controller is open");
-      else if (errno != EBUSY) violation("read-write open failed with %s, expected EBUSY", std::strerror(errno));
-      else sh.opens_rw_busy++;
+      if (fd >= 0)
+        violation("a second read-write open succeeded while the controller is open");
+      else if (errno != EBUSY)
+        violation("read-write open failed with %s, expected EBUSY", std::strerror(errno));
+      else
+        sh.opens_rw_busy++;
     }
     if (fd >= 0) {
       if (r.chance(50)) {
@@ -1004,8 +1149,10 @@ void racer(uint64_t seed, Shared &sh) {
   while (!sh.stop) {
     int fd = open_dev(O_RDWR);
     if (fd < 0) {
-      if (errno != EBUSY) violation("controller race: open failed with %s", std::strerror(errno));
-      else sh.opens_rw_busy++;
+      if (errno != EBUSY)
+        violation("controller race: open failed with %s", std::strerror(errno));
+      else
+        sh.opens_rw_busy++;
       continue;
     }
     if (++sh.controllers > 1) violation("two controllers at once");
@@ -1025,6 +1172,9 @@ void racer(uint64_t seed, Shared &sh) {
   }
 }
 
+x4step_config g_initial_config;
+x4step_step_timing g_initial_timing;
+
 // Phase d: all closed; a fresh controller opens and finds the engine idle.
 void phase_d() {
   int fd = open_dev(O_RDWR);
@@ -1038,11 +1188,14 @@ void phase_d() {
       violation("phase d: a fresh controller finds flags 0x%x (expected idle, nothing loaded)", st.flags);
     if (!(st.flags & X4STEP_ST_CONTROLLED)) violation("phase d: CONTROLLED not set with a controller open");
   }
-  // Back to the default wiring and outputs for whatever runs next.
-  x4step_config cf{};
-  if (ioctl(fd, X4STEP_SET_CONFIG, &cf)) violation("phase d: SET_CONFIG 0: %s", std::strerror(errno));
+  // Back to the wiring and step timing found at the start, no brake codes.
+  if (ioctl(fd, X4STEP_SET_CONFIG, &g_initial_config))
+    violation("phase d: SET_CONFIG (restore): %s", std::strerror(errno));
+  if (ioctl(fd, X4STEP_SET_STEP_TIMING, &g_initial_timing))
+    violation("phase d: SET_STEP_TIMING (restore): %s", std::strerror(errno));
   x4step_brake_codes bc{};
-  if (ioctl(fd, X4STEP_SET_BRAKE_CODES, &bc)) violation("phase d: SET_BRAKE_CODES 0: %s", std::strerror(errno));
+  if (ioctl(fd, X4STEP_SET_BRAKE_CODES, &bc))
+    violation("phase d: SET_BRAKE_CODES 0: %s", std::strerror(errno));
   close(fd);
   fd = open_dev(O_RDONLY);
   if (fd < 0) {
@@ -1052,7 +1205,8 @@ void phase_d() {
   if (get_status(fd, st) && (st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_CONTROLLED)))
     violation("phase d: after close flags 0x%x (expected no move, no controller)", st.flags);
   pollfd pfd{fd, POLLIN, 0};
-  if (poll(&pfd, 1, 100) != 1 || !(pfd.revents & POLLIN)) violation("phase d: idle device not readable in poll");
+  if (poll(&pfd, 1, 100) != 1 || !(pfd.revents & POLLIN))
+    violation("phase d: idle device not readable in poll");
   close(fd);
 }
 
@@ -1072,13 +1226,20 @@ int main(int argc, char **argv) {
       if (i + 1 >= argc) usage();
       return argv[++i];
     };
-    if (a == "--seed") opt.seed = std::strtoull(val(), nullptr, 0);
-    else if (a == "--seconds") opt.seconds = std::atof(val());
-    else if (a == "--device") opt.device = val();
-    else if (a == "--invalid-only") opt.invalid_only = true;
-    else if (a == "--threads") opt.threads = std::atoi(val());
-    else if (a == "--verbose") opt.verbose = true;
-    else usage();
+    if (a == "--seed")
+      opt.seed = std::strtoull(val(), nullptr, 0);
+    else if (a == "--seconds")
+      opt.seconds = std::atof(val());
+    else if (a == "--device")
+      opt.device = val();
+    else if (a == "--invalid-only")
+      opt.invalid_only = true;
+    else if (a == "--threads")
+      opt.threads = std::atoi(val());
+    else if (a == "--verbose")
+      opt.verbose = true;
+    else
+      usage();
   }
   if (opt.seconds <= 0 || opt.threads < 1 || opt.threads > 16) usage();
   setvbuf(stdout, nullptr, _IOLBF, 0);
@@ -1090,6 +1251,9 @@ int main(int argc, char **argv) {
   if (ctl < 0) die(("open " + opt.device + " read-write").c_str());
   int ro = open_dev(O_RDONLY);
   if (ro < 0) die(("open " + opt.device + " read-only").c_str());
+  if (!get_config(ctl, g_initial_config) || !get_step_timing(ctl, g_initial_timing))
+    die("read the configuration");
+  g_phase_mode_possible = g_initial_config.output_mode != X4STEP_MODE_CLOCK_DIR;
   Rng rng(opt.seed);
   long total = 0;
   {
@@ -1108,15 +1272,18 @@ int main(int argc, char **argv) {
   if (!opt.invalid_only) {
     Shared sh;
     std::vector<std::thread> th;
-    for (int i = 0; i < opt.threads; i++) th.emplace_back(hammer, ctl, opt.seed * 1000 + 10 + i, std::ref(sh));
+    for (int i = 0; i < opt.threads; i++)
+      th.emplace_back(hammer, ctl, opt.seed * 1000 + 10 + i, std::ref(sh));
     for (int i = 0; i < 2; i++) th.emplace_back(monitor, opt.seed * 1000 + 20 + i, std::ref(sh));
     th.emplace_back(opener, opt.seed * 1000 + 30, std::ref(sh));
     std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(opt.seconds * 0.35e6)));
     sh.stop = true;
     for (auto &t : th) t.join();
     th.clear();
-    note("phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld polls",
-         sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load());
+    note(
+        "phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld "
+        "polls",
+        sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load());
     g_stats.print("c (threads on one controller)");
     g_stats.reset();
     total += sh.iterations;

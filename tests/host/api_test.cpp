@@ -9,6 +9,7 @@
 
 #include "x4step.h"
 #include "x4step.hpp"
+#include "x4step_ext.h"
 
 using namespace std::chrono_literals;
 
@@ -116,4 +117,9 @@ TEST(CppApi, OpeningAMissingOrForeignDevice) {
   } catch (const x4step::error &e) {
     EXPECT_EQ(e.code(), x4step::errc::lpt_not_found);
   }
+}
+
+TEST(CApi, ExtensionsBeforeInit) {
+  EXPECT_EQ(X4SetStepTiming(5000, 0, 100000, 0), X4ErrInitNotDone);
+  EXPECT_EQ(X4SetOutputMode(X4MODE_SMC_PHASE), X4ErrInitNotDone);
 }

@@ -1,0 +1,178 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0
+#
+# The QEMU suite: for each Debian kernel (6.1, 6.12, 6.12-rt) build x4step.ko
+# against its headers and run every guest test under tests/qemu/run-guest.sh.
+#
+# Usage: tests/qemu/run-suite.sh [-k KVER_SUBSTRING]... [-t TEST]... [-v]
+#   -k/-t select kernels/tests (default: all); -v streams the guest consoles.
+# Output: one "PASS|FAIL <test> <kver>" line per test and kernel, then
+# "N passed, M failed". Logs: build/qemu/<kver>/<test>/ (console.log, dmesg.log,
+# lpt.log, lpt-test.log, run.log, host-check.log), module build: build/qemu/<kver>/src.
+set -euo pipefail
+
+top=$(cd "$(dirname "$0")/../.." && pwd)
+qdir=$top/tests/qemu
+bdir=${X4_QEMU_BUILD:-$top/build/qemu}
+
+# The tests: "name|guest script|extra static bins|run-guest flags|host check".
+# Paths are relative to the repository. Bins are space-separated; the host
+# check (optional) runs after a passing guest as `CHECK OUTDIR KVER` with
+# X4TRACE set to a built tools/x4trace, e.g. to assert on edge counts in
+# OUTDIR/lpt-test.log; its status decides the test.
+# @KOUT@ in flags stands for the kernel's build directory (x4vport.ko).
+g=build/guest
+tests=(
+	"smoke|tests/qemu/smoke.sh|||tests/qemu/check-no-steps.sh"
+	"module|tests/guest/module.sh|$g/module_test||tests/qemu/check-segments.sh"
+	"keys|tests/guest/keys.sh|$g/keys_test||tests/qemu/check-segments.sh"
+	"cpp|tests/guest/cpp.sh|$g/cpp_test||tests/qemu/check-segments.sh"
+	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
+	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
+	"phase|tests/guest/phase.sh|$g/phase_test||tests/qemu/check-phase.sh"
+	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl||"
+	"x4ctl-keys|tests/x4ctl/guest-x4ctl-keys.sh|$g/x4ctl|--monitor @KOUT@/mon.sock|"
+	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko|"
+)
+
+# The kernels the module must pass on: label, glob under /boot, exclusion.
+kernel_kinds=(
+	"debug|vmlinuz-*-x4debug|"
+)
+
+want_k=() want_t=() verbose=0
+while [ $# -gt 0 ]; do
+	case "$1" in
+	-k) want_k+=("${2:?}"); shift 2 ;;
+	-t) want_t+=("${2:?}"); shift 2 ;;
+	-v) verbose=1; shift ;;
+	*) echo "usage: $0 [-k KVER_SUBSTRING]... [-t TEST]... [-v]" >&2; exit 2 ;;
+	esac
+done
+selected() { # VALUE PATTERNS... : no patterns selects everything
+	local v=$1 p
+	shift
+	[ $# -eq 0 ] && return 0
+	for p in "$@"; do [[ "$v" == *"$p"* ]] && return 0; done
+	return 1
+}
+
+passed=0 failed=0
+result() { # PASS|FAIL TEST KVER [WHY]
+	echo "$1 $2 $3"
+	[ -z "${4:-}" ] || echo "    $4"
+	if [ "$1" = PASS ]; then passed=$((passed + 1)); else failed=$((failed + 1)); fi
+}
+
+# Host checks use x4trace; build it once if its source is there.
+mkdir -p "$bdir"
+if [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
+	if g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tools/x4trace/x4trace.cpp" \
+		2>"$bdir/x4trace-build.log"; then
+		export X4TRACE=$bdir/x4trace
+	else
+		echo "run-suite: building x4trace failed, see $bdir/x4trace-build.log" >&2
+	fi
+fi
+
+# The guest programs are the same for every kernel.
+if ! "$top/tests/guest/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1; then
+	cat "$bdir/guest-build.log" >&2
+	echo "FAIL building the guest programs, see $bdir/guest-build.log"
+	echo "0 passed, 1 failed"
+	exit 1
+fi
+
+for kind in "${kernel_kinds[@]}"; do
+	IFS='|' read -r label glob exclude <<<"$kind"
+	kver=$(cd /boot && for f in $glob; do
+		[ -e "$f" ] || continue
+		[ -n "$exclude" ] && [[ "$f" == *"$exclude"* ]] && continue
+		echo "${f#vmlinuz-}"
+	done | sort -V | tail -n1)
+	selected "${kver:-$label}" "${want_k[@]}" || continue
+
+	names=()
+	for t in "${tests[@]}"; do
+		name=${t%%|*}
+		selected "$name" "${want_t[@]}" && names+=("$name")
+	done
+	[ ${#names[@]} -gt 0 ] || continue
+
+	if [ -z "$kver" ]; then
+		for name in "${names[@]}"; do
+			result FAIL "$name" "$label" "no /boot/$glob: install the Debian kernel package (tools/deps.sh test)"
+		done
+		continue
+	fi
+	kdir=/lib/modules/$kver/build
+	[ -d "$kdir" ] || kdir=/usr/src/linux-headers-$kver
+	kout=$bdir/$kver
+
+	# Each kernel builds in its own copy: one tree cannot hold three builds.
+	why=""
+	if [ ! -d "$kdir" ]; then
+		why="no headers for $kver (linux-headers package)"
+	else
+		rm -rf "$kout/src"
+		mkdir -p "$kout/src"
+		mkdir -p "$kout/src/tests"
+		cp -a "$top/Kbuild" "$top/kmod" "$top/include" "$kout/src/"
+		cp -a "$top/tests/kmod" "$kout/src/tests/"
+		find "$kout/src" \( -name '*.o' -o -name '*.ko' -o -name '*.mod*' -o -name '.*.cmd' \
+			-o -name modules.order -o -name Module.symvers \) -delete
+		if ! make -C "$kdir" M="$kout/src" modules >"$kout/build.log" 2>&1; then
+			why="module build failed, see $kout/build.log"
+		elif ! make -C "$kdir" M="$kout/src/tests/kmod" modules >>"$kout/build.log" 2>&1; then
+			why="x4vport build failed, see $kout/build.log"
+		elif [ ! -f "$kout/src/kmod/x4step.ko" ]; then
+			why="no kmod/x4step.ko after the build, see $kout/build.log"
+		fi
+	fi
+
+	for t in "${tests[@]}"; do
+		IFS='|' read -r name script bins flags check <<<"$t"
+		selected "$name" "${want_t[@]}" || continue
+		if [ -n "$why" ]; then
+			result FAIL "$name" "$kver" "$why"
+			continue
+		fi
+		out=$kout/$name
+		rm -rf "$out"
+		mkdir -p "$out"
+		args=(--kver "$kver" --out "$out" --module "$kout/src/kmod/x4step.ko")
+		for b in $bins; do args+=(--bin "$top/$b"); done
+		# shellcheck disable=SC2206 # flags are words by design
+		args+=(${flags//@KOUT@/$kout})
+		set +e
+		if [ "$verbose" = 1 ]; then
+			"/work/main/tests/debugkernel/.run-guest-debug.8147.sh" "${args[@]}" "$top/$script" 2>&1 | tee "$out/run.log"
+			rc=${PIPESTATUS[0]}
+		else
+			"/work/main/tests/debugkernel/.run-guest-debug.8147.sh" "${args[@]}" "$top/$script" >"$out/run.log" 2>&1
+			rc=$?
+		fi
+		set -e
+		if [ "$rc" -ne 0 ]; then
+			case "$rc" in
+			124) why2="timeout" ;;
+			125) why2="guest crashed" ;;
+			126) why2="kernel reported problems" ;;
+			*) why2="guest status $rc" ;;
+			esac
+			result FAIL "$name" "$kver" "$why2, see $out/run.log"
+			# Show what failed without making the developer open the log.
+			tr -d '\r' <"$out/run.log" | grep -a -E '^FAIL |^run-guest:' | sed 's/^/    /' | head -n 20 || true
+			continue
+		fi
+		if [ -n "$check" ] && ! "$top/$check" "$out" "$kver" >"$out/host-check.log" 2>&1; then
+			result FAIL "$name" "$kver" "host check $check failed, see $out/host-check.log"
+			sed 's/^/    /' "$out/host-check.log" | tail -n 20
+			continue
+		fi
+		result PASS "$name" "$kver"
+	done
+done
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]
