@@ -634,13 +634,12 @@ static noinline void rise(struct x4_engine *e, u64 now_ns)
  * Apply the pending event (due at x4_engine_due(), fired at now_ns) and
  * plan the next.
  */
-void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev)
+void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 {
-	ev->t_ns = e->t_pending;
 	/* The two hot cases first: a clock edge falls, a step rises. */
 	if (e->phase == X4_FALL) {
 		e->data &= (u8)~e->stepping;
-		step_done(e, ev->t_ns);
+		step_done(e, e->t_pending);
 		/* A configured space is a minimum too: from the real edge. */
 		if (e->timing.space_ns && e->phase == X4_RISE &&
 		    now_ns + e->timing.space_ns > e->t_pending)
@@ -659,8 +658,6 @@ void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev)
 			e->t_pending = e->t_after;
 		}
 	}
-	ev->data = e->data;
-	ev->ctl = e->ctl;
 }
 
 /*

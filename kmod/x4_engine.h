@@ -92,6 +92,9 @@ enum x4_output_mode {
 };
 #define X4_SMC_AXES 3 /* motors X, Y, Z: select bits 0x00, 0x40, 0x80 */
 
+/* One output event, as the tests record them: e->data and e->ctl after
+ * x4_engine_fire(), at the time x4_engine_due() said before it.
+ */
 struct x4_event {
 	u64 t_ns; /* when, since the engine epoch */
 	u8 data; /* data register after the event */
@@ -186,7 +189,7 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 int x4_engine_brake(struct x4_engine *e);
 int x4_engine_stop(struct x4_engine *e);
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
-void x4_engine_fire(struct x4_engine *e, u64 now_ns, struct x4_event *ev);
+void x4_engine_fire(struct x4_engine *e, u64 now_ns);
 
 /* Busy: a move runs, or writes of its last instant are still due. */
 static inline bool x4_engine_busy(const struct x4_engine *e)

@@ -76,10 +76,8 @@ void x4_port_write_locked(struct x4_port *x4)
  */
 void x4_port_drain_locked(struct x4_port *x4, u64 until)
 {
-	struct x4_event ev;
-
 	while (x4_engine_busy(&x4->eng) && x4_engine_due(&x4->eng) <= until) {
-		x4_engine_fire(&x4->eng, until, &ev);
+		x4_engine_fire(&x4->eng, until);
 		x4_port_write_locked(x4);
 	}
 }
@@ -139,19 +137,20 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 {
 	struct x4_port *x4 = container_of(timer, struct x4_port, timer);
 	enum hrtimer_restart ret = HRTIMER_NORESTART;
-	struct x4_event ev;
 	unsigned long flags;
 	ktime_t now, due;
+	u64 t;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4_engine_busy(&x4->eng)) {
 		now = ktime_get();
 		x4_account_lateness(x4, timer, now);
 		for (;;) {
+			t = x4_engine_due(&x4->eng);
 			x4_engine_fire(&x4->eng,
-				       ktime_to_ns(ktime_sub(now, x4->epoch)), &ev);
+				       ktime_to_ns(ktime_sub(now, x4->epoch)));
 			x4_port_write_locked(x4);
-			x4_port_drain_locked(x4, ev.t_ns); /* the same instant */
+			x4_port_drain_locked(x4, t); /* the same instant */
 			if (!x4_engine_busy(&x4->eng))
 				break;
 			/*

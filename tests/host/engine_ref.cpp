@@ -37,12 +37,17 @@ double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n) {
   return x / v;
 }
 
+x4_event fire(x4_engine &e, uint64_t now_ns) {
+  const uint64_t due = x4_engine_due(&e);
+  x4_engine_fire(&e, now_ns ? now_ns : due);
+  return {due, e.data, e.ctl};
+}
+
 void record(x4_engine &e, Recording &rec, size_t max_events) {
   uint8_t data = e.data;
   bool moving = false;
   for (size_t i = 0; i < max_events && x4_engine_busy(&e); i++) {
-    x4_event ev;
-    x4_engine_fire(&e, x4_engine_due(&e), &ev);
+    const x4_event ev = fire(e);
     rec.events.push_back(ev);
     const uint8_t changed = data ^ ev.data;
     for (int axis = 0; axis < X4_AXES; axis++) {

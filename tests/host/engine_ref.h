@@ -33,6 +33,9 @@ struct Recording {
   int dir_changes = 0;
 };
 
+// Fire the pending event at now_ns (0: when due); what it output.
+x4_event fire(x4_engine &e, uint64_t now_ns = 0);
+
 // Fire the engine until idle (or max_events), recording what it emits.
 // `prev` is the port state before the first event.
 void record(x4_engine &e, Recording &rec, size_t max_events = SIZE_MAX);

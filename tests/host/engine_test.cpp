@@ -235,8 +235,7 @@ TEST(Interpolation, RandomMovesStayWithinHalfAStep) {
     const uint64_t total = std::abs(m.steps[lead]);
     uint64_t k = 0;
     while (x4_engine_busy(&eng.e)) {
-      x4_event ev;
-      x4_engine_fire(&eng.e, x4_engine_due(&eng.e), &ev);
+      const x4_event ev = fire(eng.e);
       if (!(ev.data & X4_CLK_BIT(lead))) continue;
       if (eng.e.phase != X4_FALL || eng.e.n + 1 == k) continue;
       k = eng.e.n + 1;  // leader steps made
@@ -451,8 +450,7 @@ TEST(Signals, DirectionSetupCountsFromALateStart) {
   Engine eng;
   ASSERT_EQ(eng.Load(Move(5, 0, 0, 0, 1000, 0)), X4_OK);
   ASSERT_EQ(eng.Start(), X4_OK);
-  x4_event ev;
-  x4_engine_fire(&eng.e, kStart + 7000, &ev);  // the timer fired 7 us late
+  fire(eng.e, kStart + 7000);  // the timer fired 7 us late
   EXPECT_EQ(x4_engine_due(&eng.e), kStart + 7000 + X4_DIR_SETUP_NS);
 }
 
