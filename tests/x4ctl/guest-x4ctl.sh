@@ -102,7 +102,7 @@ pass setup
 # ---- help and usage: no device needed -------------------------------------
 check help 0 '^Usage: x4ctl \[' '' x4ctl --help
 check help-version 0 '^x4ctl [0-9]' '' x4ctl --version
-for c in move jog brake stop status in out keys sweep monitor run; do
+for c in move jog brake stop status in out keys sweep monitor run timing mode; do
 	check "help-$c" 0 "^Usage: x4ctl $c " '' x4ctl "$c" --help
 	check "help-cmd-$c" 0 "^Usage: x4ctl $c " '' x4ctl help "$c"
 done
@@ -305,6 +305,66 @@ check interactive 0 '^done: 50 0 0 0$' 'error: f30000: frequency too high: use a
 lacks interactive-line-dropped "$out" '^done: 60'
 has interactive-error "$err" 'f40000: frequency too high'
 check interactive-lpt-arg 0 '^1-> q$' '' sh -c "echo q | x4ctl 1"
+
+settle 50
+
+# ---- timing and mode: per-port settings the module keeps after x4ctl exits ---------------------
+check timing-show 0 '^dir setup *[0-9]* ns$' '' x4ctl timing
+check timing-set 0 '^pulse *5000 ns$' '' x4ctl timing --pulse 5000 --space 95000 --hold 3000
+has timing-set-space "$out" '^space *95000 ns$'
+has timing-set-max "$out" '^max freq *10000 Hz$'
+check timing-kept 0 '^space *95000 ns$' '' x4ctl timing
+has timing-kept-hold "$out" '^dir hold *3000 ns$'
+check timing-partial 0 '^dir setup *20000 ns$' '' x4ctl timing --setup 20000
+has timing-partial-pulse "$out" '^pulse *5000 ns$'
+has timing-partial-hold "$out" '^dir hold *3000 ns$'
+check timing-json 0 \
+	'^{"device":"/dev/x4step0","pulse_ns":5000,"space_ns":95000,"dir_setup_ns":20000,"dir_hold_ns":3000,"mode":"clock-dir","max_freq_hz":10000}$' \
+	'' x4ctl timing --json
+check timing-move-fits 0 '^done: 50 0 0 0$' '' x4ctl move 50 --freq 10000 --ramp 0 --wait
+check timing-move-too-fast 1 '' \
+	'^x4ctl: move: frequency too high for the step timing: 12000 Hz, .* allow at most 10000 Hz' \
+	x4ctl move 50 --freq 12000 --ramp 0 --wait
+check timing-jog-too-fast 1 '' 'jog: frequency too high for the step timing' x4ctl jog 1 + --freq 15000 --time 100
+check bad-timing-pulse 2 '' 'timing: pulse 500 out of range: use 0 (symmetric clock) or 1000 to 1000000 ns' \
+	x4ctl timing --pulse 500
+check bad-timing-pulse-high 2 '' 'timing: pulse 1000001 out of range' x4ctl timing --pulse 1000001
+check bad-timing-space 2 '' 'timing: space 1000001 out of range: use 0 to 1000000 ns' x4ctl timing --space 1000001
+check bad-timing-setup 2 '' 'timing: setup -1 out of range: use 0 to 1000000 ns' x4ctl timing --setup -1
+check bad-timing-hold 2 '' "timing: hold 'x' is not a whole number" x4ctl timing --hold x
+check bad-timing-arg 2 '' "timing: unexpected argument '5000'" x4ctl timing 5000
+check bad-timing-unchanged 0 '^pulse *5000 ns$' '' x4ctl timing
+has bad-timing-unchanged-space "$out" '^space *95000 ns$'
+
+check mode-show 0 '^clock-dir: ' '' x4ctl mode
+check mode-set 0 '^smc-phase: ' '' x4ctl mode smc-phase
+check mode-kept 0 '^smc-phase: ' '' x4ctl mode
+check mode-timing-json 0 '"mode":"smc-phase","max_freq_hz":20000}$' '' x4ctl timing --json
+check phase-move 0 '^done: 3 -2 0 0$' '' x4ctl move 3 -2 0 0 --freq 1000 --ramp 0 --wait
+expect_field phase-move-steps steps '[3,-2,0,0]'
+# Pulse and space do not apply to phase patterns.
+check phase-move-fast 0 '^done: 0 0 40 0$' '' x4ctl move 0 0 40 --freq 12000 --ramp 0 --wait
+ended=$(field moves_ended)
+check phase-axis4 1 '' '^x4ctl: move: axis 4 cannot move in smc-phase mode: the SMC800/SMC1500 boards drive axes 1 to 3' \
+	x4ctl move 0 0 1 5 --freq 1000 --ramp 0 --wait
+check phase-axis4-background 1 '' 'move: axis 4 cannot move in smc-phase mode' x4ctl move 0 0 0 5
+check phase-jog-axis4 1 '' 'jog: axis 4 cannot move in smc-phase mode' x4ctl jog 4 + --time 100
+script phase-run-axis4 1 '' 'run: .*:3: axis 4 cannot move in smc-phase mode' 's4\nd5\ng\n'
+expect_field phase-axis4-nothing-moved moves_ended "$ended"
+check mode-hold 0 '^smc-hold: ' '' x4ctl mode smc-hold
+check phase-hold-move 0 '^done: 0 -20 0 0$' '' x4ctl move 0 -20 --freq 2000 --ramp 0 --wait
+check bad-mode 2 '' "mode: no mode 'smc': use clock-dir, smc-phase, smc-hold" x4ctl mode smc
+check bad-mode-args 2 '' "mode: unexpected argument 'smc-hold'" x4ctl mode clock-dir smc-hold
+check bad-mode-unchanged 0 '^smc-hold: ' '' x4ctl mode
+
+# Back to X4Step's settings for whatever runs next.
+check mode-restore 0 '^clock-dir: ' '' x4ctl mode clock-dir
+check timing-restore 0 '^pulse *0 ns (symmetric clock)$' '' \
+	x4ctl timing --pulse 0 --space 0 --setup 100000 --hold 0
+has timing-restore-space "$out" '^space *0 ns$'
+has timing-restore-setup "$out" '^dir setup *100000 ns$'
+has timing-restore-max "$out" '^max freq *20000 Hz$'
+check mode-restore-axis4 0 '^done: 0 0 0 5$' '' x4ctl move 0 0 0 5 --freq 1000 --ramp 0 --wait
 
 settle 50
 if [ "$failed" = 0 ]; then echo "x4ctl guest tests: all passed"; else echo "x4ctl guest tests: FAILED"; fi

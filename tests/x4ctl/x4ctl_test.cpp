@@ -190,6 +190,58 @@ TEST(Cli, OutKeysMonitorRunStatus) {
   EXPECT_EQ(usage_message({"help", "fly"}), "help: no command 'fly'");
 }
 
+TEST(Cli, Timing) {
+  config c = parse({"timing"});
+  EXPECT_EQ(c.cmd, subcommand::timing);
+  EXPECT_FALSE(c.pulse || c.space || c.dir_setup || c.dir_hold);
+  EXPECT_FALSE(c.json);
+  c = parse({"timing", "--pulse", "5000", "--space=20000", "--setup", "0", "--hold", "1000000", "-j"});
+  EXPECT_EQ(c.pulse, std::chrono::nanoseconds(5000));
+  EXPECT_EQ(c.space, std::chrono::nanoseconds(20000));
+  EXPECT_EQ(c.dir_setup, std::chrono::nanoseconds(0));
+  EXPECT_EQ(c.dir_hold, std::chrono::nanoseconds(1000000));
+  EXPECT_TRUE(c.json);
+  c = parse({"timing", "--hold", "300"});  // only the times given change
+  EXPECT_FALSE(c.pulse || c.space || c.dir_setup);
+  EXPECT_EQ(c.dir_hold, std::chrono::nanoseconds(300));
+  EXPECT_EQ(parse({"timing", "--pulse", "0"}).pulse, std::chrono::nanoseconds(0));  // symmetric clock
+  EXPECT_EQ(parse({"timing", "--pulse", "1000"}).pulse, std::chrono::nanoseconds(1000));
+  EXPECT_EQ(parse({"-p", "2", "timing", "--space", "7"}).lpt, 2);
+
+  EXPECT_EQ(usage_message({"timing", "--pulse", "999"}),
+            "timing: pulse 999 out of range: use 0 (symmetric clock) or 1000 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--pulse", "1000001"}),
+            "timing: pulse 1000001 out of range: use 0 (symmetric clock) or 1000 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--pulse", "-1"}),
+            "timing: pulse -1 out of range: use 0 (symmetric clock) or 1000 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--space", "1000001"}),
+            "timing: space 1000001 out of range: use 0 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--space", "-5"}), "timing: space -5 out of range: use 0 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--setup", "2000000"}),
+            "timing: setup 2000000 out of range: use 0 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--hold", "-1"}), "timing: hold -1 out of range: use 0 to 1000000 ns");
+  EXPECT_EQ(usage_message({"timing", "--hold", "5us"}), "timing: hold '5us' is not a whole number");
+  EXPECT_EQ(usage_message({"timing", "--pulse"}), "timing: option '--pulse' needs a value");
+  EXPECT_EQ(usage_message({"timing", "5000"}), "timing: unexpected argument '5000'");
+  EXPECT_EQ(usage_message({"timing", "--freq", "5000"}), "timing: unknown option '--freq'");
+  EXPECT_TRUE(parse({"timing", "--help"}).help);
+}
+
+TEST(Cli, Mode) {
+  config c = parse({"mode"});
+  EXPECT_EQ(c.cmd, subcommand::mode);
+  EXPECT_FALSE(c.mode);
+  EXPECT_EQ(parse({"mode", "clock-dir"}).mode, x4step::output_mode::clock_dir);
+  EXPECT_EQ(parse({"mode", "smc-phase"}).mode, x4step::output_mode::smc_phase);
+  EXPECT_EQ(parse({"mode", "smc-hold", "-p", "3"}).mode, x4step::output_mode::smc_phase_hold);
+  EXPECT_EQ(usage_message({"mode", "smc"}), "mode: no mode 'smc': use clock-dir, smc-phase, smc-hold");
+  EXPECT_EQ(usage_message({"mode", "SMC-PHASE"}),
+            "mode: no mode 'SMC-PHASE': use clock-dir, smc-phase, smc-hold");
+  EXPECT_EQ(usage_message({"mode", "clock-dir", "smc-hold"}), "mode: unexpected argument 'smc-hold'");
+  EXPECT_EQ(usage_message({"mode", "--json"}), "mode: unknown option '--json'");
+  EXPECT_TRUE(parse({"mode", "bogus", "--help"}).help);  // --help wins over a bad operand
+}
+
 TEST(Cli, HelpWinsOverMissingArguments) {
   EXPECT_TRUE(parse({"move", "--help"}).help);
   EXPECT_TRUE(parse({"sweep", "-h"}).help);
@@ -203,7 +255,7 @@ TEST(Cli, HelpTexts) {
   const std::vector<std::pair<subcommand, std::vector<std::string>>> expected = {
       {subcommand::interactive,
        {"--port", "--device", "--help", "--version", "move", "jog", "brake", "stop", "status", "in", "out",
-        "keys", "sweep", "monitor", "run", "Exit status"}},
+        "keys", "sweep", "monitor", "run", "timing", "mode [MODE]", "smc-phase", "Exit status"}},
       {subcommand::move,
        {"--freq", "--ramp", "--wait", "--port", "--device", "--help", "Exit status", "background"}},
       {subcommand::jog, {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
@@ -216,6 +268,14 @@ TEST(Cli, HelpTexts) {
       {subcommand::sweep, {"--ramp", "--port", "--device", "--help"}},
       {subcommand::monitor, {"--moves", "--port", "--device", "--help", "read-only"}},
       {subcommand::run, {"--check", "--echo", "--port", "--device", "--help", "Ax,y,z", "M+ 500"}},
+      {subcommand::timing,
+       {"--pulse", "--space", "--setup", "--hold", "--json", "--port", "--device", "--help",
+        "0 (symmetric clock", "1000..1000000 ns", "0..1000000 ns", "frequency too high", "after x4ctl exits",
+        "Exit status"}},
+      {subcommand::mode,
+       {"clock-dir", "smc-phase", "smc-hold", "SMC800/SMC1500", "motors off at rest",
+        "reduced holding current", "axis 4", "--port", "--device", "--help", "after x4ctl exits",
+        "Exit status"}},
   };
   for (const auto &[cmd, words] : expected) {
     const std::string h = help_text(cmd);
@@ -268,8 +328,8 @@ TEST(Main, HelpAndVersion) {
   EXPECT_EQ(r.status, 0);
   EXPECT_TRUE(contains(r.out, "Usage: x4ctl"));
   EXPECT_EQ(r.err, "");
-  for (const char *c :
-       {"move", "jog", "brake", "stop", "status", "in", "out", "keys", "sweep", "monitor", "run", "help"}) {
+  for (const char *c : {"move", "jog", "brake", "stop", "status", "in", "out", "keys", "sweep", "monitor",
+                        "run", "timing", "mode", "help"}) {
     r = run({c, "--help"});
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_TRUE(contains(r.out, "Usage: x4ctl ")) << c;
@@ -290,6 +350,30 @@ TEST(Main, UsageErrorsExit2WithAHint) {
   r = run({"fly"});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err, "x4ctl: unknown command 'fly'\nTry 'x4ctl --help'.\n");
+}
+
+// Bad times and modes are found before the device is opened: exit 2, not 1.
+TEST(Main, TimingAndModeUsageErrorsExit2) {
+  captured r = run({"-d", "/nonexistent/x4step9", "timing", "--pulse", "500"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err,
+            "x4ctl: timing: pulse 500 out of range: use 0 (symmetric clock) or 1000 to 1000000 ns\n"
+            "Try 'x4ctl timing --help'.\n");
+  r = run({"-d", "/nonexistent/x4step9", "timing", "--setup", "1000001"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "setup 1000001 out of range: use 0 to 1000000 ns")) << r.err;
+  r = run({"-d", "/nonexistent/x4step9", "mode", "half-step"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err,
+            "x4ctl: mode: no mode 'half-step': use clock-dir, smc-phase, smc-hold\n"
+            "Try 'x4ctl mode --help'.\n");
+  r = run({"-d", "/nonexistent/x4step9", "timing", "--pulse", "5000"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: timing: /nonexistent/x4step9: port not found")) << r.err;
+  r = run({"-d", "/nonexistent/x4step9", "mode"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: mode: /nonexistent/x4step9: port not found")) << r.err;
 }
 
 TEST(Main, MissingPortExits1) {
@@ -440,8 +524,12 @@ class fake_port : public port {
   std::vector<std::pair<x4step::signal, bool>> outputs;
   std::vector<std::vector<int>> codes;
   unsigned inputs = 0x15;
+  x4step::config cfg;          // as the module keeps it per port
+  x4step::step_timing timing;  // the module's defaults
+  int config_sets = 0, timing_sets = 0;
 
   void load(const x4step::move &m) override {
+    refuse(m.freq_hz, m.steps[3] != 0);
     if (loaded_) throw x4step::error(x4step::make_error_code(x4step::errc::is_loaded));
     loads.push_back(m);
     loaded_ = true;
@@ -464,6 +552,7 @@ class fake_port : public port {
     s_.active = false;
   }
   void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) override {
+    refuse(freq_hz, axis == 4);
     endless.emplace_back(axis, dir, freq_hz, ramp.count());
     begin(true);
     axis_ = axis;
@@ -480,8 +569,35 @@ class fake_port : public port {
   }
   void set_output(x4step::signal s, bool high) override { outputs.emplace_back(s, high); }
   void set_brake_codes(const std::vector<int> &c) override { codes.push_back(c); }
+  void set_config(const x4step::config &c) override {
+    if (s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
+    cfg = c;
+    config_sets++;
+  }
+  x4step::config get_config() const override { return cfg; }
+  void set_step_timing(const x4step::step_timing &t) override {
+    for (const auto ns : {t.pulse, t.space, t.dir_setup, t.dir_hold})
+      if (ns.count() < 0 || ns.count() > 1000000)
+        throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
+    if (t.pulse.count() && t.pulse.count() < 1000)
+      throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
+    if (s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
+    timing = t;
+    timing_sets++;
+  }
+  x4step::step_timing get_step_timing() const override { return timing; }
 
  private:
+  // The module's checks of the settings (x4_engine_load, x4_engine_endless).
+  void refuse(int freq_hz, bool axis4) const {
+    const long long period = 1000000000LL / freq_hz;
+    const bool phase = cfg.mode != x4step::output_mode::clock_dir;
+    if (!phase && (timing.pulse.count() ? timing.pulse.count() + timing.space.count() > period
+                                        : timing.space.count() > period / 2))
+      throw x4step::error(x4step::make_error_code(x4step::errc::freq_too_high));
+    if (phase && axis4) throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
+  }
+
   void begin(bool endless) {
     s_.steps = {};
     s_.active = true;
@@ -756,6 +872,149 @@ TEST(Interpreter, CheckOnlyTouchesNothing) {
   EXPECT_EQ(con.text.str(), "");
 }
 
+// ---- timing and mode on the simulated port ---------------------------------------------
+
+TEST(Settings, TimingShowsWithoutChanging) {
+  fake_port p;
+  std::ostringstream out;
+  timing_command(p, parse({"timing"}), out);
+  EXPECT_EQ(p.timing_sets, 0);
+  EXPECT_EQ(out.str(),
+            "device       /dev/x4step0\n"
+            "pulse        0 ns (symmetric clock)\n"
+            "space        0 ns\n"
+            "dir setup    100000 ns\n"
+            "dir hold     0 ns\n"
+            "max freq     20000 Hz\n");
+}
+
+TEST(Settings, TimingChangesOnlyTheTimesGiven) {
+  fake_port p;
+  p.timing.dir_hold = std::chrono::nanoseconds(7000);
+  std::ostringstream out;
+  timing_command(p, parse({"-p", "2", "timing", "--pulse", "10000", "--space", "90000"}), out);
+  EXPECT_EQ(p.timing_sets, 1);
+  EXPECT_EQ(p.timing.pulse, std::chrono::nanoseconds(10000));
+  EXPECT_EQ(p.timing.space, std::chrono::nanoseconds(90000));
+  EXPECT_EQ(p.timing.dir_setup, std::chrono::nanoseconds(100000));  // kept
+  EXPECT_EQ(p.timing.dir_hold, std::chrono::nanoseconds(7000));     // kept
+  EXPECT_TRUE(contains(out.str(), "device       /dev/x4step1\n")) << out.str();
+  EXPECT_TRUE(contains(out.str(), "pulse        10000 ns\n")) << out.str();
+  EXPECT_TRUE(contains(out.str(), "dir hold     7000 ns\n")) << out.str();
+  EXPECT_TRUE(contains(out.str(), "max freq     10000 Hz\n")) << out.str();
+
+  std::ostringstream json;
+  timing_command(p, parse({"timing", "--setup", "0", "--json"}), json);
+  EXPECT_EQ(json.str(),
+            "{\"device\":\"/dev/x4step0\",\"pulse_ns\":10000,\"space_ns\":90000,\"dir_setup_ns\":0,"
+            "\"dir_hold_ns\":7000,\"mode\":\"clock-dir\",\"max_freq_hz\":10000}\n");
+  EXPECT_EQ(p.timing_sets, 2);
+  EXPECT_EQ(p.timing.pulse, std::chrono::nanoseconds(10000));
+}
+
+TEST(Settings, ModeKeepsTheRestOfTheConfig) {
+  fake_port p;
+  p.cfg.clock_invert = 0x5;
+  p.cfg.dir_invert = 0x2;
+  p.cfg.keys_swallow = true;
+  std::ostringstream out;
+  mode_command(p, parse({"mode"}), out);
+  EXPECT_EQ(p.config_sets, 0);
+  EXPECT_EQ(out.str(), "clock-dir: clock and direction signals per axis (X4Step)\n");
+  out.str("");
+  mode_command(p, parse({"mode", "smc-phase"}), out);
+  EXPECT_EQ(p.config_sets, 1);
+  EXPECT_EQ(p.cfg.mode, x4step::output_mode::smc_phase);
+  EXPECT_EQ(p.cfg.clock_invert, 0x5u);
+  EXPECT_EQ(p.cfg.dir_invert, 0x2u);
+  EXPECT_TRUE(p.cfg.keys_swallow);
+  EXPECT_EQ(out.str(), "smc-phase: SMC800/SMC1500 half-step phase drive of axes 1..3, motors off at rest\n");
+  out.str("");
+  mode_command(p, parse({"mode", "smc-hold"}), out);
+  EXPECT_EQ(p.cfg.mode, x4step::output_mode::smc_phase_hold);
+  EXPECT_EQ(out.str().rfind("smc-hold: ", 0), 0u) << out.str();
+  out.str("");
+  mode_command(p, parse({"mode"}), out);
+  EXPECT_EQ(out.str().rfind("smc-hold: ", 0), 0u) << out.str();
+  EXPECT_EQ(p.config_sets, 2);
+}
+
+TEST(Settings, PhaseModeRefusesAxis4Clearly) {
+  fake_console con;
+  fake_port p;
+  p.cfg.mode = x4step::output_mode::smc_phase;
+  interpreter in(con, &p, true);
+  run_lines(in, "s1\nd3\nr0\ns2\nd-2\ng");  // axes 1..3 move
+  EXPECT_EQ(p.starts, 1);
+  EXPECT_TRUE(contains(con.text.str(), "done: 3 -2 0 0\n")) << con.text.str();
+  try {
+    run_lines(in, "s4\nd5\ng");
+    FAIL() << "axis 4 moved";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(),
+                 "axis 4 cannot move in smc-phase mode: the SMC800/SMC1500 boards drive axes 1 to 3 "
+                 "('x4ctl mode clock-dir' for clock and direction signals)");
+  }
+  p.cfg.mode = x4step::output_mode::smc_phase_hold;
+  try {
+    start_endless(p, 4, x4step::direction::negative, 1000, milliseconds(0));
+    FAIL() << "axis 4 jogged";
+  } catch (const failure &e) {
+    EXPECT_TRUE(contains(e.what(), "axis 4 cannot move in smc-hold mode")) << e.what();
+  }
+  EXPECT_EQ(p.starts, 1);
+  EXPECT_TRUE(p.endless.empty());
+  p.cfg.mode = x4step::output_mode::clock_dir;
+  load_move(p, x4step::move{{0, 0, 0, 5}, 1000, milliseconds(0)});  // fine with clock and direction
+  EXPECT_EQ(p.loads.size(), 2u);
+}
+
+TEST(Settings, FrequencyTooHighForTheTiming) {
+  fake_console con;
+  fake_port p;
+  p.timing.pulse = std::chrono::nanoseconds(100000);
+  p.timing.space = std::chrono::nanoseconds(100000);
+  interpreter in(con, &p, true);
+  run_lines(in, "d10\nf5000\nr0\ng");  // 200 us: just fits
+  EXPECT_EQ(p.starts, 1);
+  const std::string why =
+      "frequency too high for the step timing: 5001 Hz, but pulse 100000 ns and space 100000 ns allow at "
+      "most "
+      "5000 Hz ('x4ctl timing' changes them)";
+  try {
+    run_lines(in, "f5001\ng");
+    FAIL() << "moved";
+  } catch (const failure &e) {
+    EXPECT_EQ(e.what(), why);
+  }
+  try {
+    start_endless(p, 1, x4step::direction::positive, 5001, milliseconds(0));
+    FAIL() << "jogged";
+  } catch (const failure &e) {
+    EXPECT_EQ(e.what(), why);
+  }
+  // The symmetric clock: the space in half a period.
+  p.timing.pulse = std::chrono::nanoseconds(0);
+  p.timing.space = std::chrono::nanoseconds(250000);
+  try {
+    load_move(p, x4step::move{{10, 0, 0, 0}, 2001, milliseconds(0)});
+    FAIL() << "loaded";
+  } catch (const failure &e) {
+    EXPECT_TRUE(contains(e.what(), "allow at most 2000 Hz")) << e.what();
+  }
+  // Pulse and space do not apply to phase patterns.
+  p.cfg.mode = x4step::output_mode::smc_phase;
+  load_move(p, x4step::move{{10, 0, 0, 0}, 20000, milliseconds(0)});
+  EXPECT_EQ(p.loads.size(), 2u);
+  // Other refusals stay the library's.
+  try {
+    load_move(p, x4step::move{{10, 0, 0, 0}, 1000, milliseconds(0)});
+    FAIL() << "loaded twice";
+  } catch (const x4step::error &e) {
+    EXPECT_EQ(e.code(), x4step::errc::is_loaded);
+  }
+}
+
 // ---- formatting ----------------------------------------------------------------------
 
 TEST(Show, Texts) {
@@ -791,6 +1050,33 @@ TEST(Show, StatusJson) {
   const std::string text = status_text(s, "/dev/x4step0");
   EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;
   EXPECT_TRUE(contains(text, "braked by    ESC\n")) << text;
+}
+
+TEST(Show, TimingAndMode) {
+  x4step::step_timing t;
+  EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 20000);
+  t.space = std::chrono::nanoseconds(30000);  // symmetric clock: 60 us periods
+  EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 16666);
+  t.pulse = std::chrono::nanoseconds(1000000);
+  t.space = std::chrono::nanoseconds(1000000);
+  EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 500);
+  EXPECT_EQ(max_freq_hz(t, x4step::output_mode::smc_phase), 20000);
+  t.pulse = std::chrono::nanoseconds(10000);
+  t.space = std::chrono::nanoseconds(40000);
+  EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 20000);
+  const std::string text = timing_text(t, x4step::output_mode::smc_phase_hold, "/dev/x4step3");
+  EXPECT_TRUE(contains(text, "pulse        10000 ns\n")) << text;
+  EXPECT_TRUE(contains(text, "max freq     20000 Hz (smc-hold mode: pulse and space do not apply)\n"))
+      << text;
+  EXPECT_EQ(timing_json(t, x4step::output_mode::smc_phase, "/dev/x4step3"),
+            "{\"device\":\"/dev/x4step3\",\"pulse_ns\":10000,\"space_ns\":40000,\"dir_setup_ns\":100000,"
+            "\"dir_hold_ns\":0,\"mode\":\"smc-phase\",\"max_freq_hz\":20000}");
+  std::vector<std::string> names;
+  for (const auto m : output_modes) {
+    names.push_back(mode_name(m));
+    EXPECT_EQ(mode_text(m).rfind(names.back() + ": ", 0), 0u) << mode_text(m);
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"clock-dir", "smc-phase", "smc-hold"}));
 }
 
 // ---- keys from a terminal ------------------------------------------------------------------

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "lang.hpp"
+#include "show.hpp"
 
 #ifndef X4CTL_VERSION
 #define X4CTL_VERSION "0.1.0"
@@ -36,12 +37,16 @@ enum opt_id {
   opt_watch,
   opt_moves,
   opt_check,
-  opt_echo
+  opt_echo,
+  opt_pulse,
+  opt_space,
+  opt_setup,
+  opt_hold
 };
 
 struct option_spec {
   const char *name;
-  char short_name;
+  char short_name;  // 0: none
   bool takes_value;
   opt_id id;
 };
@@ -81,7 +86,7 @@ split_result split(const std::vector<std::string> &args, size_t from, const std:
   };
   auto find_short = [&](char c) -> const option_spec * {
     for (const auto &s : specs)
-      if (c == s.short_name) return &s;
+      if (c != 0 && c == s.short_name) return &s;
     return nullptr;
   };
   for (size_t i = from; i < args.size(); i++) {
@@ -143,7 +148,8 @@ const command_entry commands[] = {
     {subcommand::move, "move"},       {subcommand::jog, "jog"},       {subcommand::brake, "brake"},
     {subcommand::stop, "stop"},       {subcommand::status, "status"}, {subcommand::in, "in"},
     {subcommand::out, "out"},         {subcommand::keys, "keys"},     {subcommand::sweep, "sweep"},
-    {subcommand::monitor, "monitor"}, {subcommand::run, "run"},       {subcommand::help, "help"},
+    {subcommand::monitor, "monitor"}, {subcommand::run, "run"},       {subcommand::timing, "timing"},
+    {subcommand::mode, "mode"},       {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -183,6 +189,28 @@ milliseconds parse_time(const std::string &text, const std::string &prefix) {
   const long v = parse_number(text, prefix + "time");
   if (v < 0) throw usage_error(prefix + "time " + text + " out of range: use 0 ms or more");
   return milliseconds(v);
+}
+
+// A step time of `timing`: 0..1 ms; a pulse 0 (symmetric clock) or at least 1 us.
+std::chrono::nanoseconds parse_ns(const std::string &text, const std::string &what, bool pulse,
+                                  const std::string &prefix) {
+  const long v = parse_number(text, prefix + what);
+  if (pulse && (v < 0 || v > timing_max_ns || (v != 0 && v < pulse_min_ns)))
+    throw usage_error(prefix + what + " " + text + " out of range: use 0 (symmetric clock) or " +
+                      std::to_string(pulse_min_ns) + " to " + std::to_string(timing_max_ns) + " ns");
+  if (v < 0 || v > timing_max_ns)
+    throw usage_error(prefix + what + " " + text + " out of range: use 0 to " +
+                      std::to_string(timing_max_ns) + " ns");
+  return std::chrono::nanoseconds(v);
+}
+
+x4step::output_mode parse_mode(const std::string &text, const std::string &prefix) {
+  std::string names;
+  for (const auto m : output_modes) {
+    if (text == mode_name(m)) return m;
+    names += std::string(names.empty() ? "" : ", ") + mode_name(m);
+  }
+  throw usage_error(prefix + "no mode '" + text + "': use " + names);
 }
 
 void need_operands(const split_result &r, size_t min, size_t max, const std::string &prefix) {
@@ -250,6 +278,13 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("check", 'c', false, opt_check);
       add("echo", 'e', false, opt_echo);
       break;
+    case subcommand::timing:
+      add("pulse", 0, true, opt_pulse);
+      add("space", 0, true, opt_space);
+      add("setup", 0, true, opt_setup);
+      add("hold", 0, true, opt_hold);
+      add("json", 'j', false, opt_json);
+      break;
     default:
       break;
   }
@@ -288,6 +323,18 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.moves = n;
         break;
       }
+      case opt_pulse:
+        c.pulse = parse_ns(o.value, "pulse", true, prefix);
+        break;
+      case opt_space:
+        c.space = parse_ns(o.value, "space", false, prefix);
+        break;
+      case opt_setup:
+        c.dir_setup = parse_ns(o.value, "setup", false, prefix);
+        break;
+      case opt_hold:
+        c.dir_hold = parse_ns(o.value, "hold", false, prefix);
+        break;
       default:
         break;
     }
@@ -362,6 +409,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) c.file = ops[0];
       break;
+    case subcommand::mode:
+      need_operands(r, 0, 1, prefix);
+      if (!ops.empty()) c.mode = parse_mode(ops[0], prefix);
+      break;
     case subcommand::help:
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) {
@@ -370,7 +421,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.topic = *t;
       }
       break;
-    default:  // brake, stop, status, in, monitor
+    default:  // brake, stop, status, in, monitor, timing
       need_operands(r, 0, 0, prefix);
       break;
   }
@@ -485,6 +536,9 @@ std::string help_text(subcommand c) {
              "                       frequency sweep of one axis, to find resonances\n"
              "  monitor              follow the moves on the port, read-only\n"
              "  run [FILE]           run test program commands from FILE or standard input\n"
+             "  timing               show or set the step signal timing (pulse, space, ...)\n"
+             "  mode [MODE]          show or set the output mode: clock-dir, or smc-phase and\n"
+             "                       smc-hold for SMC800/SMC1500 boards\n"
              "  help [COMMAND]       show the help of a command\n"
              "\n"
              "Run 'x4ctl COMMAND --help' for the options of a command.\n"
@@ -622,6 +676,48 @@ std::string help_text(subcommand c) {
              "  -c, --check          only check the script; do not open the port\n"
              "  -e, --echo           print each command after the prompt before it runs\n" +
              std::string(port_help) + "\n" + language_help();
+    case subcommand::timing:
+      return "Usage: x4ctl timing [OPTIONS]\n"
+             "\n"
+             "Show the step signal timing of the port, or change the times given (the\n"
+             "others stay) and show the result. The module keeps the timing for the port\n"
+             "after x4ctl exits, until it is set again. Every time is a minimum, in ns.\n"
+             "\n"
+             "Options:\n"
+             "      --pulse=NS       clock high time: 0 (symmetric clock, half a period high,\n"
+             "                       as X4Step does) or 1000..1000000 ns\n"
+             "      --space=NS       minimum clock low time, 0..1000000 ns\n"
+             "      --setup=NS       directions out before the first step, 0..1000000 ns\n"
+             "                       (X4Step: 100000)\n"
+             "      --hold=NS        directions kept after the last step, 0..1000000 ns\n"
+             "  -j, --json           one JSON object instead of text\n" +
+             std::string(port_help) +
+             "\n"
+             "A move or jog whose frequency leaves no room for pulse + space (with the\n"
+             "symmetric clock: for space in half a period) is refused later by the module\n"
+             "with \"frequency too high\"; 'max freq' shows the limit. In the smc-phase and\n"
+             "smc-hold modes (see 'x4ctl mode') pulse and space do not apply.\n"
+             "\n"
+             "Exit status: 0 done; 1 the port refused, or another program holds it;\n"
+             "2 bad usage (a time out of range: nothing changed).\n"
+             "Example: x4ctl timing --pulse 10000 --space 40000   (moves up to 20000 Hz)\n";
+    case subcommand::mode:
+      return "Usage: x4ctl mode [OPTIONS] [clock-dir|smc-phase|smc-hold]\n"
+             "\n"
+             "Show or set how the port drives its motors. The module keeps the mode for\n"
+             "the port after x4ctl exits, until it is set again.\n"
+             "  clock-dir   a clock and a direction signal per axis (X4Step, the default)\n"
+             "  smc-phase   half-step phase patterns for SMC800/SMC1500 boards, which have\n"
+             "              no clock and direction inputs; motors off at rest\n"
+             "  smc-hold    the same, with reduced holding current at rest\n"
+             "The SMC boards drive three motors: in smc-phase and smc-hold, moves of axis 4\n"
+             "are refused, and the pulse and space of 'x4ctl timing' do not apply.\n"
+             "\n"
+             "Options:\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 done; 1 the port refused, or another program holds it;\n"
+             "2 bad usage.\n";
   }
   return "";
 }

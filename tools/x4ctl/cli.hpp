@@ -39,6 +39,8 @@ enum class subcommand {
   sweep,
   monitor,
   run,
+  timing,
+  mode,
   help
 };
 
@@ -58,7 +60,7 @@ struct config {
   bool wait = false;
   int sweep_from = 0, sweep_to = 0, sweep_step = 0;
 
-  bool json = false;   ///< status
+  bool json = false;   ///< status, timing
   bool watch = false;  ///< in
   x4step::signal signal = x4step::signal::one;
   bool level = false;         ///< out
@@ -67,6 +69,10 @@ struct config {
   std::string file = "-";     ///< run; "-" is stdin
   bool check = false;         ///< run: check the script, move nothing
   bool echo = false;          ///< run: print each command
+
+  /// timing: the times to change (read, modify, write); none given: only show.
+  std::optional<std::chrono::nanoseconds> pulse, space, dir_setup, dir_hold;
+  std::optional<x4step::output_mode> mode;  ///< mode: the one to set; none: only show
 };
 
 /// Parses and checks the whole command line (values too, without a device).
@@ -94,6 +100,10 @@ std::string message(x4step::errc e);
 int default_ramp_ms(int freq_hz);
 
 constexpr int default_freq_hz = 1000;
+
+/// Any configured step time is at most 1 ms; a pulse that is not 0 at least 1 us.
+constexpr long timing_max_ns = 1000000;
+constexpr long pulse_min_ns = 1000;
 
 }  // namespace x4ctl
 

@@ -75,7 +75,7 @@ int cmd_move(const config &c) {
   std_console con(c.wait);
   std::cout << "move: " << describe_move(c.move) << "\n" << std::flush;
   if (!c.wait) {
-    p.load(c.move);
+    load_move(p, c.move);
     p.start();
     hold_in_background(p, steps_of(c.move), std::nullopt);
     return 0;  // the background process, after the move
@@ -94,7 +94,7 @@ int cmd_jog(const config &c) {
             << (c.time ? ", for " + std::to_string(c.time->count()) + " ms" : "") << "\n"
             << std::flush;
   if (!c.wait) {
-    p.move_endless(c.axis, c.dir, c.move.freq_hz, c.move.ramp);
+    start_endless(p, c.axis, c.dir, c.move.freq_hz, c.move.ramp);
     hold_in_background(p, std::nullopt, deadline_of(c));
     return 0;
   }
@@ -221,6 +221,18 @@ int cmd_monitor(const config &c) {
   return 0;
 }
 
+int cmd_timing(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  timing_command(p, c, std::cout);
+  return 0;
+}
+
+int cmd_mode(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  mode_command(p, c, std::cout);
+  return 0;
+}
+
 struct script_line {
   int number;
   command cmd;
@@ -335,6 +347,10 @@ int dispatch(const config &c) {
       return cmd_monitor(c);
     case subcommand::run:
       return cmd_run(c);
+    case subcommand::timing:
+      return cmd_timing(c);
+    case subcommand::mode:
+      return cmd_mode(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;
@@ -343,6 +359,31 @@ int dispatch(const config &c) {
 }
 
 }  // namespace
+
+void timing_command(port &p, const config &c, std::ostream &out) {
+  x4step::step_timing t = p.get_step_timing();
+  if (c.pulse || c.space || c.dir_setup || c.dir_hold) {
+    if (c.pulse) t.pulse = *c.pulse;
+    if (c.space) t.space = *c.space;
+    if (c.dir_setup) t.dir_setup = *c.dir_setup;
+    if (c.dir_hold) t.dir_hold = *c.dir_hold;
+    p.set_step_timing(t);
+    t = p.get_step_timing();  // what the port took
+  }
+  const x4step::output_mode m = p.get_config().mode;
+  const std::string dev = device_of(c);
+  out << (c.json ? timing_json(t, m, dev) + "\n" : timing_text(t, m, dev));
+}
+
+void mode_command(port &p, const config &c, std::ostream &out) {
+  x4step::config k = p.get_config();
+  if (c.mode) {
+    k.mode = *c.mode;  // the inversions and key settings stay
+    p.set_config(k);
+    k = p.get_config();
+  }
+  out << mode_text(k.mode) << "\n";
+}
 
 int run_main(const std::vector<std::string> &args) {
   config c;

@@ -3,8 +3,12 @@
 #ifndef X4CTL_COMMANDS_HPP
 #define X4CTL_COMMANDS_HPP
 
+#include <ostream>
 #include <string>
 #include <vector>
+
+#include "cli.hpp"
+#include "io.hpp"
 
 namespace x4ctl {
 
@@ -12,6 +16,14 @@ namespace x4ctl {
 /// std::cout, messages on std::cerr. Returns the exit status: 0 success,
 /// 1 the port refused or a move did not reach its target, 2 bad usage.
 int run_main(const std::vector<std::string> &args);
+
+/// `x4ctl timing` on an open port: changes the times c gives, keeping the
+/// others (read, modify, write), and writes the timing the port then has.
+void timing_command(port &p, const config &c, std::ostream &out);
+
+/// `x4ctl mode` on an open port: sets c.mode if given, keeping the rest of
+/// the port's configuration, and writes the mode the port then has.
+void mode_command(port &p, const config &c, std::ostream &out);
 
 }  // namespace x4ctl
 

@@ -30,6 +30,11 @@ class port {
   virtual bool wait(milliseconds timeout) const = 0;
   virtual void set_output(x4step::signal s, bool high) = 0;
   virtual void set_brake_codes(const std::vector<int> &codes) = 0;
+  /// Per-port settings; the module keeps them after the port is closed.
+  virtual void set_config(const x4step::config &c) = 0;
+  virtual x4step::config get_config() const = 0;
+  virtual void set_step_timing(const x4step::step_timing &t) = 0;
+  virtual x4step::step_timing get_step_timing() const = 0;
 };
 
 /// A port that is a real x4step::controller.
@@ -47,6 +52,10 @@ class controller_port : public port {
   bool wait(milliseconds timeout) const override { return c_.wait(timeout); }
   void set_output(x4step::signal s, bool high) override { c_.set_output(s, high); }
   void set_brake_codes(const std::vector<int> &codes) override { c_.set_brake_codes(codes); }
+  void set_config(const x4step::config &c) override { c_.set_config(c); }
+  x4step::config get_config() const override { return c_.get_config(); }
+  void set_step_timing(const x4step::step_timing &t) override { c_.set_step_timing(t); }
+  x4step::step_timing get_step_timing() const override { return c_.get_step_timing(); }
 
  private:
   x4step::controller c_;

@@ -405,8 +405,8 @@ void interpreter::cursor() {
       if (moving && dir != moving) brake_quietly(*port_);
       if (moving != dir) {
         settle();
-        port_->move_endless(axis_, dir > 0 ? x4step::direction::positive : x4step::direction::negative,
-                            v.freq_hz, milliseconds(v.ramp_ms));
+        start_endless(*port_, axis_, dir > 0 ? x4step::direction::positive : x4step::direction::negative,
+                      v.freq_hz, milliseconds(v.ramp_ms));
         moving = dir;
         pending = true;
         release_at = now + first_hold;

@@ -3,6 +3,9 @@
 #include "motion.hpp"
 
 #include <cstdlib>
+#include <string>
+
+#include "cli.hpp"
 
 namespace x4ctl {
 namespace {
@@ -17,7 +20,48 @@ void halt(F &&f) {
   }
 }
 
+// Why the port refused a move of the axes (bits 0..3) at freq_hz with
+// e, if its settings are the reason; rethrows e otherwise. Only called
+// while e is being handled.
+[[noreturn]] void explain(const port &p, const x4step::error &e, unsigned axes, int freq_hz) {
+  if (e.code() == x4step::errc::param_fail && (axes & 8u)) {
+    const x4step::output_mode m = p.get_config().mode;
+    if (m != x4step::output_mode::clock_dir)
+      throw failure(std::string("axis 4 cannot move in ") + mode_name(m) +
+                    " mode: the SMC800/SMC1500 boards drive axes 1 to 3 ('x4ctl mode clock-dir' for " +
+                    "clock and direction signals)");
+  }
+  if (e.code() == x4step::errc::freq_too_high && freq_hz <= x4step::freq_max_hz) {
+    const x4step::output_mode m = p.get_config().mode;
+    const x4step::step_timing t = p.get_step_timing();
+    if (const int max = max_freq_hz(t, m); freq_hz > max)
+      throw failure("frequency too high for the step timing: " + std::to_string(freq_hz) + " Hz, but pulse " +
+                    std::to_string(t.pulse.count()) + " ns and space " + std::to_string(t.space.count()) +
+                    " ns allow at most " + std::to_string(max) + " Hz ('x4ctl timing' changes them)");
+  }
+  throw;  // e, as it was
+}
+
 }  // namespace
+
+void load_move(port &p, const x4step::move &m) {
+  try {
+    p.load(m);
+  } catch (const x4step::error &e) {
+    unsigned axes = 0;
+    for (int i = 0; i < x4step::axes; i++)
+      if (m.steps[i]) axes |= 1u << i;
+    explain(p, e, axes, m.freq_hz);
+  }
+}
+
+void start_endless(port &p, int axis, x4step::direction dir, int freq_hz, milliseconds ramp) {
+  try {
+    p.move_endless(axis, dir, freq_hz, ramp);
+  } catch (const x4step::error &e) {
+    explain(p, e, 1u << (axis - 1), freq_hz);
+  }
+}
 
 void brake_quietly(port &p) {
   halt([&] { p.brake(); });
@@ -102,14 +146,14 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
 }
 
 outcome run_move(port &p, console &con, const x4step::move &m, deadline until) {
-  p.load(m);
+  load_move(p, m);
   p.start();
   return follow(p, con, steps_of(m), until);
 }
 
 outcome run_endless(port &p, console &con, int axis, x4step::direction dir, int freq_hz, milliseconds ramp,
                     deadline until) {
-  p.move_endless(axis, dir, freq_hz, ramp);
+  start_endless(p, axis, dir, freq_hz, ramp);
   return follow(p, con, std::nullopt, until);
 }
 

@@ -26,6 +26,12 @@ struct outcome {
   std::string halted_by;   ///< why it ended early ("ESC", "time up", ...); empty if completed
 };
 
+/// p.load(m), and p.move_endless(...), with the refusals that depend on the
+/// port's settings explained: a move of axis 4 in a phase mode, a frequency
+/// the step timing cannot fit. Those throw failure; other errors pass.
+void load_move(port &p, const x4step::move &m);
+void start_endless(port &p, int axis, x4step::direction dir, int freq_hz, milliseconds ramp);
+
 /// Loads and starts m and follows it until it ends. ESC, Ctrl-C, a brake
 /// request or the deadline brake it; a stop request stops it.
 outcome run_move(port &p, console &con, const x4step::move &m, deadline until = std::nullopt);

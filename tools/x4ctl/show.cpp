@@ -97,4 +97,58 @@ std::string status_json(const x4step::status &s, const std::string &device) {
   return o.str();
 }
 
+const char *mode_name(x4step::output_mode m) {
+  switch (m) {
+    case x4step::output_mode::clock_dir:
+      return "clock-dir";
+    case x4step::output_mode::smc_phase:
+      return "smc-phase";
+    case x4step::output_mode::smc_phase_hold:
+      return "smc-hold";
+  }
+  return "unknown";
+}
+
+std::string mode_text(x4step::output_mode m) {
+  switch (m) {
+    case x4step::output_mode::clock_dir:
+      return "clock-dir: clock and direction signals per axis (X4Step)";
+    case x4step::output_mode::smc_phase:
+      return "smc-phase: SMC800/SMC1500 half-step phase drive of axes 1..3, motors off at rest";
+    case x4step::output_mode::smc_phase_hold:
+      return "smc-hold: SMC800/SMC1500 half-step phase drive of axes 1..3, reduced holding current at rest";
+  }
+  return "mode " + std::to_string(static_cast<int>(m)) + ": unknown to this x4ctl";
+}
+
+int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m) {
+  // The module's check: pulse + space within the period, or with the
+  // symmetric clock the space within half of it (integer nanoseconds).
+  const long long need = t.pulse.count() ? t.pulse.count() + t.space.count() : 2 * t.space.count();
+  if (m != x4step::output_mode::clock_dir || need <= 0) return x4step::freq_max_hz;
+  return static_cast<int>(std::min<long long>(x4step::freq_max_hz, 1000000000LL / need));
+}
+
+std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, const std::string &device) {
+  const bool phase = m != x4step::output_mode::clock_dir;
+  std::ostringstream o;
+  o << "device       " << device << "\n"
+    << "pulse        " << t.pulse.count() << " ns" << (t.pulse.count() ? "" : " (symmetric clock)") << "\n"
+    << "space        " << t.space.count() << " ns\n"
+    << "dir setup    " << t.dir_setup.count() << " ns\n"
+    << "dir hold     " << t.dir_hold.count() << " ns\n"
+    << "max freq     " << max_freq_hz(t, m) << " Hz"
+    << (phase ? std::string(" (") + mode_name(m) + " mode: pulse and space do not apply)" : "") << "\n";
+  return o.str();
+}
+
+std::string timing_json(const x4step::step_timing &t, x4step::output_mode m, const std::string &device) {
+  std::ostringstream o;
+  o << "{\"device\":" << json_string(device) << ",\"pulse_ns\":" << t.pulse.count()
+    << ",\"space_ns\":" << t.space.count() << ",\"dir_setup_ns\":" << t.dir_setup.count()
+    << ",\"dir_hold_ns\":" << t.dir_hold.count() << ",\"mode\":" << json_string(mode_name(m))
+    << ",\"max_freq_hz\":" << max_freq_hz(t, m) << "}";
+  return o.str();
+}
+
 }  // namespace x4ctl

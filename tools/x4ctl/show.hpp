@@ -29,6 +29,21 @@ std::string status_json(const x4step::status &s, const std::string &device);
 /// A JSON string literal.
 std::string json_string(const std::string &s);
 
+/// Every output mode, in the order the help lists them.
+constexpr x4step::output_mode output_modes[] = {
+    x4step::output_mode::clock_dir, x4step::output_mode::smc_phase, x4step::output_mode::smc_phase_hold};
+/// "clock-dir", "smc-phase", "smc-hold": the names on the command line.
+const char *mode_name(x4step::output_mode m);
+/// One line of `x4ctl mode`: "smc-phase: SMC800/SMC1500 half-step phase drive, ...".
+std::string mode_text(x4step::output_mode m);
+/// The highest frequency whose period fits the timing (at most 20000 Hz);
+/// the phase modes have no pulse, so no limit but that.
+int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m);
+/// Multi-line text of `x4ctl timing`.
+std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, const std::string &device);
+/// One line of JSON for `x4ctl timing --json`.
+std::string timing_json(const x4step::step_timing &t, x4step::output_mode m, const std::string &device);
+
 }  // namespace x4ctl
 
 #endif  // X4CTL_SHOW_HPP
