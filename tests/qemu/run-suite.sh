@@ -29,6 +29,7 @@ tests=(
 	"cpp|tests/guest/cpp.sh|$g/cpp_test||tests/qemu/check-segments.sh"
 	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
 	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
+	"reliability|tests/guest/reliability.sh|$g/reliability_test||tests/qemu/check-segments.sh"
 	"phase|tests/guest/phase.sh|$g/phase_test||tests/qemu/check-phase.sh"
 	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl||"
 	"x4ctl-keys|tests/x4ctl/guest-x4ctl-keys.sh|$g/x4ctl|--monitor @KOUT@/mon.sock|"
