@@ -27,7 +27,8 @@ tests/guest/build.sh "$top/build/guest" >>"$out/build.log" 2>&1 || { cat "$out/b
 cat >"$out/guest.sh" <<'GUEST'
 insmod "$X4MOD/x4step.ko" || exit 1
 set -x
-x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --then -1000 -800 -600 -400 --wait
+echo
+x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --then -1000 -800 -600 -400 --wait | cat
 x4ctl status
 GUEST
 
@@ -35,7 +36,7 @@ echo "== booting Linux $kver in QEMU with an emulated parallel port"
 tests/qemu/run-guest.sh --kver "$kver" --out "$out/qemu" --module "$src/kmod/x4step.ko" \
 	--bin "$top/build/guest/x4ctl" "$out/guest.sh" >"$out/qemu.log" 2>&1 ||
 	{ tail -n 30 "$out/qemu.log"; exit 1; }
-tr -d '\r' <"$out/qemu/console.log" | grep -v -e '^\[' -e SeaBIOS -e 'Booting from' | sed -n '/x4ctl/,$p'
+tr -d '\r' <"$out/qemu/console.log" | sed -n '/^+ x4ctl/,/X4GUEST-EXIT/p' | grep -v X4GUEST-EXIT
 
 trace=$out/qemu/lpt-test.log
 x4trace=$top/build/tools/x4trace

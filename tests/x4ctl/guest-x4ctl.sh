@@ -146,6 +146,51 @@ check bad-move-number 2 '' "move: steps 'abc' is not a whole number" x4ctl move 
 check bad-move-axes 2 '' "move: unexpected argument '5'" x4ctl move 1 2 3 4 5
 check move-default-ramp 0 'at 20 Hz, ramp 20 ms' '' x4ctl move 1 --freq 20 --wait
 
+# ---- move --then: the X4Step manual's first example (X4Load, X4Start, X4Load while
+# the move runs, X4Start when it ends), and longer sequences ------------------------------
+ended=$(field moves_ended)
+check move-then 0 '^done: -1000 -800 -600 -400$' '' \
+	x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --then -1000 -800 -600 -400 --wait
+has move-then-first "$out" '^done: 1000 800 600 400$'
+has move-then-header "$out" '^move 1 of 2: 1000 800 600 400 at 1000 Hz, ramp 50 ms$'
+has move-then-second "$out" '^move 2 of 2: -1000 -800 -600 -400 at 1000 Hz, ramp 50 ms$'
+expect_field move-then-steps steps '[-1000,-800,-600,-400]'
+expect_field move-then-two-moves moves_ended "$((ended + 2))"
+expect_field move-then-released controlled false
+expect_field move-then-nothing-loaded loaded false
+ended=$(field moves_ended)
+check move-then-two 0 '^done: -100 -50 0 0$' '' \
+	x4ctl move 200 --freq 4000 --ramp 10 --then -100 50 --then -100 -50 --wait
+has move-then-two-first "$out" '^done: 200 0 0 0$'
+has move-then-two-second "$out" '^done: -100 50 0 0$'
+has move-then-two-third "$out" '^move 3 of 3: -100 -50 0 0 at 4000 Hz, ramp 10 ms$'
+expect_field move-then-two-steps steps '[-100,-50,0,0]'
+expect_field move-then-two-moves moves_ended "$((ended + 3))"
+# In the background: the second move is loaded while the first runs, and started by the holder.
+ended=$(field moves_ended)
+check move-then-background 0 'running in the background as PID' '' \
+	x4ctl move 600 --freq 1000 --ramp 20 --then -600 0 0 7
+has move-then-background-second "$out" '^move 2 of 2: -600 0 0 7 at 1000 Hz, ramp 20 ms$'
+usleep 200000
+expect_field move-then-background-active active true
+expect_field move-then-background-preloaded loaded true
+if settle 100; then pass move-then-background-ends; else fail move-then-background-ends "still running"; fi
+expect_field move-then-background-steps steps '[-600,0,0,7]'
+expect_field move-then-background-moves moves_ended "$((ended + 2))"
+# Bad values after --then: exit 2 before the port is opened, nothing moves.
+ended=$(field moves_ended)
+check bad-move-then-number 2 '' "^x4ctl: move: --then steps 'x' is not a whole number$" \
+	x4ctl move 100 --then x --wait
+check bad-move-then-second 2 '' "move: --then steps '1.5' is not a whole number" \
+	x4ctl move 100 --then -100 --then 1.5 --wait
+check bad-move-then-steps 2 '' 'move: --then path too long: at most 16777216 steps' \
+	x4ctl move 100 --then 16777217 --wait
+check bad-move-then-nosteps 2 '' 'move: --then no steps' x4ctl move 100 --then 0 0
+check bad-move-then-axes 2 '' "move: --then: unexpected argument '5'" x4ctl move 100 --then 1 2 3 4 5
+check bad-move-then-missing 2 '' "move: option '--then' needs a value" x4ctl move 100 --then
+expect_field bad-move-then-nothing-moved moves_ended "$ended"
+expect_field bad-move-then-idle active false
+
 # ---- brake and stop from another shell ---------------------------------------------
 check brake-idle 1 '' '^x4ctl: brake: no move is running$' x4ctl brake
 check stop-idle 1 '' '^x4ctl: stop: no move is running$' x4ctl stop
@@ -155,6 +200,34 @@ expect_field brake-running active true
 check brake-busy 1 '' 'move: /dev/x4step0: port busy: PID [0-9]* (x4ctl) controls it' x4ctl move 10 --wait
 check brake 0 '^braked: [1-9][0-9]* 0 0 0$' '' x4ctl brake
 if settle 50; then pass brake-released; else fail brake-released "port still held"; fi
+# A braked move of a sequence ends it: the moves after it do not start, exit 1.
+ended=$(field moves_ended)
+x4ctl move 1000000 --freq 1000 --ramp 50 --then -10 --then 10 --wait >"$tmp/seq.out" 2>"$tmp/seq.err" &
+pid=$!
+usleep 500000
+x4ctl brake >/dev/null 2>&1
+wait "$pid"
+rc=$?
+if [ "$rc" = 1 ] &&
+	grep -q '^x4ctl: move: move 1 of 3: halted (brake request) at [0-9]* of 1000000 steps: [0-9]* 0 0 0; moves 2 to 3 not started$' "$tmp/seq.err" &&
+	! grep -q '^done' "$tmp/seq.out"; then
+	pass then-braked-ends-sequence
+else
+	fail then-braked-ends-sequence "exit $rc: $(show "$tmp/seq.err")"
+fi
+settle 50
+expect_field then-braked-one-move moves_ended "$((ended + 1))"
+steps=$(field steps)
+case "$steps" in \[[1-9]*,0,0,0\]) pass then-braked-steps ;; *) fail then-braked-steps "$steps" ;; esac
+# The same in the background: 'x4ctl brake' ends the sequence the holder runs.
+ended=$(field moves_ended)
+check then-brake-start 0 'running in the background' '' x4ctl move 1000000 --freq 1000 --then -10
+usleep 300000
+check then-brake 0 '^braked: [1-9][0-9]* 0 0 0$' '' x4ctl brake
+if settle 50; then pass then-brake-released; else fail then-brake-released "port still held"; fi
+expect_field then-brake-one-move moves_ended "$((ended + 1))"
+steps=$(field steps)
+case "$steps" in \[[1-9]*,0,0,0\]) pass then-brake-steps ;; *) fail then-brake-steps "$steps" ;; esac
 check stop-start 0 'running in the background' '' x4ctl jog 4 - --freq 1000
 usleep 300000
 check stop 0 '^stopped: 0 0 0 -[1-9][0-9]*$' '' x4ctl stop

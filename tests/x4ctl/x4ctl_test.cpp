@@ -123,6 +123,59 @@ TEST(Cli, MoveErrorsInTheLibrarysWords) {
   EXPECT_NO_THROW(parse({"move", "16777216", "-16777216"}));
 }
 
+// The X4Step manual's first example: the way back preloaded while the first move runs.
+TEST(Cli, MoveThen) {
+  config c = parse({"move", "1000", "800", "600", "400", "--freq", "1000", "--ramp", "50", "--then", "-1000",
+                    "-800", "-600", "-400", "--wait"});
+  EXPECT_EQ(c.move.steps, (std::array<long, 4>{1000, 800, 600, 400}));
+  ASSERT_EQ(c.then.size(), 1u);
+  EXPECT_EQ(c.then[0].steps, (std::array<long, 4>{-1000, -800, -600, -400}));
+  EXPECT_EQ(c.then[0].freq_hz, 1000);
+  EXPECT_EQ(c.then[0].ramp, milliseconds(50));
+  EXPECT_TRUE(c.wait);
+
+  // Repeatable; missing axes stay; --freq and --ramp apply to every move, wherever they stand.
+  c = parse({"move", "--then", "-5", "--then=3", "0", "7", "-f", "2000", "5", "--ramp=10"});
+  EXPECT_EQ(c.move.steps, (std::array<long, 4>{5, 0, 0, 0}));
+  ASSERT_EQ(c.then.size(), 2u);
+  EXPECT_EQ(c.then[0].steps, (std::array<long, 4>{-5, 0, 0, 0}));
+  EXPECT_EQ(c.then[1].steps, (std::array<long, 4>{3, 0, 7, 0}));
+  for (const auto &m : c.then) {
+    EXPECT_EQ(m.freq_hz, 2000);
+    EXPECT_EQ(m.ramp, milliseconds(10));
+  }
+  EXPECT_FALSE(c.wait);
+  // The default ramp follows the frequency for them too.
+  EXPECT_EQ(parse({"move", "1", "--then", "-1", "--freq", "20"}).then.at(0).ramp, milliseconds(20));
+  // "--" ends the path of --then as it ends the options.
+  c = parse({"move", "--then", "1", "2", "--", "-3"});
+  EXPECT_EQ(c.then.at(0).steps, (std::array<long, 4>{1, 2, 0, 0}));
+  EXPECT_EQ(c.move.steps, (std::array<long, 4>{-3, 0, 0, 0}));
+  EXPECT_TRUE(parse({"move", "1"}).then.empty());
+}
+
+TEST(Cli, MoveThenErrors) {
+  EXPECT_EQ(usage_message({"move", "1", "--then", "abc"}), "move: --then steps 'abc' is not a whole number");
+  EXPECT_EQ(usage_message({"move", "1", "--then", "5", "x"}), "move: --then steps 'x' is not a whole number");
+  EXPECT_EQ(usage_message({"move", "1", "--then", "16777217"}),
+            "move: --then path too long: at most 16777216 steps per axis");
+  EXPECT_EQ(usage_message({"move", "1", "--then", "0", "0"}),
+            "move: --then no steps: give at least one axis a non-zero path");
+  EXPECT_EQ(usage_message({"move", "1", "--then", "1", "2", "3", "4", "5"}),
+            "move: --then: unexpected argument '5'");
+  EXPECT_EQ(usage_message({"move", "1", "--then"}), "move: option '--then' needs a value");
+  EXPECT_EQ(usage_message({"move", "1", "--then", "--wait"}),
+            "move: --then steps '--wait' is not a whole number");
+  // The second --then is checked like the first, and the first path as ever.
+  EXPECT_EQ(usage_message({"move", "1", "--then", "-1", "--then", "1.5"}),
+            "move: --then steps '1.5' is not a whole number");
+  EXPECT_EQ(usage_message({"move", "--then", "1"}), "move: missing arguments");
+  EXPECT_EQ(usage_message({"move", "1", "--then", "1", "--freq", "10", "--ramp", "20"}),
+            "move: ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)");
+  EXPECT_EQ(usage_message({"jog", "1", "+", "--then", "1"}), "jog: unknown option '--then'");
+  EXPECT_TRUE(parse({"move", "--then", "x", "--help"}).help);
+}
+
 TEST(Cli, Jog) {
   config c = parse({"jog", "3", "-", "--freq", "500", "--time", "250"});
   EXPECT_EQ(c.axis, 3);
@@ -257,7 +310,8 @@ TEST(Cli, HelpTexts) {
        {"--port", "--device", "--help", "--version", "move", "jog", "brake", "stop", "status", "in", "out",
         "keys", "sweep", "monitor", "run", "timing", "mode [MODE]", "smc-phase", "Exit status"}},
       {subcommand::move,
-       {"--freq", "--ramp", "--wait", "--port", "--device", "--help", "Exit status", "background"}},
+       {"--freq", "--ramp", "--wait", "--then", "--port", "--device", "--help", "Exit status", "background",
+        "preload", "the rest do not start"}},
       {subcommand::jog, {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
       {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
@@ -350,6 +404,17 @@ TEST(Main, UsageErrorsExit2WithAHint) {
   r = run({"fly"});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err, "x4ctl: unknown command 'fly'\nTry 'x4ctl --help'.\n");
+}
+
+// A bad path after --then is found before the device is opened: nothing moves.
+TEST(Main, MoveThenUsageErrorsExit2) {
+  captured r = run({"-d", "/nonexistent/x4step9", "move", "100", "--then", "-100", "--then", "x", "--wait"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err, "x4ctl: move: --then steps 'x' is not a whole number\nTry 'x4ctl move --help'.\n");
+  r = run({"-d", "/nonexistent/x4step9", "move", "100", "--then", "-100", "--wait"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: move: /nonexistent/x4step9: port not found")) << r.err;
 }
 
 // Bad times and modes are found before the device is opened: exit 2, not 1.
@@ -519,6 +584,8 @@ TEST(Language, Lines) {
 class fake_port : public port {
  public:
   std::vector<x4step::move> loads;
+  std::vector<bool> loaded_while_active;  // per load: a move ran then (a preload)
+  std::vector<step_counts> started;       // the steps of each move started, in order
   int starts = 0, brakes = 0, stops = 0;
   std::vector<std::tuple<int, x4step::direction, int, long long>> endless;  // axis, dir, freq, ramp ms
   std::vector<std::pair<x4step::signal, bool>> outputs;
@@ -532,14 +599,17 @@ class fake_port : public port {
     refuse(m.freq_hz, m.steps[3] != 0);
     if (loaded_) throw x4step::error(x4step::make_error_code(x4step::errc::is_loaded));
     loads.push_back(m);
+    loaded_while_active.push_back(s_.active);
     loaded_ = true;
   }
   void start() override {
     if (!loaded_) throw x4step::error(x4step::make_error_code(x4step::errc::not_loaded));
+    if (s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
     loaded_ = false;
     starts++;
     begin(false);
     target_ = steps_of(loads.back());
+    started.push_back(target_);
   }
   void brake() override {
     if (!s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
@@ -561,6 +631,7 @@ class fake_port : public port {
   x4step::status get_status() const override {
     x4step::status s = s_;
     s.inputs = inputs;
+    s.loaded = loaded_;
     return s;
   }
   bool wait(milliseconds timeout) const override {
@@ -790,6 +861,145 @@ TEST(Interpreter, BackAndForth) {
   EXPECT_EQ(p.loads[0].freq_hz, 5000);
   EXPECT_EQ(p.loads[0].ramp, milliseconds(100));
   EXPECT_TRUE(contains(con.text.str(), "T: 3 moves, then halted (ESC)")) << con.text.str();
+}
+
+// ---- move --then: a sequence of moves, each preloaded while the one before runs ----------
+
+std::vector<x4step::move> manual_example() {
+  const milliseconds ramp(50);
+  return {{{1000, 800, 600, 400}, 1000, ramp}, {{-1000, -800, -600, -400}, 1000, ramp}};
+}
+
+TEST(Sequence, PreloadsWhileThePreviousMoveRuns) {
+  fake_console con;
+  fake_port p;
+  auto moves = manual_example();
+  moves.push_back({{0, 0, 5, 0}, 1000, milliseconds(50)});
+  start_moves(p, moves);
+  // X4Load, X4Start, X4Load while the first move runs.
+  EXPECT_EQ(p.starts, 1);
+  ASSERT_EQ(p.loads.size(), 2u);
+  EXPECT_TRUE(p.get_status().active);
+  EXPECT_TRUE(p.get_status().loaded);
+
+  std::vector<size_t> ended;
+  const auto done = follow_moves(p, con, moves, [&](size_t i, const outcome &o) {
+    ended.push_back(i);
+    EXPECT_TRUE(o.completed) << i;
+    // The next move runs already when the end of this one is reported, the one after it is loaded.
+    EXPECT_EQ(p.starts, static_cast<int>(std::min(i + 2, moves.size()))) << i;
+    EXPECT_EQ(p.get_status().active, i + 1 < moves.size()) << i;
+    EXPECT_EQ(p.get_status().loaded, i + 2 < moves.size()) << i;
+  });
+  EXPECT_EQ(ended, (std::vector<size_t>{0, 1, 2}));
+  ASSERT_EQ(done.size(), 3u);
+  for (size_t i = 0; i < done.size(); i++) {
+    EXPECT_TRUE(done[i].completed) << i;
+    EXPECT_EQ(done[i].end.steps, steps_of(moves[i])) << i;
+  }
+  ASSERT_EQ(p.loads.size(), 3u);
+  for (size_t i = 0; i < 3; i++) {
+    EXPECT_EQ(p.loads[i].steps, moves[i].steps) << i;
+    EXPECT_EQ(p.loads[i].freq_hz, 1000) << i;
+    EXPECT_EQ(p.loads[i].ramp, milliseconds(50)) << i;
+  }
+  // Only the first load found the port idle; every other came while a move ran.
+  EXPECT_EQ(p.loaded_while_active, (std::vector<bool>{false, true, true}));
+  EXPECT_EQ(p.started,
+            (std::vector<step_counts>{steps_of(moves[0]), steps_of(moves[1]), steps_of(moves[2])}));
+  EXPECT_EQ(p.brakes, 0);
+  EXPECT_EQ(p.get_status().steps, steps_of(moves[2]));
+  EXPECT_FALSE(p.get_status().active);
+}
+
+TEST(Sequence, OneMoveIsAPlainMove) {
+  fake_console con;
+  fake_port p;
+  const std::vector<x4step::move> one{{{30, -20, 0, 0}, 2000, milliseconds(10)}};
+  start_moves(p, one);
+  const auto done = follow_moves(p, con, one);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_TRUE(done[0].completed);
+  EXPECT_EQ(p.loads.size(), 1u);
+  EXPECT_EQ(p.starts, 1);
+  EXPECT_EQ(describe(done[0], steps_of(one[0])), "done: 30 -20 0 0");
+}
+
+// A braked move ends the sequence: the moves after it never start.
+TEST(Sequence, ABrakedMoveEndsIt) {
+  for (const key k : {key::esc, key::brake_request, key::interrupt, key::stop_request}) {
+    fake_console con(true);
+    fake_port p;
+    auto moves = manual_example();
+    moves.push_back({{7, 0, 0, 0}, 1000, milliseconds(50)});
+    con.keys.assign(3, key::none);  // the first move: four waits, a key read after each of the first three
+    con.keys.push_back(key::none);
+    con.keys.push_back(k);  // halfway through the second move
+    start_moves(p, moves);
+    const auto done = follow_moves(p, con, moves);
+    ASSERT_EQ(done.size(), 2u) << static_cast<int>(k);
+    EXPECT_TRUE(done[0].completed);
+    EXPECT_FALSE(done[1].completed);
+    EXPECT_FALSE(done[1].halted_by.empty());
+    EXPECT_EQ(p.starts, 2);  // the third was loaded, but never started
+    EXPECT_EQ(p.loads.size(), 3u);
+    EXPECT_EQ(p.started, (std::vector<step_counts>{steps_of(moves[0]), steps_of(moves[1])}));
+    EXPECT_EQ(p.brakes + p.stops, 1);
+    EXPECT_FALSE(p.get_status().active);
+    EXPECT_NE(p.get_status().steps, steps_of(moves[1]));
+  }
+}
+
+// A port on which a brake finds the move at its end (the module says "not active")
+// while the move still completes: the brake request came too late for the move,
+// not for the sequence.
+class late_brake_port : public fake_port {
+ public:
+  void brake() override { throw x4step::error(x4step::make_error_code(x4step::errc::not_active)); }
+};
+
+TEST(Sequence, ALateBrakeRequestStillEndsIt) {
+  fake_console con;
+  late_brake_port p;
+  const auto moves = manual_example();
+  con.keys = {key::none, key::none, key::brake_request};
+  start_moves(p, moves);
+  const auto done = follow_moves(p, con, moves);
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_TRUE(done[0].completed);
+  EXPECT_EQ(done[0].late_halt, "brake request");
+  EXPECT_TRUE(done[0].halted_by.empty());
+  EXPECT_EQ(p.starts, 1);
+}
+
+// A later move the port's settings refuse is found before anything moves.
+TEST(Sequence, RefusedLaterMoveMovesNothing) {
+  fake_port p;
+  p.cfg.mode = x4step::output_mode::smc_phase;
+  const std::vector<x4step::move> moves{{{3, 0, 0, 0}, 1000, milliseconds(0)},
+                                        {{0, 0, 0, 5}, 1000, milliseconds(0)}};
+  try {
+    start_moves(p, moves);
+    FAIL() << "started";
+  } catch (const failure &e) {
+    EXPECT_TRUE(contains(e.what(), "axis 4 cannot move in smc-phase mode")) << e.what();
+  }
+  EXPECT_TRUE(p.loads.empty());
+  EXPECT_EQ(p.starts, 0);
+}
+
+// Should a preload be refused all the same, the running move is braked, not left alone.
+TEST(Sequence, RefusedPreloadBrakesTheRunningMove) {
+  fake_console con;
+  fake_port p;
+  auto moves = manual_example();
+  moves.push_back({{0, 0, 0, 9}, 1000, milliseconds(50)});
+  start_moves(p, moves);
+  p.cfg.mode = x4step::output_mode::smc_phase;  // changed behind x4ctl's back
+  EXPECT_THROW(follow_moves(p, con, moves), failure);
+  EXPECT_EQ(p.starts, 2);
+  EXPECT_EQ(p.brakes, 1);
+  EXPECT_FALSE(p.get_status().active);
 }
 
 TEST(Interpreter, SweepAlternatesDirection) {

@@ -32,6 +32,7 @@ enum opt_id {
   opt_freq,
   opt_ramp,
   opt_wait,
+  opt_then,
   opt_time,
   opt_json,
   opt_watch,
@@ -49,6 +50,7 @@ struct option_spec {
   char short_name;  // 0: none
   bool takes_value;
   opt_id id;
+  bool list = false;  // the words after the value, up to the next option, are values too (--then)
 };
 
 const option_spec common_options[] = {
@@ -61,6 +63,7 @@ struct option_value {
   opt_id id;
   std::string name;  // as written, for messages
   std::string value;
+  std::vector<std::string> more;  // the further values
 };
 
 struct split_result {
@@ -71,6 +74,8 @@ struct split_result {
 bool is_negative_number(const std::string &a) {
   return a.size() > 1 && a[0] == '-' && a[1] >= '0' && a[1] <= '9';
 }
+
+bool is_option(const std::string &a) { return a.size() > 1 && a[0] == '-' && !is_negative_number(a); }
 
 // Splits args[from..] into options and operands. With stop_at_operand, the
 // first operand and everything after it are operands (the global options
@@ -110,14 +115,19 @@ split_result split(const std::vector<std::string> &args, size_t from, const std:
       if (!s) throw usage_error(prefix + "unknown option '--" + name + "'");
       if (!s->takes_value) {
         if (eq != std::string::npos) throw usage_error(prefix + "option '--" + name + "' takes no value");
-        r.options.push_back({s->id, "--" + name, ""});
-      } else if (eq != std::string::npos) {
-        r.options.push_back({s->id, "--" + name, a.substr(eq + 1)});
-      } else if (i + 1 < args.size()) {
-        r.options.push_back({s->id, "--" + name, args[++i]});
-      } else {
-        throw usage_error(prefix + "option '--" + name + "' needs a value");
+        r.options.push_back({s->id, "--" + name, "", {}});
+        continue;
       }
+      option_value v{s->id, "--" + name, "", {}};
+      if (eq != std::string::npos)
+        v.value = a.substr(eq + 1);
+      else if (i + 1 < args.size())
+        v.value = args[++i];
+      else
+        throw usage_error(prefix + "option '--" + name + "' needs a value");
+      // --then 1 -2 3: the words up to the next option are its values too.
+      while (s->list && i + 1 < args.size() && !is_option(args[i + 1])) v.more.push_back(args[++i]);
+      r.options.push_back(std::move(v));
       continue;
     }
     for (size_t k = 1; k < a.size(); k++) {
@@ -125,12 +135,12 @@ split_result split(const std::vector<std::string> &args, size_t from, const std:
       if (!s) throw usage_error(prefix + "unknown option '-" + std::string(1, a[k]) + "'");
       const std::string name = std::string("-") + a[k];
       if (!s->takes_value) {
-        r.options.push_back({s->id, name, ""});
+        r.options.push_back({s->id, name, "", {}});
       } else if (k + 1 < a.size()) {
-        r.options.push_back({s->id, name, a.substr(k + 1)});
+        r.options.push_back({s->id, name, a.substr(k + 1), {}});
         break;
       } else if (i + 1 < args.size()) {
-        r.options.push_back({s->id, name, args[++i]});
+        r.options.push_back({s->id, name, args[++i], {}});
       } else {
         throw usage_error(prefix + "option '" + name + "' needs a value");
       }
@@ -246,12 +256,15 @@ struct motion_options {
 void parse_subcommand(config &c, const std::vector<std::string> &args, size_t from) {
   const std::string prefix = std::string(name_of(c.cmd)) + ": ";
   std::vector<option_spec> specs(std::begin(common_options), std::end(common_options));
-  auto add = [&](const char *name, char s, bool value, opt_id id) { specs.push_back({name, s, value, id}); };
+  auto add = [&](const char *name, char s, bool value, opt_id id, bool list = false) {
+    specs.push_back({name, s, value, id, list});
+  };
   switch (c.cmd) {
     case subcommand::move:
       add("freq", 'f', true, opt_freq);
       add("ramp", 'r', true, opt_ramp);
       add("wait", 'w', false, opt_wait);
+      add("then", 0, true, opt_then, true);
       break;
     case subcommand::jog:
       add("freq", 'f', true, opt_freq);
@@ -290,6 +303,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
   }
   const split_result r = split(args, from, specs, name_of(c.cmd), false);
   motion_options mo;
+  std::vector<std::vector<std::string>> then_paths;  // checked once freq and ramp are known
   for (const auto &o : r.options) {
     if (apply_common(c, o, prefix)) continue;
     switch (o.id) {
@@ -301,6 +315,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         break;
       case opt_wait:
         c.wait = true;
+        break;
+      case opt_then:
+        then_paths.push_back({o.value});
+        then_paths.back().insert(then_paths.back().end(), o.more.begin(), o.more.end());
         break;
       case opt_time:
         c.time = parse_time(o.value, prefix);
@@ -349,6 +367,16 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       need_operands(r, 1, x4step::axes, prefix);
       for (size_t i = 0; i < ops.size(); i++) c.move.steps[i] = parse_steps(ops[i], prefix);
       if (const auto e = x4step::check(c.move); e != x4step::errc::ok) throw usage_error(prefix + message(e));
+      for (const auto &path : then_paths) {
+        const std::string then = prefix + "--then ";
+        if (path.size() > x4step::axes)
+          throw usage_error(prefix + "--then: unexpected argument '" + path[x4step::axes] + "'");
+        x4step::move m = c.move;  // the same frequency and ramp
+        m.steps = {};
+        for (size_t i = 0; i < path.size(); i++) m.steps[i] = parse_steps(path[i], then);
+        if (const auto e = x4step::check(m); e != x4step::errc::ok) throw usage_error(then + message(e));
+        c.then.push_back(m);
+      }
       break;
     }
     case subcommand::jog: {
@@ -547,20 +575,30 @@ std::string help_text(subcommand c) {
              "target; 2 bad usage (checked before the port is opened: nothing moved).\n";
     case subcommand::move:
       return "Usage: x4ctl move [OPTIONS] STEPS1 [STEPS2 [STEPS3 [STEPS4]]]\n"
+             "       x4ctl move [OPTIONS] STEPS... --then STEPS... [--then STEPS...]...\n"
              "\n"
              "Move axes 1..4 by the given steps (signed, -16777216..16777216; missing\n"
              "axes stay) interpolated (X4Load, X4Start): the axis with the longest path\n"
              "runs at the frequency, the others follow it, all start and stop together.\n"
+             "Each --then is one more move at the same frequency and ramp: it is\n"
+             "preloaded while the move before it runs, and started the moment that one ends\n"
+             "(X4Load during the move, X4Start once X4GetState is 0): no pause for planning.\n"
+             "A move that is braked or stopped ends the sequence: the rest do not start.\n"
              "\n"
              "Options:\n" +
              std::string(motion_help) +
-             "  -w, --wait           stay until the move ends, showing progress; Ctrl-C\n"
+             "      --then STEPS1 [STEPS2 [STEPS3 [STEPS4]]]\n"
+             "                       one more move after the one before (repeatable)\n"
+             "  -w, --wait           stay until the moves end, showing progress; Ctrl-C\n"
              "                       brakes, a second Ctrl-C stops\n" +
              port_help + "\n" + background_help +
+             "With --then, the background x4ctl starts the further moves as well.\n"
              "\n"
-             "Exit status: 0 the move runs (with --wait: it reached its target); 1 the port\n"
-             "refused, or (with --wait) the move was braked or stopped; 2 bad usage.\n"
-             "Example: x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --wait\n";
+             "Exit status: 0 the move runs (with --wait: every move reached its target);\n"
+             "1 the port refused, or (with --wait) a move was braked or stopped; 2 bad\n"
+             "usage (a bad value after --then too: nothing moved).\n"
+             "Examples: x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --wait\n"
+             "          x4ctl move 1000 800 600 400 --then -1000 -800 -600 -400 --wait\n";
     case subcommand::jog:
       return "Usage: x4ctl jog [OPTIONS] AXIS +|-\n"
              "\n"

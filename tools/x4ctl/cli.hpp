@@ -54,7 +54,10 @@ struct config {
   subcommand topic = subcommand::interactive;  ///< help COMMAND
 
   x4step::move move;  ///< move, sweep (the distance on axis): steps, freq, ramp
-  int axis = 1;       ///< jog, sweep
+  /// move --then: the moves after move, each with its freq and ramp; started
+  /// one after the other, each preloaded while the one before it runs.
+  std::vector<x4step::move> then;
+  int axis = 1;  ///< jog, sweep
   x4step::direction dir = x4step::direction::positive;
   std::optional<std::chrono::milliseconds> time;  ///< jog: brake after; out: hold for
   bool wait = false;

@@ -9,7 +9,9 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "cli.hpp"
 #include "holder.hpp"
@@ -70,19 +72,48 @@ deadline deadline_of(const config &c) {
   return steady::now() + *c.time;
 }
 
+// "move 3 of 3 not started", "moves 2 to 3 not started" (from: an index).
+std::string not_started(size_t from, size_t n) {
+  return (from + 1 == n ? "move " : "moves " + std::to_string(from + 1) + " to ") + std::to_string(n) +
+         " not started";
+}
+
+// move, and the moves of --then: each preloaded while the one before it
+// runs, and started the moment that one ends.
 int cmd_move(const config &c) {
   controller_port p(open_controller(device_of(c)));
   std_console con(c.wait);
-  std::cout << "move: " << describe_move(c.move) << "\n" << std::flush;
+  std::vector<x4step::move> moves{c.move};
+  moves.insert(moves.end(), c.then.begin(), c.then.end());
+  const size_t n = moves.size();
+  auto nth = [&](size_t i) { return "move " + std::to_string(i + 1) + " of " + std::to_string(n); };
+  auto header = [&](size_t i) {
+    return (n == 1 ? std::string("move") : nth(i)) + ": " + describe_move(moves[i]);
+  };
   if (!c.wait) {
-    load_move(p, c.move);
-    p.start();
-    hold_in_background(p, steps_of(c.move), std::nullopt);
-    return 0;  // the background process, after the move
+    for (size_t i = 0; i < n; i++) std::cout << header(i) << "\n";
+    std::cout << std::flush;
+    start_moves(p, moves);
+    hold_in_background(p, [&](console &bg) { follow_moves(p, bg, moves); });
+    return 0;  // the background process, after the moves
   }
-  const outcome o = run_move(p, con, c.move);
-  if (!o.completed) throw failure(describe(o, steps_of(c.move)));
-  std::cout << describe(o, steps_of(c.move)) << "\n";
+  std::cout << header(0) << "\n" << std::flush;
+  start_moves(p, moves);
+  const std::vector<outcome> done = follow_moves(p, con, moves, [&](size_t i, const outcome &o) {
+    if (!o.completed) return;  // the failure below says it
+    std::cout << describe(o, steps_of(moves[i])) << "\n";
+    if (i + 1 < n && o.late_halt.empty()) std::cout << header(i + 1) << "\n";
+    std::cout << std::flush;
+  });
+  const size_t i = done.size() - 1;
+  const outcome &last = done.back();
+  if (!last.completed) {
+    const std::string why = describe(last, steps_of(moves[i]));
+    if (n == 1) throw failure(why);
+    throw failure(nth(i) + ": " + why + (i + 1 < n ? "; " + not_started(i + 1, n) : ""));
+  }
+  if (i + 1 < n)  // a brake request that came as the move ended
+    throw failure("halted (" + last.late_halt + ") at the end of " + nth(i) + ": " + not_started(i + 1, n));
   return 0;
 }
 
@@ -95,7 +126,8 @@ int cmd_jog(const config &c) {
             << std::flush;
   if (!c.wait) {
     start_endless(p, c.axis, c.dir, c.move.freq_hz, c.move.ramp);
-    hold_in_background(p, std::nullopt, deadline_of(c));
+    const deadline until = deadline_of(c);
+    hold_in_background(p, [&](console &bg) { follow(p, bg, std::nullopt, until); });
     return 0;
   }
   const outcome o = run_endless(p, con, c.axis, c.dir, c.move.freq_hz, c.move.ramp, deadline_of(c));

@@ -69,7 +69,7 @@ std::optional<holder> find_controller(const std::string &device) {
   return std::nullopt;
 }
 
-void hold_in_background(port &p, const std::optional<step_counts> &target, deadline until) {
+void hold_in_background(port &p, const std::function<void(console &)> &follow_it) {
   std::cout.flush();
   std::cerr.flush();
   const pid_t pid = ::fork();
@@ -92,7 +92,7 @@ void hold_in_background(port &p, const std::optional<step_counts> &target, deadl
     if (null > 2) ::close(null);
   }
   std_console con(false);
-  follow(p, con, target, until);
+  follow_it(con);
 }
 
 }  // namespace x4ctl

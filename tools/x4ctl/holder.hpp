@@ -8,6 +8,7 @@
 
 #include <sys/types.h>
 
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -28,8 +29,10 @@ std::optional<holder> find_controller(const std::string &device);
 
 /// Forks: the parent prints the child's PID and exits 0 at once, without
 /// closing the port (no destructors run); the child leaves the terminal
-/// and follows the running move on p until it ends, then returns.
-void hold_in_background(port &p, const std::optional<step_counts> &target, deadline until);
+/// and runs follow_it on a console without terminal, which follows what
+/// runs on the port (and starts what comes after it) until it ends; then
+/// the child returns.
+void hold_in_background(port &p, const std::function<void(console &)> &follow_it);
 
 }  // namespace x4ctl
 

@@ -20,17 +20,21 @@ void halt(F &&f) {
   }
 }
 
+// A move of axis 4 in a phase mode, which the module refuses: a failure
+// that says why.
+void check_axis4(const port &p) {
+  const x4step::output_mode m = p.get_config().mode;
+  if (m != x4step::output_mode::clock_dir)
+    throw failure(std::string("axis 4 cannot move in ") + mode_name(m) +
+                  " mode: the SMC800/SMC1500 boards drive axes 1 to 3 ('x4ctl mode clock-dir' for " +
+                  "clock and direction signals)");
+}
+
 // Why the port refused a move of the axes (bits 0..3) at freq_hz with
 // e, if its settings are the reason; rethrows e otherwise. Only called
 // while e is being handled.
 [[noreturn]] void explain(const port &p, const x4step::error &e, unsigned axes, int freq_hz) {
-  if (e.code() == x4step::errc::param_fail && (axes & 8u)) {
-    const x4step::output_mode m = p.get_config().mode;
-    if (m != x4step::output_mode::clock_dir)
-      throw failure(std::string("axis 4 cannot move in ") + mode_name(m) +
-                    " mode: the SMC800/SMC1500 boards drive axes 1 to 3 ('x4ctl mode clock-dir' for " +
-                    "clock and direction signals)");
-  }
+  if (e.code() == x4step::errc::param_fail && (axes & 8u)) check_axis4(p);
   if (e.code() == x4step::errc::freq_too_high && freq_hz <= x4step::freq_max_hz) {
     const x4step::output_mode m = p.get_config().mode;
     const x4step::step_timing t = p.get_step_timing();
@@ -40,6 +44,18 @@ void halt(F &&f) {
                     " ns allow at most " + std::to_string(max) + " Hz ('x4ctl timing' changes them)");
   }
   throw;  // e, as it was
+}
+
+// Loads m while the move before it runs. Should the port refuse, that move
+// is braked (and waited for), so that nothing runs on that x4ctl does not follow.
+void preload(port &p, const x4step::move &m) {
+  try {
+    load_move(p, m);
+  } catch (...) {
+    brake_quietly(p);
+    p.wait(milliseconds(5000));  // a brake takes at most the longest ramp, 1 s
+    throw;
+  }
 }
 
 }  // namespace
@@ -134,14 +150,16 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
                                                  : ""));
     }
   }
-  if (con.live()) draw_live(con, "");
+  // First the outcome: the next move of a sequence starts on it.
   o.end = p.get_status();
   o.completed = target && o.end.steps == *target;
   if (o.completed) {
-    o.halted_by.clear();  // a late brake request that found the move at its end
+    o.late_halt = std::move(o.halted_by);  // a late brake request that found the move at its end
+    o.halted_by.clear();
   } else if (o.halted_by.empty()) {
     o.halted_by = o.end.last_brake_code ? key_name(o.end.last_brake_code) : "braked elsewhere";
   }
+  if (con.live()) draw_live(con, "");
   return o;
 }
 
@@ -149,6 +167,37 @@ outcome run_move(port &p, console &con, const x4step::move &m, deadline until) {
   load_move(p, m);
   p.start();
   return follow(p, con, steps_of(m), until);
+}
+
+void start_moves(port &p, const std::vector<x4step::move> &moves) {
+  // The port's settings refuse a move of axis 4 in a phase mode: for the later
+  // moves, find out before the first one runs.
+  for (size_t i = 1; i < moves.size(); i++)
+    if (moves[i].steps[3]) {
+      check_axis4(p);
+      break;
+    }
+  load_move(p, moves.at(0));
+  p.start();
+  if (moves.size() > 1) preload(p, moves[1]);
+}
+
+std::vector<outcome> follow_moves(port &p, console &con, const std::vector<x4step::move> &moves,
+                                  const move_ended &ended) {
+  keys_guard keys(con);  // one raw terminal for the whole sequence: no key gets lost between moves
+  std::vector<outcome> done;
+  for (size_t i = 0; i < moves.size(); i++) {
+    done.push_back(follow(p, con, steps_of(moves[i]), std::nullopt));
+    const outcome &o = done.back();
+    const bool next = i + 1 < moves.size() && o.completed && o.late_halt.empty();
+    if (next) {
+      p.start();  // moves[i + 1], loaded while moves[i] ran
+      if (i + 2 < moves.size()) preload(p, moves[i + 2]);
+    }
+    if (ended) ended(i, o);
+    if (!next) break;
+  }
+  return done;
 }
 
 outcome run_endless(port &p, console &con, int axis, x4step::direction dir, int freq_hz, milliseconds ramp,

@@ -5,8 +5,11 @@
 #define X4CTL_MOTION_HPP
 
 #include <chrono>
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "io.hpp"
 #include "show.hpp"
@@ -24,6 +27,9 @@ struct outcome {
   x4step::status end;      ///< status once the motors stand
   bool completed = false;  ///< a move reached its target (never for endless moves)
   std::string halted_by;   ///< why it ended early ("ESC", "time up", ...); empty if completed
+  /// Completed, but a brake or stop was asked for that found the move at its
+  /// end (its halted_by): a sequence of moves ends here all the same.
+  std::string late_halt;
 };
 
 /// p.load(m), and p.move_endless(...), with the refusals that depend on the
@@ -35,6 +41,25 @@ void start_endless(port &p, int axis, x4step::direction dir, int freq_hz, millis
 /// Loads and starts m and follows it until it ends. ESC, Ctrl-C, a brake
 /// request or the deadline brake it; a stop request stops it.
 outcome run_move(port &p, console &con, const x4step::move &m, deadline until = std::nullopt);
+
+/// A sequence of moves, as in the X4Step manual's first example (X4Load,
+/// X4Start, X4Load while the move runs, X4Start once X4GetState is 0):
+/// each move is loaded while the one before it runs, and started the moment
+/// that one ends, with no pause for planning. start_moves loads and starts
+/// moves[0] and preloads moves[1]; before anything moves, it refuses (with
+/// failure) a move the port's settings do not allow.
+void start_moves(port &p, const std::vector<x4step::move> &moves);
+
+/// Called when moves[index] has ended, after the next move (if this one
+/// completed) has been started and the one after it preloaded.
+using move_ended = std::function<void(std::size_t index, const outcome &o)>;
+
+/// Follows the moves that start_moves started to their end: the outcome of
+/// each move that ran. A move that does not complete (or has a late_halt)
+/// ends the sequence, and the moves after it are not started. A refused
+/// preload brakes the running move and throws.
+std::vector<outcome> follow_moves(port &p, console &con, const std::vector<x4step::move> &moves,
+                                  const move_ended &ended = {});
 
 /// Starts an endless move and follows it until it is braked.
 outcome run_endless(port &p, console &con, int axis, x4step::direction dir, int freq_hz, milliseconds ramp,
