@@ -4,9 +4,10 @@
 # Guest half of run-x4vport-tests.sh (runs under tests/qemu/run-guest.sh,
 # which has loaded parport and parport_pc, so the virtual port is parport1):
 # x4vport's debugfs files, x4step on the virtual port (open, a move through
-# the hard-irq timer, inputs), removal of the port while x4step is attached,
-# open, and moving, and the port alone as parport0. Prints PASS/FAIL lines;
-# exits with the number of failures.
+# the hard-irq timer, inputs), the machine (positions counted from the
+# clock edges, switches on the inputs), removal of the port while x4step
+# is attached, open, and moving, and the port alone as parport0. Prints
+# PASS/FAIL lines; exits with the number of failures.
 
 fails=0
 check() { # DESCRIPTION COMMAND...
@@ -51,6 +52,8 @@ echo "after announce: data=$(cat "$D/data") control=$(cat "$D/control")" \
 	"count=$(cat "$D/count") overruns=$(cat "$D/overruns")"
 check "initial status 0x78" [ "$(cat "$D/status")" = 0x78 ]
 check "initial pins 0x1f" [ "$(cat "$D/pins")" = 0x1f ]
+check "initial positions 0 0 0 0" [ "$(cat "$D/positions")" = "0 0 0 0" ]
+check "initial switches none" [ -z "$(cat "$D/switches")" ]
 
 check "insmod x4step" insmod "$X4MOD/x4step.ko"
 sleep 1
@@ -108,6 +111,142 @@ for _ in 1 2 3 4 5 6 7 8; do
 done
 check "move with concurrent readers" wait $mp
 check "overruns 0" [ "$(cat "$D/overruns")" = 0 ]
+
+# The machine: positions from the clock edges, switches on the inputs.
+P=$D/positions
+S=$D/switches
+wr() { echo "$2" 2>/dev/null >"$1"; } # FILE TEXT: succeeds if the write does
+inp() { x4vctl "/dev/x4step$N" inputs | sed -n 's/inputs=\(0x..\).*/\1/p'; }
+bit() { echo $(((${1:-} >> $2) & 1)); } # INPUTS BIT
+go() { x4vctl "/dev/x4step$N" move "$1" 5000 0 >/dev/null; }
+# Axis 1 rising edges before the first status entry of a trace on stdin,
+# that entry's value and the number of status entries: "EDGES VAL COUNT".
+first_status() {
+	awk '$2 == "s" { if (!n++) { v = $3; at = e } }
+	$2 == "d" {
+		h = substr($3, 3)
+		x = (index("0123456789abcdef", substr(h, 1, 1)) - 1) * 16 +
+		    index("0123456789abcdef", substr(h, 2, 1)) - 1
+		c = int(x / 2) % 2
+		if (c && !p) e++
+		p = c
+	}
+	END { printf "%d %s %d\n", at, v, n }'
+}
+echo 0x1f >"$D/pins"
+check "the moves so far: 2200 0 0 0 (got $(cat "$P"))" [ "$(cat "$P")" = "2200 0 0 0" ]
+check "place the machine at 0" wr "$P" "0 0 0 0"
+check "machine at 0 0 0 0" [ "$(cat "$P")" = "0 0 0 0" ]
+check "machine: move +300" go 300
+check "positions 300 0 0 0 (got $(cat "$P"))" [ "$(cat "$P")" = "300 0 0 0" ]
+check "machine: move -100" go -100
+check "positions 200 0 0 0 (got $(cat "$P"))" [ "$(cat "$P")" = "200 0 0 0" ]
+
+# An NO switch above 250 with 5 steps of hysteresis on input 0 (pin 15).
+check "add 1 0 above 250 5 no" wr "$S" "add 1 0 above 250 5 no"
+check "listed, idle (got '$(cat "$S")')" [ "$(cat "$S")" = "1 0 above 250 5 no idle" ]
+i=$(inp)
+check "NO switch idle: input 0 low, the others as pins (got $i)" [ "$i" = 0x1e ]
+echo >"$D/clear"
+check "move +100 onto the switch" go 100
+i=$(inp)
+check "position 300: input 0 high (got $i)" [ "$(bit "$i" 0)" = 1 ]
+check "listed active" [ "$(cat "$S")" = "1 0 above 250 5 no active" ]
+# shellcheck disable=SC2046 # split into the three fields
+set -- $(first_status <"$D/trace")
+check "status changed once (got $3), to 0x78 (got $2), at the 50th step (got $1)" \
+	[ "$1 $2 $3" = "50 0x78 1" ]
+go -52
+check "248: still active (hysteresis)" [ "$(bit "$(inp)" 0)" = 1 ]
+go -3
+check "245: still active" [ "$(bit "$(inp)" 0)" = 1 ]
+go -1
+check "244: released" [ "$(bit "$(inp)" 0)" = 0 ]
+go 5
+check "249: still released" [ "$(bit "$(inp)" 0)" = 0 ]
+go 1
+check "250: active again" [ "$(bit "$(inp)" 0)" = 1 ]
+check "positions 250 0 0 0 (got $(cat "$P"))" [ "$(cat "$P")" = "250 0 0 0" ]
+
+# Placing the machine; one switch per axis.
+check "write positions" wr "$P" "10 -20 30 -40"
+check "positions read back" [ "$(cat "$P")" = "10 -20 30 -40" ]
+check "placing released input 0" [ "$(bit "$(inp)" 0)" = 0 ]
+check "switches per axis" wr "$S" "clear; add 2 1 below -10 0 no
+add 3 2 above 30 0 no
+add 4 3 below -41 0 no"
+i=$(inp)
+check "axes 2, 3 active, 4 idle, inputs 0, 4 as pins (got $i)" [ "$i" = 0x17 ]
+wr "$P" "10 -9 29 -41"
+i=$(inp)
+check "axes 2, 3 idle, 4 active (got $i)" [ "$i" = 0x19 ]
+check "switches listed" [ "$(tr '\n' , <"$S")" = \
+	"2 1 below -10 0 no idle,3 2 above 30 0 no idle,4 3 below -41 0 no active," ]
+check "positions: 3 numbers rejected" sh -c "! echo 1 2 3 2>/dev/null >$P"
+check "positions: 5 numbers rejected" sh -c "! echo 1 2 3 4 5 2>/dev/null >$P"
+check "positions: junk rejected" sh -c "! echo 1 2 3 x 2>/dev/null >$P"
+check "positions: beyond 2^62 rejected" sh -c "! echo 1 2 3 9223372036854775807 2>/dev/null >$P"
+check "positions unchanged" [ "$(cat "$P")" = "10 -9 29 -41" ]
+
+# An NC switch: low while active, high while idle, over any pins level.
+check "clear" wr "$S" clear
+check "cleared: inputs back to pins" [ "$(inp)" = 0x1f ]
+wr "$P" "250 0 0 0"
+check "add 1 1 below 0 0 nc" wr "$S" "add 1 1 below 0 0 nc"
+check "NC idle: input 1 high" [ "$(inp)" = 0x1f ]
+wr "$P" "-5 0 0 0"
+check "NC active: input 1 low" [ "$(inp)" = 0x1d ]
+wr "$P" "5 0 0 0"
+check "NC idle again" [ "$(inp)" = 0x1f ]
+go -5
+check "NC active after a move to 0" [ "$(inp)" = 0x1d ]
+echo 0x00 >"$D/pins"
+go 1
+check "pins 0x00 under an idle NC switch: 0x02" [ "$(inp)" = 0x02 ]
+check "status register 0x90 (got $(cat "$D/status"))" [ "$(cat "$D/status")" = 0x90 ]
+check "pins file reads the switched level" [ "$(cat "$D/pins")" = 0x02 ]
+wr "$S" clear
+check "cleared: the pins level again" [ "$(inp)" = 0x00 ]
+echo 0x1f >"$D/pins"
+
+# SMC1500 wiring: both limit switches in parallel on input 4 (pin 11).
+wr "$P" "0 0 0 0"
+check "E+ and E- NC on input 4" wr "$S" "add 1 4 above 400 0 nc; add 1 4 below -400 0 nc"
+check "both idle: input 4 high, status 0x78" [ "$(inp) $(cat "$D/status")" = "0x1f 0x78" ]
+go 400
+check "at +400: input 4 low, status 0xf8" [ "$(inp) $(cat "$D/status")" = "0x0f 0xf8" ]
+go -400
+check "at 0: input 4 high" [ "$(inp)" = 0x1f ]
+go -400
+check "at -400: input 4 low" [ "$(inp)" = 0x0f ]
+check "positions -400 0 0 0" [ "$(cat "$P")" = "-400 0 0 0" ]
+check "mixed polarity on input 4 refused" sh -c "! echo 'add 1 4 above 500 0 no' 2>/dev/null >$S"
+check "NO on another input accepted" wr "$S" "add 2 3 above 500 0 no"
+check "three switches" [ "$(wc -l <"$S")" = 3 ]
+wr "$S" "clear; add 1 4 above 400 0 no; add 1 4 below -400 0 no"
+wr "$P" "0 0 0 0"
+check "NO pair idle: input 4 low" [ "$(inp)" = 0x0f ]
+wr "$P" "400 0 0 0"
+check "NO pair, E+ hit: input 4 high" [ "$(inp)" = 0x1f ]
+wr "$P" "-400 0 0 0"
+check "NO pair, E- hit: input 4 high" [ "$(inp)" = 0x1f ]
+
+# Bad commands change nothing.
+for c in "add 0 0 above 1 0 no" "add 5 0 above 1 0 no" "add 1 5 above 1 0 no" \
+	"add 1 0 beside 1 0 no" "add 1 0 above 1 -1 no" "add 1 0 above 1 0 nx" \
+	"add 1 0 above 1 0" "add 1 0 above 1 0 no x" "remove 1" "clear x" \
+	"clear; add 1 0 above 1 0 no; add 1 9 above 1 0 no"; do
+	check "refused: $c" sh -c "! echo '$c' 2>/dev/null >$S"
+done
+check "still the NO pair" [ "$(wc -l <"$S")" = 2 ]
+check "eight switches" wr "$S" "clear; add 1 0 above 1 0 no; add 1 0 above 2 0 no
+add 1 0 above 3 0 no; add 1 0 above 4 0 no; add 1 0 above 5 0 no
+add 1 0 above 6 0 no; add 1 0 above 7 0 no; add 1 0 above 8 0 no"
+check "a ninth refused" sh -c "! echo 'add 1 0 above 9 0 no' 2>/dev/null >$S"
+check "eight listed" [ "$(wc -l <"$S")" = 8 ]
+wr "$S" clear
+wr "$P" "0 0 0 0"
+check "machine reset: inputs 0x1f, status 0x78" [ "$(inp) $(cat "$D/status")" = "0x1f 0x78" ]
 
 # Port removal while x4step is attached, device closed.
 check "rmmod x4vport (closed)" rmmod x4vport

@@ -13,8 +13,9 @@
  *                    line: "<t_ns> <reg> <val>", t_ns from ktime_get_ns()
  *                    (CLOCK_MONOTONIC), reg 'd' (data), 'c' (control) or
  *                    's' (status, set by a test through `status` or
- *                    `pins`), val the register byte after the write, in
- *                    hex ("0x0b"). Reading does not consume.
+ *                    `pins`, or changed by a switch), val the register
+ *                    byte after the write, in hex ("0x0b"). Reading does
+ *                    not consume.
  *   trace_pipe  (r)  the same lines, consumed as read; end of file when
  *                    the buffer is empty (it never blocks).
  *   clear       (w)  any write empties the buffer and zeroes `overruns`.
@@ -29,15 +30,51 @@
  *   status      (rw) the raw status register that read_status() returns
  *                    (bit 3 pin 15, bit 4 pin 13, bit 5 pin 12, bit 6
  *                    pin 10, bit 7 pin 11 inverted: a high pin 11 reads 0).
+ *                    Inputs driven by switches (below) override what is
+ *                    written: reading gives the register as the port
+ *                    shows it, writing sets the levels of the others.
  *   pins        (rw) the five input pin levels, 1 = high, in X4GetIn order:
  *                    bit 0 pin 15, bit 1 pin 13, bit 2 pin 12, bit 3
  *                    pin 10, bit 4 pin 11. Writing computes `status` (its
- *                    bits 0..2 are kept), reading computes from it.
+ *                    bits 0..2 are kept), reading computes from it. Here
+ *                    too, switches override the inputs they drive.
+ *   positions   (rw) the machine: four signed step positions, axes 1..4,
+ *                    "300 0 0 0". Each rising clock edge of an axis in a
+ *                    data write counts +1 if the axis's direction bit is
+ *                    high in that write, else -1 (x4step's wiring: data
+ *                    bit 2i direction, 2i+1 clock of axis i+1). Writing
+ *                    four numbers places the machine there (|n| <= 2^62);
+ *                    the switches follow at once.
+ *   switches    (rw) up to 8 switches on the machine, one per line:
+ *                    "AXIS BIT KIND AT HYST POL STATE", STATE "active" or
+ *                    "idle". Write lines (or ';'-separated commands):
+ *                      add AXIS BIT below|above AT HYST no|nc
+ *                      clear
+ *                    AXIS 1..4; BIT the input, 0..4 in X4GetIn order;
+ *                    `below` is active while position <= AT, `above`
+ *                    while position >= AT; once active it stays active
+ *                    until the position is more than HYST (>= 0) steps
+ *                    back past AT (`above`: until position < AT - HYST).
+ *                    POL `no`: the pin is high while active, `nc`: low
+ *                    while active. Switches on one input are in
+ *                    parallel: the input is active while any of them is,
+ *                    and all must have the same POL (an `add` that mixes
+ *                    them fails with EINVAL). A write is all or nothing.
+ *                    An input with no switch keeps its `pins` level.
+ *                    The status register follows the switches in the
+ *                    data write that moves the machine (an 's' trace
+ *                    entry right after its 'd' entry, when it changes), so
+ *                    a client reading the status after a step sees the
+ *                    new level, as with a switch wired to a real machine.
  * Numbers are read as "0x%02x" (registers) or decimal (counters); writes
- * take any base kstrtoull accepts ("0x78", "120").
+ * take any base kstrtoull accepts ("0x78", "120"), positions, AT and HYST
+ * any that kstrtoll accepts ("-400", "0x100").
  *
  * The initial state is a port with nothing plugged in: data 0x00, control
- * 0x0c (as parport_pc leaves it), all input pins pulled high (status 0x78).
+ * 0x0c (as parport_pc leaves it), all input pins pulled high (status
+ * 0x78), no switch, and the machine at 0 0 0 0 once the module is loaded
+ * (the core probes for daisy-chain devices when the port is announced,
+ * which toggles the data pins: the machine is placed at 0 after that).
  *
  * Register semantics follow parport_pc: write_control() and
  * frob_control() change bits 0..3 only; bit 4 belongs to enable_irq() and
@@ -58,14 +95,19 @@
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
+#include <linux/ctype.h>
 #include <linux/debugfs.h>
 #include <linux/fs.h>
+#include <linux/kernel.h>
 #include <linux/ktime.h>
 #include <linux/module.h>
+#include <linux/mutex.h>
 #include <linux/parport.h>
 #include <linux/platform_device.h>
 #include <linux/seq_file.h>
+#include <linux/slab.h>
 #include <linux/spinlock.h>
+#include <linux/string.h>
 #include <linux/uaccess.h>
 #include <linux/vmalloc.h>
 
@@ -80,10 +122,27 @@ MODULE_PARM_DESC(ring_order, "trace buffer holds 2^ring_order entries (10..24)")
 #define X4V_STATUS_BUSY 0x80 /* pin 11, inverted */
 #define X4V_LINE_MAX 32 /* "18446744073709551615 c 0xff\n" */
 
+#define X4V_AXES 4
+#define X4V_INPUTS 5
+#define X4V_SWITCHES 8
+#define X4V_CLK_MASK 0xaa /* data bit 2i + 1: clock of axis i + 1 */
+#define X4V_POS_MAX (1LL << 62) /* positions, AT and HYST: no overflow */
+#define X4V_CMD_MAX 4096 /* longest write to `switches` */
+
 struct x4v_entry {
 	u64 t_ns;
 	u8 reg; /* 'd', 'c' or 's' */
 	u8 val;
+};
+
+struct x4v_switch {
+	s64 at;
+	s64 hyst; /* >= 0 */
+	u8 axis; /* 0..3 */
+	u8 bit; /* X4GetIn bit, 0..4 */
+	bool above; /* active at position >= at, else at position <= at */
+	bool nc; /* normally closed: the pin is low while active */
+	bool active;
 };
 
 static struct {
@@ -95,7 +154,15 @@ static struct {
 	u64 overruns;
 	u8 data;
 	u8 control;
-	u8 status;
+	u8 status; /* as read_status() returns it */
+	u8 status_set; /* as set through `status` and `pins` */
+
+	/* The machine. */
+	s64 pos[X4V_AXES];
+	struct x4v_switch sw[X4V_SWITCHES];
+	unsigned int nsw;
+	u8 sw_inputs; /* X4GetIn bits with a switch */
+	u8 sw_nc; /* ... of which normally closed */
 
 	struct parport *port;
 	struct platform_device *pdev;
@@ -117,6 +184,42 @@ static void x4v_set_locked(u8 *reg, char name, u8 val)
 	e->reg = name;
 	e->val = val;
 	x4v.head++;
+}
+
+/* X4GetIn bits (pins 15, 13, 12, 10, 11) -> status register bits 3..7. */
+static u8 x4v_pins_to_status(u8 pins)
+{
+	return (pins << 3) ^ X4V_STATUS_BUSY;
+}
+
+/*
+ * Update the switches from the positions and the status register from
+ * them; record the status if it changed, or anyway if @force. A few dozen
+ * instructions: this runs in the data write path. Caller holds x4v.lock.
+ */
+static void x4v_update_locked(bool force)
+{
+	u8 active = 0, levels, mask, status;
+	unsigned int i;
+
+	for (i = 0; i < x4v.nsw; i++) {
+		struct x4v_switch *sw = &x4v.sw[i];
+		s64 p = x4v.pos[sw->axis];
+
+		if (sw->above)
+			sw->active = p >= sw->at - (sw->active ? sw->hyst : 0);
+		else
+			sw->active = p <= sw->at + (sw->active ? sw->hyst : 0);
+		if (sw->active)
+			active |= 1u << sw->bit;
+	}
+	/* Pin levels of the switched inputs: NO high, NC low while active. */
+	levels = (active ^ x4v.sw_nc) & x4v.sw_inputs;
+	mask = x4v.sw_inputs << 3;
+	status = (x4v.status_set & ~mask) |
+		 (x4v_pins_to_status(levels) & mask);
+	if (force || status != x4v.status)
+		x4v_set_locked(&x4v.status, 's', status);
 }
 
 /* Set a register and record the write. Any context. */
@@ -144,9 +247,31 @@ static u8 x4v_frob_ctl(u8 mask, u8 val)
 
 /* ---- parport operations ---- */
 
+/*
+ * The machine moves with the data writes: count the rising clock edges,
+ * then let the switches follow. The hard-irq path of x4step's timer.
+ */
 static void x4v_write_data(struct parport *p, unsigned char d)
 {
-	x4v_set(&x4v.data, 'd', d);
+	unsigned long flags;
+	unsigned int i;
+	u8 rise;
+
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	rise = d & ~x4v.data & X4V_CLK_MASK;
+	x4v_set_locked(&x4v.data, 'd', d);
+	if (rise) {
+		for (i = 0; i < X4V_AXES; i++) {
+			if (!(rise & (2u << (2 * i))))
+				continue;
+			if (d & (1u << (2 * i)))
+				x4v.pos[i]++;
+			else
+				x4v.pos[i]--;
+		}
+		x4v_update_locked(false);
+	}
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
 }
 
 static unsigned char x4v_read_data(struct parport *p)
@@ -463,19 +588,18 @@ static int x4v_status_get(void *data, u64 *val)
 
 static int x4v_status_set(void *data, u64 val)
 {
+	unsigned long flags;
+
 	if (val > 0xff)
 		return -EINVAL;
-	x4v_set(&x4v.status, 's', val);
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	x4v.status_set = val;
+	x4v_update_locked(true);
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
 	return 0;
 }
 DEFINE_DEBUGFS_ATTRIBUTE(x4v_status_fops, x4v_status_get, x4v_status_set,
 			 "0x%02llx\n");
-
-/* X4GetIn bits (pins 15, 13, 12, 10, 11) <-> status register bits 3..7. */
-static u8 x4v_pins_to_status(u8 pins)
-{
-	return (pins << 3) ^ X4V_STATUS_BUSY;
-}
 
 static int x4v_pins_get(void *data, u64 *val)
 {
@@ -486,18 +610,259 @@ static int x4v_pins_get(void *data, u64 *val)
 static int x4v_pins_set(void *data, u64 val)
 {
 	unsigned long flags;
-	u8 status;
 
 	if (val > 0x1f)
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4v.lock, flags);
-	status = (x4v.status & ~X4V_STATUS_PINS) | x4v_pins_to_status(val);
-	x4v_set_locked(&x4v.status, 's', status);
+	x4v.status_set = (x4v.status_set & ~X4V_STATUS_PINS) |
+			 x4v_pins_to_status(val);
+	x4v_update_locked(true);
 	raw_spin_unlock_irqrestore(&x4v.lock, flags);
 	return 0;
 }
 DEFINE_DEBUGFS_ATTRIBUTE(x4v_pins_fops, x4v_pins_get, x4v_pins_set,
 			 "0x%02llx\n");
+
+/* ---- the machine ---- */
+
+/* Serialises the writers of `switches`; the write path never takes it. */
+static DEFINE_MUTEX(x4v_sw_mutex);
+
+/* The next blank-separated word of *@s, or NULL at the end. */
+static char *x4v_word(char **s)
+{
+	char *w = skip_spaces(*s), *e = w;
+
+	while (*e && !isspace(*e))
+		e++;
+	if (*e)
+		*e++ = '\0';
+	*s = e;
+	return *w ? w : NULL;
+}
+
+/* A signed number in -X4V_POS_MAX..X4V_POS_MAX. */
+static int x4v_parse_pos(const char *w, s64 *val)
+{
+	int ret;
+
+	if (!w)
+		return -EINVAL;
+	ret = kstrtoll(w, 0, val);
+	if (ret)
+		return ret;
+	if (*val < -X4V_POS_MAX || *val > X4V_POS_MAX)
+		return -ERANGE;
+	return 0;
+}
+
+/* Copy a write from user space as a string; kfree() it. */
+static char *x4v_user_string(const char __user *ubuf, size_t len)
+{
+	if (len > X4V_CMD_MAX)
+		return ERR_PTR(-E2BIG);
+	return memdup_user_nul(ubuf, len);
+}
+
+static int x4v_positions_show(struct seq_file *m, void *v)
+{
+	s64 pos[X4V_AXES];
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	memcpy(pos, x4v.pos, sizeof(pos));
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
+	seq_printf(m, "%lld %lld %lld %lld\n", pos[0], pos[1], pos[2], pos[3]);
+	return 0;
+}
+
+static int x4v_positions_open(struct inode *inode, struct file *file)
+{
+	return single_open(file, x4v_positions_show, NULL);
+}
+
+static ssize_t x4v_positions_write(struct file *file,
+				   const char __user *ubuf, size_t len,
+				   loff_t *ppos)
+{
+	char *buf, *s;
+	s64 pos[X4V_AXES];
+	unsigned long flags;
+	int i, ret = 0;
+
+	buf = x4v_user_string(ubuf, len);
+	if (IS_ERR(buf))
+		return PTR_ERR(buf);
+	s = buf;
+	for (i = 0; i < X4V_AXES && !ret; i++)
+		ret = x4v_parse_pos(x4v_word(&s), &pos[i]);
+	if (!ret && x4v_word(&s))
+		ret = -EINVAL;
+	kfree(buf);
+	if (ret)
+		return ret;
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	memcpy(x4v.pos, pos, sizeof(pos));
+	x4v_update_locked(false);
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
+	return len;
+}
+
+static const struct file_operations x4v_positions_fops = {
+	.owner = THIS_MODULE,
+	.open = x4v_positions_open,
+	.read = seq_read,
+	.write = x4v_positions_write,
+	.llseek = seq_lseek,
+	.release = single_release,
+};
+
+static int x4v_switches_show(struct seq_file *m, void *v)
+{
+	struct x4v_switch sw[X4V_SWITCHES];
+	unsigned long flags;
+	unsigned int i, n;
+
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	n = x4v.nsw;
+	memcpy(sw, x4v.sw, n * sizeof(sw[0]));
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
+	for (i = 0; i < n; i++)
+		seq_printf(m, "%u %u %s %lld %lld %s %s\n", sw[i].axis + 1,
+			   sw[i].bit, sw[i].above ? "above" : "below",
+			   sw[i].at, sw[i].hyst, sw[i].nc ? "nc" : "no",
+			   sw[i].active ? "active" : "idle");
+	return 0;
+}
+
+static int x4v_switches_open(struct inode *inode, struct file *file)
+{
+	return single_open(file, x4v_switches_show, NULL);
+}
+
+/* Parse "AXIS BIT below|above AT HYST no|nc" (after "add"). */
+static int x4v_parse_switch(char *s, struct x4v_switch *sw)
+{
+	const char *kind, *pol;
+	unsigned int axis, bit;
+	int ret;
+
+	memset(sw, 0, sizeof(*sw));
+	if (kstrtouint(x4v_word(&s) ?: "", 0, &axis) || axis < 1 ||
+	    axis > X4V_AXES)
+		return -EINVAL;
+	if (kstrtouint(x4v_word(&s) ?: "", 0, &bit) || bit >= X4V_INPUTS)
+		return -EINVAL;
+	kind = x4v_word(&s);
+	if (!kind || (strcmp(kind, "below") && strcmp(kind, "above")))
+		return -EINVAL;
+	ret = x4v_parse_pos(x4v_word(&s), &sw->at);
+	if (ret)
+		return ret;
+	ret = x4v_parse_pos(x4v_word(&s), &sw->hyst);
+	if (ret)
+		return ret;
+	if (sw->hyst < 0)
+		return -EINVAL;
+	pol = x4v_word(&s);
+	if (!pol || (strcmp(pol, "no") && strcmp(pol, "nc")) || x4v_word(&s))
+		return -EINVAL;
+	sw->axis = axis - 1;
+	sw->bit = bit;
+	sw->above = !strcmp(kind, "above");
+	sw->nc = !strcmp(pol, "nc");
+	return 0;
+}
+
+/*
+ * Apply the commands in @buf to the table @sw of *@n switches; *@kept
+ * becomes the number of leading switches that were there before.
+ */
+static int x4v_switch_commands(char *buf, struct x4v_switch *sw,
+			       unsigned int *n, unsigned int *kept)
+{
+	struct x4v_switch new;
+	char *line, *cmd;
+	unsigned int i;
+	int ret;
+
+	while ((line = strsep(&buf, "\n;"))) {
+		cmd = x4v_word(&line);
+		if (!cmd)
+			continue;
+		if (!strcmp(cmd, "clear")) {
+			if (x4v_word(&line))
+				return -EINVAL;
+			*n = 0;
+			*kept = 0;
+			continue;
+		}
+		if (strcmp(cmd, "add"))
+			return -EINVAL;
+		ret = x4v_parse_switch(line, &new);
+		if (ret)
+			return ret;
+		if (*n >= X4V_SWITCHES)
+			return -ENOSPC;
+		for (i = 0; i < *n; i++)
+			if (sw[i].bit == new.bit && sw[i].nc != new.nc)
+				return -EINVAL;
+		sw[(*n)++] = new;
+	}
+	return 0;
+}
+
+static ssize_t x4v_switches_write(struct file *file, const char __user *ubuf,
+				  size_t len, loff_t *ppos)
+{
+	struct x4v_switch sw[X4V_SWITCHES];
+	unsigned int i, n, kept;
+	unsigned long flags;
+	char *buf;
+	u8 inputs = 0, nc = 0;
+	int ret;
+
+	buf = x4v_user_string(ubuf, len);
+	if (IS_ERR(buf))
+		return PTR_ERR(buf);
+	mutex_lock(&x4v_sw_mutex);
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	n = x4v.nsw;
+	memcpy(sw, x4v.sw, sizeof(sw));
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
+	kept = n;
+	ret = x4v_switch_commands(buf, sw, &n, &kept);
+	if (ret)
+		goto out;
+	for (i = 0; i < n; i++) {
+		inputs |= 1u << sw[i].bit;
+		if (sw[i].nc)
+			nc |= 1u << sw[i].bit;
+	}
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	/* The switches kept keep their state, which may have changed since. */
+	for (i = 0; i < kept; i++)
+		sw[i].active = x4v.sw[i].active;
+	memcpy(x4v.sw, sw, sizeof(sw));
+	x4v.nsw = n;
+	x4v.sw_inputs = inputs;
+	x4v.sw_nc = nc;
+	x4v_update_locked(false);
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
+out:
+	mutex_unlock(&x4v_sw_mutex);
+	kfree(buf);
+	return ret ? ret : len;
+}
+
+static const struct file_operations x4v_switches_fops = {
+	.owner = THIS_MODULE,
+	.open = x4v_switches_open,
+	.read = seq_read,
+	.write = x4v_switches_write,
+	.llseek = seq_lseek,
+	.release = single_release,
+};
 
 static void x4v_debugfs_init(void)
 {
@@ -516,6 +881,8 @@ static void x4v_debugfs_init(void)
 				   &x4v_control_fops);
 	debugfs_create_file_unsafe("status", 0644, d, NULL, &x4v_status_fops);
 	debugfs_create_file_unsafe("pins", 0644, d, NULL, &x4v_pins_fops);
+	debugfs_create_file("positions", 0644, d, NULL, &x4v_positions_fops);
+	debugfs_create_file("switches", 0644, d, NULL, &x4v_switches_fops);
 }
 
 /* ---- module ---- */
@@ -523,6 +890,7 @@ static void x4v_debugfs_init(void)
 static int __init x4v_init(void)
 {
 	struct parport *port;
+	unsigned long flags;
 	int ret;
 
 	if (ring_order < 10 || ring_order > 24)
@@ -535,6 +903,11 @@ static int __init x4v_init(void)
 	x4v.data = 0;
 	x4v.control = 0x0c;
 	x4v.status = x4v_pins_to_status(0x1f);
+	x4v.status_set = x4v.status;
+	memset(x4v.pos, 0, sizeof(x4v.pos));
+	x4v.nsw = 0;
+	x4v.sw_inputs = 0;
+	x4v.sw_nc = 0;
 
 	x4v.pdev = platform_device_register_simple(KBUILD_MODNAME,
 						   PLATFORM_DEVID_NONE,
@@ -556,6 +929,10 @@ static int __init x4v_init(void)
 	x4v_debugfs_init();
 	pr_info("%s: virtual port\n", port->name);
 	parport_announce_port(port);
+	/* The core's daisy-chain probe in there toggled the data pins. */
+	raw_spin_lock_irqsave(&x4v.lock, flags);
+	memset(x4v.pos, 0, sizeof(x4v.pos));
+	raw_spin_unlock_irqrestore(&x4v.lock, flags);
 	return 0;
 
 err_pdev:
