@@ -127,6 +127,14 @@ else
 	echo "unpack $((t1 - t0))s, configure+build $((t2 - t1))s, total $((t2 - t0))s with -j$jobs on $(nproc) CPUs" >"$cache/build-time"
 	echo "$release" >"$cache/done"
 	say "built $release in $((t2 - t0))s ($(cat "$cache/build-time"))"
+	# Keep this and the newest other finished build (about 1.7 GB each);
+	# skip any that another build.sh holds.
+	# shellcheck disable=SC2012 # our own directory names
+	for old in $(ls -1dt "$cache_root"/debugkernel-*/done 2>/dev/null | tail -n +3); do
+		old=$(dirname "$old")
+		[ "$old" != "$cache" ] || continue
+		(flock -n 9 && rm -rf "$old" && echo "debugkernel: removed old build $old" >&2) 9>>"$old/lock" || true
+	done
 fi
 
 modsrc=$cache/modroot/lib/modules/$release

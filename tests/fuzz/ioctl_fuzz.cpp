@@ -14,13 +14,17 @@
 //      payloads and other magics; bad pointers (NULL, 1, kernel and non-canonical
 //      addresses, PROT_NONE, the end of a page before a guard page, read-only
 //      memory);
-//   b  structurally valid commands with boundary and random field values;
+//   b  structurally valid commands with boundary and random field values
+//      (including config output modes and step timings);
 //   c  several threads on the one controller descriptor with random valid and
 //      invalid sequences, read-only monitors (GET_STATUS, poll), a thread opening
 //      and closing read-only and read-write descriptors (read-write: EBUSY);
-//      then threads racing to become the controller;
-//   d  everything closed: a fresh controller opens, the engine is idle.
-// With --invalid-only only phases a and b run and no call that could be valid is
+//   c2 the controller closes; threads race to become the next one (at most one
+//      at a time; closing brakes moves with ramps of at most 20 ms: no close may
+//      take seconds);
+//   d  everything closed: a fresh controller opens, the engine is idle; the
+//      config and step timing found at the start are restored.
+// With --invalid-only only the probes and phases a and b run and no call that could be valid is
 // made (state-changing commands only with invalid arguments, START only when
 // nothing is loaded, BRAKE/STOP only when nothing runs): the port trace of such
 // a run must show no clock edge (tests/fuzz/check-no-edges.sh).
@@ -34,8 +38,10 @@
 //    (frequency, then ramp, then paths) in `result`;
 //  - errors of valid calls are the documented state errors only;
 //  - a call that fails changes nothing (single-threaded phases: ACTIVE and
-//    LOADED do not appear, outputs and config stay);
-//  - GET_STATUS, GET_INFO, GET_CONFIG and GET_TIMING report only sane values;
+//    LOADED do not appear, outputs, config and step timing stay);
+//  - GET_STATUS, GET_INFO, GET_CONFIG, GET_STEP_TIMING and GET_TIMING report
+//    only sane values (known flag bits, step counters within 2 * 16777216,
+//    reserved fields zero, histogram adding up, clock pins low at rest);
 //  - poll() never reports an error; at most one controller at a time.
 // The controller descriptor is always closed at the end (the module brakes on
 // close): no motor keeps running after the fuzzer.
@@ -524,7 +530,8 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
     case X4STEP_LOAD: {
       x4step_move m;
       std::memcpy(&m, p.bytes, sizeof m);
-      if (m.flags) return invalid("flags != 0");
+      // `result` not writable: EFAULT is as good as any error.
+      if (m.flags) return invalid("flags != 0", bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0));
       int code = load_code(m);
       if (!code && k.state_known) code = fit_code(k, m.freq_hz);
       if (!code && k.state_known && k.mode != X4STEP_MODE_CLOCK_DIR && m.steps[3]) code = XR_PARAM;
@@ -544,7 +551,8 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
     case X4STEP_MOVE_ENDLESS: {
       x4step_endless m;
       std::memcpy(&m, p.bytes, sizeof m);
-      if (m.flags || m.reserved[0] || m.reserved[1]) return invalid("flags/reserved != 0");
+      if (m.flags || m.reserved[0] || m.reserved[1])
+        return invalid("flags/reserved != 0", bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0));
       uint64_t inval = bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0);
       if (m.direction != 1 && m.direction != -1) {
         e.result_code = XR_PARAM;
@@ -1044,6 +1052,13 @@ struct Shared {
   std::atomic<int> controllers{0};
   std::atomic<long> iterations{0};
   std::atomic<long> opens_ro{0}, opens_rw_busy{0}, controller_wins{0}, polls{0};
+  std::atomic<long> max_open_us{0}, max_close_us{0};  // racers: longest open(O_RDWR), close
+  void keep_max(std::atomic<long> &m, Clock::time_point since) {
+    long us = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - since).count();
+    long cur = m;
+    while (us > cur && !m.compare_exchange_weak(cur, us)) {
+    }
+  }
 };
 
 void hammer(int ctl, uint64_t seed, Shared &sh) {
@@ -1147,7 +1162,9 @@ void racer(uint64_t seed, Shared &sh) {
   Arena ar;
   uint8_t content[kMaxPayload];
   while (!sh.stop) {
+    auto t0 = Clock::now();
     int fd = open_dev(O_RDWR);
+    sh.keep_max(sh.max_open_us, t0);
     if (fd < 0) {
       if (errno != EBUSY)
         violation("controller race: open failed with %s", std::strerror(errno));
@@ -1164,10 +1181,13 @@ void racer(uint64_t seed, Shared &sh) {
       if (cmd == X4STEP_SET_CONFIG) continue;
       Payload p = place(ar, r, random_ptr_kind(r, true), content, cmd_size(cmd));
       call(cx, cmd, p);
+      usleep(r.below(2000));  // let the others try to open meanwhile
     }
     if (r.chance(50)) ioctl(fd, X4STEP_STOP);
     sh.controllers--;
+    t0 = Clock::now();
     close(fd);  // brakes what runs
+    sh.keep_max(sh.max_close_us, t0);
     sh.iterations++;
   }
 }
@@ -1301,9 +1321,17 @@ int main(int argc, char **argv) {
     std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(opt.seconds * 0.15e6)));
     sh2.stop = true;
     for (auto &t : th) t.join();
-    note("phase c2: %ld controller sessions, %ld read-write opens refused (EBUSY), %ld iterations",
-         sh2.controller_wins.load(), sh2.opens_rw_busy.load(), sh2.iterations.load());
+    note(
+        "phase c2: %ld controller sessions, %ld read-write opens refused (EBUSY), %ld iterations, "
+        "longest open %.1f ms, longest close %.1f ms",
+        sh2.controller_wins.load(), sh2.opens_rw_busy.load(), sh2.iterations.load(), sh2.max_open_us / 1e3,
+        sh2.max_close_us / 1e3);
     if (!sh2.controller_wins) violation("phase c2: no thread ever became the controller");
+    // Their moves have ramps of at most 20 ms: braking on close is quick. The
+    // module gives up waiting for a brake after 3 s.
+    if (sh2.max_close_us > 2000000)
+      violation("phase c2: closing the controller took %.0f ms (moves with ramps <= 20 ms)",
+                sh2.max_close_us / 1e3);
     g_stats.print("c2 (controller races)");
     total += sh2.iterations;
   }

@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
 #
-# Guest half of run-x4vport-tests.sh (runs under tests/qemu/run-guest.sh,
+# Guest test of the virtual port (tests/qemu/run-suite.sh -t vport; runs under tests/qemu/run-guest.sh,
 # which has loaded parport and parport_pc, so the virtual port is parport1):
 # x4vport's debugfs files, x4step on the virtual port (open, a move through
 # the hard-irq timer, inputs), the machine (positions counted from the
