@@ -15,7 +15,7 @@ BUILD ?= $(CURDIR)/build
 PREFIX ?= /usr/local
 DESTDIR ?=
 
-.PHONY: all module userspace deps check check-host check-qemu check-style demo bench install clean
+.PHONY: all module userspace deps check check-host check-qemu check-style check-debug demo bench install clean
 
 all: module userspace
 
@@ -40,6 +40,11 @@ check-qemu:
 
 check-style:
 	tests/check-style.sh
+
+# The QEMU suite on a kernel with lockdep, KASAN, UBSAN, atomic-sleep and
+# debugobjects checks (built once, ~7 min on 2 idle cores, then cached).
+check-debug: deps
+	tests/debugkernel/run.sh
 
 demo: deps
 	tools/demo.sh

@@ -389,7 +389,10 @@ static u8 step_axes(struct x4_engine *e)
 	return clk;
 }
 
-/* T(n + 1), from T(n) in e->t_cur, in O(1). */
+/*
+ * T(n + 1), from T(n) in e->t_cur, in O(1). BOOST is high for the
+ * interval when T(n + 1) lies on a ramp.
+ */
 static u64 next_time(struct x4_engine *e)
 {
 	struct x4_plan *p = &e->run;
@@ -397,16 +400,19 @@ static u64 next_time(struct x4_engine *e)
 	u64 m, q;
 
 	if (n1 >= p->n_decel) {
+		e->ctl |= X4_CTL_BOOST;
 		/* sqrt((last - n) k) = t_last - T(n) is the estimate. */
 		return p->t_last - isqrt_from((p->last - n1) * p->k_ns2,
 					      p->t_last - e->t_cur);
 	}
 	if (n1 < p->n_cruise) {
+		e->ctl |= X4_CTL_BOOST;
 		if (!e->t_cur)
 			return x4_isqrt(n1 * p->k_ns2);
 		return isqrt_from(n1 * p->k_ns2,
 				  e->t_cur + p->k_ns2 / (2 * e->t_cur) + 1);
 	}
+	e->ctl &= (u8)~X4_CTL_BOOST;
 	/* Rebase so that endless moves never overflow. */
 	m = 2 * n1 - p->c_m0;
 	if (m >= p->c_den) {
@@ -438,11 +444,6 @@ static u8 clk_axes(u8 clk)
 		if (clk & X4_CLK_BIT(i))
 			axes |= 1u << i;
 	return axes;
-}
-
-static bool ramping(const struct x4_plan *p, u64 n)
-{
-	return n + 1 < p->n_cruise || n + 1 >= p->n_decel;
 }
 
 /*
@@ -608,10 +609,6 @@ static noinline void rise(struct x4_engine *e, u64 now_ns)
 	if (e->n < p->last) {
 		e->t_next = next_time(e);
 		e->half_ns = (e->t_next - e->t_cur) / 2;
-		if (ramping(p, e->n))
-			e->ctl |= X4_CTL_BOOST;
-		else
-			e->ctl &= (u8)~X4_CTL_BOOST;
 	} else if (!e->n) {
 		e->half_ns = p->single_half_ns;
 	}
@@ -638,7 +635,7 @@ void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 {
 	/* The two hot cases first: a clock edge falls, a step rises. */
 	if (e->phase == X4_FALL) {
-		e->data &= (u8)~e->stepping;
+		e->data &= X4_DIR_MASK; /* only stepping clocks were high */
 		step_done(e, e->t_pending);
 		/* A configured space is a minimum too: from the real edge. */
 		if (e->timing.space_ns && e->phase == X4_RISE &&

@@ -180,6 +180,9 @@ static int x4_ioctl_load(struct x4_port *x4, struct x4step_move __user *arg)
 
 	if (copy_from_user(&um, arg, sizeof(um)))
 		return -EFAULT;
+	/* The result must be writable before anything happens. */
+	if (put_user(X4_ERR_PARAM_FAIL, &arg->result))
+		return -EFAULT;
 	if (um.flags)
 		return -EINVAL;
 	for (i = 0; i < X4_AXES; i++)
@@ -201,6 +204,9 @@ static int x4_ioctl_endless(struct x4_port *x4,
 	s32 result = X4_ERR_PARAM_FAIL;
 
 	if (copy_from_user(&ue, arg, sizeof(ue)))
+		return -EFAULT;
+	/* The result must be writable before anything moves. */
+	if (put_user(result, &arg->result))
 		return -EFAULT;
 	if (ue.flags || ue.reserved[0] || ue.reserved[1])
 		return -EINVAL;
@@ -537,7 +543,7 @@ static void x4_detach(struct parport *port)
 	mutex_unlock(&x4->lock);
 	hrtimer_cancel(&x4->timer);
 	irq_work_sync(&x4->wake_work);
-	wake_up_interruptible(&x4->wait);
+	wake_up_all(&x4->wait);
 	put_device(&x4->dev);
 }
 

@@ -24,11 +24,12 @@
 #define X4_SPIN_NS 10000
 #define X4_STATUS_HW_INVERT 0x80
 
+/* Wakes pollers and x4_release's uninterruptible wait for the brake. */
 static void x4_wake(struct irq_work *work)
 {
 	struct x4_port *x4 = container_of(work, struct x4_port, wake_work);
 
-	wake_up_interruptible(&x4->wait);
+	wake_up_all(&x4->wait);
 }
 
 /* The data bits that user wiring inverts. */
@@ -242,7 +243,7 @@ void x4_port_quiesce(struct x4_port *x4)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	hrtimer_cancel(&x4->timer);
 	irq_work_sync(&x4->wake_work);
-	wake_up_interruptible(&x4->wait);
+	wake_up_all(&x4->wait);
 }
 
 /*

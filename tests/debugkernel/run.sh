@@ -26,35 +26,9 @@ release=$("$here/build.sh" "$top/build/debugkernel" | tail -n1)
 
 export X4_QEMU_BUILD=${X4_QEMU_BUILD:-$top/build/qemu-debug}
 export X4_DEBUGKERNEL=1
-guest=$top/tests/qemu/run-guest.sh
-# run-guest.sh's bare "lockdep" pattern matches the debug kernel's boot banner
-# "RCU lockdep checking is enabled." (every lockdep report has a "WARNING: "
-# title and a "Call Trace:", which it catches anyway).
-patch_guest=0
-grep -q '|lockdep|' "$guest" && patch_guest=1
-if [ "$patch_guest" = 0 ] && grep -q 'x4debug' "$suite"; then
-	# run-suite.sh knows the debug kernel kind (enabled by X4_DEBUGKERNEL=1).
-	exec "$suite" -k "$release" "$@"
+# The timing benchmark is left out: a debug kernel's timer is ~16 us late
+# (about 0.6 us on Debian's), so its microsecond checks cannot hold.
+if [ $# -eq 0 ]; then
+	set -- -t smoke -t module -t keys -t cpp -t manual -t vport -t fuzz -t reliability -t phase -t x4ctl
 fi
-
-# Until then: temporary copies (here, so that their paths to the repository
-# hold) with the debug kernel as the only kernel kind and the pattern fixed.
-tmp_suite=$here/.run-suite-debug.$$.sh
-tmp_guest=$here/.run-guest-debug.$$.sh
-trap 'rm -f "$tmp_suite" "$tmp_guest"' EXIT
-# shellcheck disable=SC2016 # the text run-suite.sh has, to be replaced
-runner='"$qdir/run-guest.sh"'
-if [ "$patch_guest" = 1 ]; then
-	sed -e 's/|lockdep|/|WARNING: |turning off the locking correctness validator|DEBUG_LOCKS_WARN_ON|/' \
-		-e "s|\"\$here/qemu-monitor.py\"|\"$top/tests/qemu/qemu-monitor.py\"|" "$guest" >"$tmp_guest"
-	chmod +x "$tmp_guest"
-	runner="\"$tmp_guest\""
-fi
-awk -v runner="$runner" '
-/^kernel_kinds=\(/ { print; print "\t\"debug|vmlinuz-*-x4debug|\""; skip = 1; next }
-skip && /^\)/ { skip = 0 }
-skip { next }
-{ gsub(/"\$qdir\/run-guest.sh"/, runner); print }
-' "$suite" >"$tmp_suite"
-grep -q '"debug|vmlinuz-\*-x4debug|"' "$tmp_suite" || { echo "debugkernel: cannot find kernel_kinds in $suite" >&2; exit 1; }
-bash "$tmp_suite" -k "$release" "$@"
+exec "$suite" -k "$release" "$@"

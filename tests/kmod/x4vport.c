@@ -111,6 +111,11 @@
 #include <linux/uaccess.h>
 #include <linux/vmalloc.h>
 
+/* Without it the parport core calls parport_pc directly, not our ops. */
+#if !IS_ENABLED(CONFIG_PARPORT_NOT_PC)
+#error "x4vport needs CONFIG_PARPORT_NOT_PC (Debian's kernels have it)"
+#endif
+
 static unsigned int ring_order = 20;
 module_param(ring_order, uint, 0444);
 MODULE_PARM_DESC(ring_order, "trace buffer holds 2^ring_order entries (10..24)");

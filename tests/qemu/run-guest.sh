@@ -78,6 +78,7 @@ copy_module() { # SRC DESTDIR
 	esac
 }
 find_module() { # NAME SUBDIR -> path or nothing (built in)
+	[ -d "$moddir/kernel/$2" ] || return 0
 	find "$moddir/kernel/$2" -name "$1.ko" -o -name "$1.ko.*" 2>/dev/null | head -n1
 }
 
@@ -232,7 +233,7 @@ status=$(tr -d '\r' <"$out/console.log" | sed -n 's/^.*X4GUEST-EXIT \([0-9][0-9]
 
 # A kernel report fails the run even if the script passed: WARN() splats are
 # KERN_WARNING, below the console loglevel, so dmesg.log is scanned too.
-bad='WARNING: CPU:|WARNING: at |cut here \]|BUG: |kernel BUG at|Oops|general protection fault|Call Trace:|sleeping function called from invalid context|KASAN|UBSAN|possible circular locking|possible recursive locking|inconsistent lock state|lockdep|suspicious RCU usage|detected stalls|Kernel panic'
+bad='WARNING: CPU:|WARNING: at |cut here \]|BUG: |kernel BUG at|Oops|general protection fault|Call Trace:|sleeping function called from invalid context|KASAN|UBSAN|possible circular locking|possible recursive locking|inconsistent lock state|WARNING: |turning off the locking correctness validator|DEBUG_LOCKS_WARN_ON|suspicious RCU usage|detected stalls|Kernel panic'
 reports=$(cat "$out/console.log" "$out/dmesg.log" 2>/dev/null | tr -d '\r' | grep -a -E "$bad" |
 	awk '!seen[$0]++ { n++; if (n <= 30) print } END { if (n > 30) print "... and " n - 30 " more lines" }' || true)
 

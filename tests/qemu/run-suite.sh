@@ -29,6 +29,7 @@ tests=(
 	"cpp|tests/guest/cpp.sh|$g/cpp_test||tests/qemu/check-segments.sh"
 	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
 	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
+	"fuzz|tests/fuzz/fuzz.sh|$g/ioctl_fuzz||tests/fuzz/check-no-edges.sh"
 	"reliability|tests/guest/reliability.sh|$g/reliability_test||tests/qemu/check-segments.sh"
 	"phase|tests/guest/phase.sh|$g/phase_test||tests/qemu/check-phase.sh"
 	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl||"
@@ -42,6 +43,8 @@ kernel_kinds=(
 	"6.12|vmlinuz-6.12.*-amd64|-rt-"
 	"6.12-rt|vmlinuz-6.12.*-rt-amd64|"
 )
+# The debug kernel (tests/debugkernel): only when asked, it is built locally.
+[ -n "${X4_DEBUGKERNEL:-}" ] && kernel_kinds+=("debug|vmlinuz-*-x4debug|")
 
 want_k=() want_t=() verbose=0
 while [ $# -gt 0 ]; do
