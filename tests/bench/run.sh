@@ -21,3 +21,11 @@ $cg --callgrind-out-file="$tmp/step" "$bench" --per-step >/dev/null 2>&1
 # One dump per leader step (rise + fall); the biggest is the costliest step.
 cat "$tmp"/step.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
 	awk '{v[NR]=$1} END {printf "per leader step: median %d, p99 %d, max %d instructions (goal max <= 400)\n", v[int(NR/2)], v[int(NR*0.99)], v[NR]}'
+
+# The module's timer in QEMU under -icount (reproducible guest time), next
+# to a bare hrtimer in the same boot: tests/guest/timing_bench.cpp.
+echo
+echo "== module: step timer lateness vs a bare hrtimer, 20 kHz 4-axis move (QEMU -icount, Debian 6.1)"
+qout=${X4_QEMU_BUILD:-$(cd "$build" && pwd)/qemu-bench}
+X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t timing >/dev/null 2>&1 || echo "(the timing run failed: see $qout)"
+cat "$qout"/6.1.*/timing/console.log | tr -d '\r' | grep -E 'timer:|hrtimer:|ratio|kHz|example:|step timing'
