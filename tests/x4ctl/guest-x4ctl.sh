@@ -167,15 +167,16 @@ has move-then-two-third "$out" '^move 3 of 3: -100 -50 0 0 at 4000 Hz, ramp 10 m
 expect_field move-then-two-steps steps '[-100,-50,0,0]'
 expect_field move-then-two-moves moves_ended "$((ended + 3))"
 # In the background: the second move is loaded while the first runs, and started by the holder.
+# (The first move lasts 2 s, so that slower debug kernels also see it running.)
 ended=$(field moves_ended)
 check move-then-background 0 'running in the background as PID' '' \
-	x4ctl move 600 --freq 1000 --ramp 20 --then -600 0 0 7
-has move-then-background-second "$out" '^move 2 of 2: -600 0 0 7 at 1000 Hz, ramp 20 ms$'
+	x4ctl move 2000 --freq 1000 --ramp 20 --then -2000 0 0 7
+has move-then-background-second "$out" '^move 2 of 2: -2000 0 0 7 at 1000 Hz, ramp 20 ms$'
 usleep 200000
 expect_field move-then-background-active active true
 expect_field move-then-background-preloaded loaded true
 if settle 100; then pass move-then-background-ends; else fail move-then-background-ends "still running"; fi
-expect_field move-then-background-steps steps '[-600,0,0,7]'
+expect_field move-then-background-steps steps '[-2000,0,0,7]'
 expect_field move-then-background-moves moves_ended "$((ended + 2))"
 # Bad values after --then: exit 2 before the port is opened, nothing moves.
 ended=$(field moves_ended)
