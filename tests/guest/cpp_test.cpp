@@ -5,28 +5,15 @@
 #include <thread>
 #include <utility>
 
+#include "check.hpp"
 #include "x4step.hpp"
 
 using namespace std::chrono_literals;
 
 namespace {
 
-int failures = 0;
-
-void Check(bool ok, const std::string &what) {
-  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
-  if (!ok) failures++;
-}
-
-template <typename F>
-x4step::errc Throws(F &&f) {
-  try {
-    f();
-  } catch (const x4step::error &e) {
-    return static_cast<x4step::errc>(e.code().value());
-  }
-  return x4step::errc::ok;
-}
+using guest::Check;
+using guest::Throws;
 
 }  // namespace
 
@@ -72,6 +59,5 @@ int main() {
     Check(!again.active() && again.get_status().steps[3] < -10, "destructor braked the endless move");
   }
   std::printf("SEG 0 0 0 ? braked\n");
-  std::printf("cpp_test: %d failed\n", failures);
-  return failures ? 1 : 0;
+  return guest::Finish("cpp_test");
 }

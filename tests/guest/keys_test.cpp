@@ -16,14 +16,11 @@
 #include <string>
 #include <vector>
 
+#include "check.hpp"
+
 namespace {
 
-int failures = 0;
-
-void Check(bool ok, const std::string &what) {
-  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
-  if (!ok) failures++;
-}
+using guest::Check;
 
 uint64_t NowNs() {
   timespec ts;
@@ -177,6 +174,5 @@ int main() {
         (unsigned long long)latencies[latencies.size() / 2], (unsigned long long)latencies.back(),
         latencies.size());
   close(fd);
-  std::printf("keys_test: %d failed\n", failures);
-  return failures ? 1 : 0;
+  return guest::Finish("keys_test");
 }

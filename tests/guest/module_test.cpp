@@ -16,14 +16,11 @@
 #include <cstring>
 #include <string>
 
+#include "check.hpp"
+
 namespace {
 
-int failures = 0;
-
-void Check(bool ok, const std::string &what) {
-  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
-  if (!ok) failures++;
-}
+using guest::Check;
 
 const char *dev_path = "/dev/x4step0";
 
@@ -207,6 +204,5 @@ int main(int argc, char **argv) {
   TestBrakeAndStop(fd);
   close(fd);
   TestKilledController();
-  std::printf("module_test: %d failed\n", failures);
-  return failures ? 1 : 0;
+  return guest::Finish("module_test");
 }

@@ -5,28 +5,15 @@
 #include <cstdio>
 #include <string>
 
+#include "check.hpp"
 #include "x4step.hpp"
 
 using namespace std::chrono_literals;
 
 namespace {
 
-int failures = 0;
-
-void Check(bool ok, const std::string &what) {
-  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
-  if (!ok) failures++;
-}
-
-template <typename F>
-x4step::errc Throws(F &&f) {
-  try {
-    f();
-  } catch (const x4step::error &e) {
-    return static_cast<x4step::errc>(e.code().value());
-  }
-  return x4step::errc::ok;
-}
+using guest::Check;
+using guest::Throws;
 
 }  // namespace
 
@@ -73,6 +60,5 @@ int main() {
   std::printf("PHASE 1b 5b 9b 03 43 09 4d 38 29 5c 1b 5b 9b\n");
   cfg.mode = x4step::output_mode::clock_dir;
   c.set_config(cfg);
-  std::printf("phase_test: %d failed\n", failures);
-  return failures ? 1 : 0;
+  return guest::Finish("phase_test");
 }

@@ -22,14 +22,11 @@
 #include <thread>
 #include <vector>
 
+#include "check.hpp"
+
 namespace {
 
-int failures = 0;
-
-void Check(bool ok, const std::string &what) {
-  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
-  if (!ok) failures++;
-}
+using guest::Check;
 
 const char *kDev = "/dev/x4step0";
 
@@ -211,6 +208,5 @@ int main() {
   Access();
   Stress();
   KilledAtRandomPoints();
-  std::printf("reliability_test: %d failed\n", failures);
-  return failures ? 1 : 0;
+  return guest::Finish("reliability_test");
 }

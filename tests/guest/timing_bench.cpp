@@ -19,16 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "check.hpp"
 #include "engine_ref.h"
 
 namespace {
 
-int failures = 0;
-
-void Check(bool ok, const std::string &what) {
-  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
-  if (!ok) failures++;
-}
+using guest::Check;
 
 uint64_t Percentile(const x4step_timing &t, unsigned permille) {
   const uint64_t want = (t.events * permille + 999) / 1000;
@@ -204,6 +200,5 @@ int main() {
   c = std::strtoul(Slurp("/sys/kernel/debug/x4vport/control").c_str(), nullptr, 16);
   Check((c & 1) && !(c & 2), "signal 2 on, 1 off: pin 14 high, pin 1 low");
   close(fd);
-  std::printf("timing_bench: %d failed\n", failures);
-  return failures ? 1 : 0;
+  return guest::Finish("timing_bench");
 }

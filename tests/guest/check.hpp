@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: GPL-2.0
+// The guest test programs' one assertion: a PASS or FAIL line per check
+// (run-suite.sh shows the FAIL lines), and the count for the exit status.
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#if __has_include("x4step.hpp")  // programs built against the library
+#include "x4step.hpp"
+#define GUEST_CHECK_X4STEP
+#endif
+
+namespace guest {
+
+inline int failures = 0;
+
+inline void Check(bool ok, const std::string &what) {
+  std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());
+  if (!ok) failures++;
+}
+
+// Print the closing line; the program's exit status.
+inline int Finish(const char *program) {
+  std::printf("%s: %d failed\n", program, failures);
+  return failures ? 1 : 0;
+}
+
+#ifdef GUEST_CHECK_X4STEP
+// The x4step error code a C++ API call throws, errc::ok if none.
+template <typename F>
+x4step::errc Throws(F &&f) {
+  try {
+    f();
+  } catch (const x4step::error &e) {
+    return static_cast<x4step::errc>(e.code().value());
+  }
+  return x4step::errc::ok;
+}
+#endif
+
+}  // namespace guest
