@@ -41,8 +41,9 @@ struct x4_port {
 	bool written_valid; /* the registers hold data_written, ctl_written */
 	u8 data_written;
 	u8 ctl_written;
-	u8 clock_invert; /* data bits XORed on output */
-	u8 dir_invert;
+	u8 clock_invert; /* axes whose clock is active low */
+	u8 dir_invert; /* axes whose direction is inverted */
+	u8 data_invert; /* the data bits XORed on output, from both */
 	u32 cfg_flags;
 	u16 brake_codes[X4STEP_MAX_BRAKE_CODES];
 	u32 n_brake_codes;
@@ -61,6 +62,7 @@ void x4_port_claimed(struct x4_port *x4);
 void x4_port_quiesce(struct x4_port *x4);
 int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless);
 void x4_port_write_locked(struct x4_port *x4);
+void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);
 void x4_port_write_rest_locked(struct x4_port *x4);
 void x4_port_drain_locked(struct x4_port *x4, u64 until);
 u32 x4_port_inputs_locked(struct x4_port *x4);

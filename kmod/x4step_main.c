@@ -300,8 +300,7 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_configure(&x4->eng, &x4->eng.timing, cfg.output_mode);
 	if (!ret) {
-		x4->clock_invert = cfg.clock_invert;
-		x4->dir_invert = cfg.dir_invert;
+		x4_port_set_invert(x4, cfg.clock_invert, cfg.dir_invert);
 		x4->cfg_flags = cfg.flags;
 		x4_port_write_rest_locked(x4);
 	}

@@ -32,19 +32,21 @@ static void x4_wake(struct irq_work *work)
 	wake_up_all(&x4->wait);
 }
 
-/* The data bits that user wiring inverts. */
-static u8 x4_data_invert(const struct x4_port *x4)
+/* The data bits that user wiring inverts: set once, not per event. Caller holds slock. */
+void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert)
 {
 	u8 bits = 0;
 	int i;
 
 	for (i = 0; i < X4_AXES; i++) {
-		if (x4->clock_invert & (1u << i))
+		if (clock_invert & (1u << i))
 			bits |= X4_CLK_BIT(i);
-		if (x4->dir_invert & (1u << i))
+		if (dir_invert & (1u << i))
 			bits |= X4_DIR_BIT(i);
 	}
-	return bits;
+	x4->clock_invert = clock_invert;
+	x4->dir_invert = dir_invert;
+	x4->data_invert = bits;
 }
 
 /*
@@ -61,7 +63,7 @@ void x4_port_write_locked(struct x4_port *x4)
 	if (!x4->claimed)
 		return;
 	if (x4->eng.mode == X4_MODE_CLOCK_DIR)
-		data ^= x4_data_invert(x4);
+		data ^= x4->data_invert;
 	if (data != x4->data_written || !x4->written_valid)
 		port->ops->write_data(port, data);
 	if (ctl != x4->ctl_written || !x4->written_valid)
