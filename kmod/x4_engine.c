@@ -43,6 +43,21 @@ u64 x4_isqrt(u64 x)
 	return isqrt_from(x, 1ull << ((64 - __builtin_clzll(x) + 1) / 2));
 }
 
+/*
+ * u(m) = sqrt(c + m k) of a ramp side, in ns. est: a value at or above
+ * the root in the ramp's units (0: none).
+ */
+static u64 ramp_u(const struct x4_ramp *r, u64 m, u64 est)
+{
+	u64 x = r->c + m * r->k;
+	u64 q = est ? isqrt_from(x, est) : x4_isqrt(x);
+
+	if (!r->sh)
+		return q;
+	/* The fraction below one unit, from the remainder (to < 1 ns). */
+	return (q << r->sh) + x4_div((x - q * q) << r->sh, 2 * q + 1);
+}
+
 static u64 cruise_time(const struct x4_plan *p, u64 n)
 {
 	return p->c_base + x4_div((2 * n - p->c_m0) * p->c_num, p->c_den);
@@ -51,9 +66,10 @@ static u64 cruise_time(const struct x4_plan *p, u64 n)
 u64 x4_plan_time(const struct x4_plan *p, u64 n)
 {
 	if (n >= p->n_decel)
-		return p->t_last - x4_isqrt((p->last - n) * p->k_ns2);
+		return p->t_last + p->dec.s_ns -
+		       ramp_u(&p->dec, p->last - n, 0);
 	if (n < p->n_cruise)
-		return x4_isqrt(n * p->k_ns2);
+		return ramp_u(&p->acc, n, 0) - p->acc.s_ns;
 	return cruise_time(p, n);
 }
 
@@ -92,9 +108,108 @@ int x4_move_check(const struct x4_move *m)
 	return any ? X4_OK : X4_ERR_NO_STEPS;
 }
 
+int x4_profile_check(const struct x4_profile *p)
+{
+	if (!p->vm || p->vm > X4_VEL_MAX || p->v0 > p->vm || p->ve > p->vm ||
+	    p->a0 > X4_ACC_MAX || p->ae > X4_ACC_MAX ||
+	    (p->a0 && (u64)p->vm > (u64)X4_RAMP_TIME_MAX_S * p->a0) ||
+	    (p->ae && (u64)p->vm > (u64)X4_RAMP_TIME_MAX_S * p->ae))
+		return X4_ERR_PARAM_FAIL;
+	return X4_OK;
+}
+
+/* One side of a profile's ramp: from or to rest speed v, acceleration a. */
+static void plan_ramp(struct x4_ramp *r, u64 v, u64 a, u64 vm)
+{
+	u64 s;
+
+	r->sh = 0;
+	/* u never exceeds vm / a: keep it below 2^31 units. */
+	while ((x4_div(vm * NSEC_PER_SEC_U64, a) >> r->sh) >= (1ull << 31))
+		r->sh++;
+	s = x4_div(v * NSEC_PER_SEC_U64, a << r->sh);
+	r->c = s * s;
+	r->k = x4_div(2 * NSEC_PER_SEC_U64 * NSEC_PER_SEC_U64, a << (2 * r->sh));
+	r->s_ns = ramp_u(r, 0, 0);
+}
+
+/* (x - y)^2 / (2 a vm) in ns: how much later than "at vm from 0" a ramp ends. */
+static u64 ramp_lag(u64 x, u64 y, u64 a, u64 vm)
+{
+	return a ? x4_div((x - y) * (x - y) * NSEC_PER_SEC_U64, 2 * a * vm) : 0;
+}
+
+/* The time of a ramp from v to w (w > v) with acceleration a, in ns. */
+static u64 ramp_span(u64 v2, u64 w2, u64 a)
+{
+	/* Square roots in 1/32768 steps/s keep this within ns. */
+	u64 v = x4_isqrt(v2 << 30), w = x4_isqrt(w2 << 30);
+
+	return x4_div((w - v) * NSEC_PER_SEC_U64, a << 15);
+}
+
 /*
- * Plan the leader's schedule for `steps` steps (0: endless) at freq_hz
- * with ramp_ms ramps. Four shapes:
+ * Plan a profile move (ProStep4) of `steps` >= 1 steps. Four shapes:
+ *  - trapezoid: v0 up to vm with a0, cruise, down to ve with ae;
+ *  - triangle: too short for vm: turn where the ramps meet (vp);
+ *  - too short to brake from v0 to ve: start at the speed from which
+ *    the ramp just reaches ve, and brake all the way;
+ *  - too short to accelerate to ve: accelerate all the way.
+ * A side with a = 0 has no ramp: it starts (or stops) at vm.
+ */
+static void plan_prof(struct x4_plan *p, u64 steps, const struct x4_profile *f)
+{
+	u64 d = steps - 1, vm = f->vm, a0 = f->a0, ae = f->ae;
+	u64 v0 = a0 ? f->v0 : vm, ve = ae ? f->ve : vm;
+	u64 up2 = vm * vm - v0 * v0, down2 = vm * vm - ve * ve;
+	u64 sa = a0 ? x4_div(up2 + 2 * a0 - 1, 2 * a0) : 0;
+	u64 sd = ae ? x4_div(down2 + 2 * ae - 1, 2 * ae) : 0;
+	u64 vp2;
+
+	p->endless = false;
+	p->last = d;
+	p->prof = *f;
+	p->prof.v0 = (u32)v0;
+	p->prof.ve = (u32)ve;
+	p->brake_steps = 0;
+	if (a0)
+		plan_ramp(&p->acc, v0, a0, vm);
+	if (ae)
+		plan_ramp(&p->dec, ve, ae, vm);
+	p->c_m0 = 0;
+	p->c_num = NSEC_PER_SEC_U64;
+	p->c_den = 2 * vm;
+	p->c_base = ramp_lag(vm, v0, a0, vm);
+	/* A single step: at v0, or what the ramp reaches in half a step. */
+	vp2 = v0 ? v0 : x4_isqrt(a0);
+	p->single_half_ns = x4_div(NSEC_PER_SEC_U64, 2 * (vp2 < vm ? vp2 : vm));
+	if (d >= sa + sd) {
+		p->n_cruise = v0 < vm ? x4_div(up2, 2 * a0) + 1 : 0;
+		p->n_decel = ve < vm ? d - x4_div(down2, 2 * ae) : d + 1;
+		p->t_last = cruise_time(p, d) + ramp_lag(vm, ve, ae, vm);
+		return;
+	}
+	vp2 = a0 && ae ? x4_div(ae * (v0 * v0 + 2 * a0 * d) + a0 * ve * ve,
+				a0 + ae) : 0;
+	if (!a0 || vp2 < v0 * v0) {
+		/* Brake all the way, from where the ramp reaches ve. */
+		p->n_cruise = 0;
+		p->n_decel = 0;
+		p->t_last = ramp_u(&p->dec, d, 0) - p->dec.s_ns;
+	} else if (!ae || vp2 < ve * ve) {
+		p->n_cruise = d + 1; /* accelerate all the way */
+		p->n_decel = d + 1;
+	} else {
+		p->n_cruise = x4_div(vp2 - v0 * v0, 2 * a0) + 1;
+		p->n_decel = p->n_cruise;
+		p->t_last = ramp_span(v0 * v0, vp2, a0) +
+			    ramp_span(ve * ve, vp2, ae);
+	}
+}
+
+/*
+ * Plan an X4Step move's leader schedule for `steps` steps (0: endless) at
+ * freq_hz with ramp_ms ramps. Four shapes:
  *  - no ramp: constant frequency from the first step;
  *  - trapezoid: ramps of freq*ramp/2000 steps around a cruise at freq;
  *  - short: too short for freq: accelerate over (D - P) / 2 steps, run
@@ -109,9 +224,12 @@ static void plan_profile(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 	u64 d = steps ? steps - 1 : 0;
 	u64 x2, t_a, interval;
 
+	memset(&p->acc, 0, sizeof(p->acc));
+	memset(&p->prof, 0, sizeof(p->prof));
 	p->endless = !steps;
 	p->last = steps ? d : NO_STEP;
-	p->k_ns2 = ramp ? x4_div(2000000000000000ull * ramp, freq) : 0;
+	p->acc.k = ramp ? x4_div(2000000000000000ull * ramp, freq) : 0;
+	p->dec = p->acc;
 	p->n_decel = p->endless ? NO_STEP : d + 1;
 	p->c_base = 0;
 	p->c_m0 = 0;
@@ -135,7 +253,7 @@ static void plan_profile(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 		}
 	} else if (d > X4_PLATEAU_STEPS) {
 		x2 = d - X4_PLATEAU_STEPS;
-		t_a = x4_isqrt(x2 * p->k_ns2 / 2);
+		t_a = x4_isqrt(x2 * p->acc.k / 2);
 		p->n_cruise = x2 / 2 + 1;
 		p->n_decel = d - x2 / 2;
 		p->c_base = t_a;
@@ -145,7 +263,7 @@ static void plan_profile(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 		p->t_last = x4_div(t_a * (d + x2), x2);
 		p->brake_steps = (u32)((x2 + 1) / 2);
 	} else {
-		interval = x4_isqrt(p->k_ns2 / 2);
+		interval = x4_isqrt(p->acc.k / 2);
 		if (interval < x4_div(NSEC_PER_SEC_U64, freq))
 			interval = x4_div(NSEC_PER_SEC_U64, freq);
 		p->c_num = interval;
@@ -155,7 +273,7 @@ static void plan_profile(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 	}
 }
 
-static void plan_axes(struct x4_plan *p, const s32 *steps)
+static void plan_axes(struct x4_plan *p, const s64 *steps)
 {
 	u32 longest = 0;
 	int i;
@@ -164,7 +282,7 @@ static void plan_axes(struct x4_plan *p, const s32 *steps)
 	p->axes = 0;
 	p->leader = 0;
 	for (i = 0; i < X4_AXES; i++) {
-		u32 n = steps[i] < 0 ? (u32)-steps[i] : (u32)steps[i];
+		u32 n = (u32)(steps[i] < 0 ? -steps[i] : steps[i]);
 
 		p->abs_steps[i] = n;
 		p->sign[i] = steps[i] < 0 ? -1 : 1;
@@ -185,8 +303,13 @@ static void plan_axes(struct x4_plan *p, const s32 *steps)
 
 void x4_engine_init(struct x4_engine *e)
 {
+	static const struct x4_profile prof = { 0, 0, 1000, 1000, 1000 };
+	int i;
+
 	memset(e, 0, sizeof(*e));
 	e->timing.dir_setup_ns = X4_DIR_SETUP_NS;
+	for (i = 0; i < X4_AXES; i++)
+		e->prof[i] = prof;
 }
 
 int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
@@ -222,62 +345,209 @@ static int timing_check(const struct x4_engine *e, s32 freq_hz)
 	return X4_OK;
 }
 
+static bool phase_mode(const struct x4_engine *e)
+{
+	return e->mode != X4_MODE_CLOCK_DIR;
+}
+
+/* The axes an output mode drives, as a mask. */
+static u8 mode_axes(const struct x4_engine *e)
+{
+	return phase_mode(e) ? 0x07 : 0x0f;
+}
+
+/* The axes of the running moves. */
+static u8 busy_axes(const struct x4_engine *e)
+{
+	u8 axes = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (e->busy & (1u << i))
+			axes |= e->ch[i].run.axes;
+	return axes;
+}
+
+static s32 position(const struct x4_engine *e, int i)
+{
+	return (s32)(e->pos_base[i] + (u32)e->steps[i]);
+}
+
+/* Start counting the axes' steps afresh; their coordinates stay. */
+static void fold_steps(struct x4_engine *e, u8 axes)
+{
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(axes & (1u << i)))
+			continue;
+		e->pos_base[i] += (u32)e->steps[i];
+		e->steps[i] = 0;
+	}
+}
+
+/* The input bit of an input number 1..5, 0 for none. */
+static u8 input_bit(u8 input)
+{
+	return input ? (u8)(1u << (input - 1)) : 0;
+}
+
+/* The limit switch input that axis i of plan p moves toward. */
+static u8 limit_bit(const struct x4_engine *e, const struct x4_plan *p, int i)
+{
+	return input_bit(p->sign[i] > 0 ? e->sw.plus[i] : e->sw.minus[i]);
+}
+
+/* The earliest event of all channels is the next; the outputs of all. */
+static void schedule_all(struct x4_engine *e)
+{
+	u64 due = NO_STEP;
+	u8 busy = 0, ctl = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		const struct x4_chan *c = &e->ch[i];
+
+		if (c->phase == X4_IDLE)
+			continue;
+		busy |= 1u << i;
+		ctl |= c->ctl;
+		if (c->t_pending < due) {
+			due = c->t_pending;
+			e->cur = (u8)i;
+		}
+	}
+	e->busy = busy;
+	e->solo = busy && !(busy & (busy - 1));
+	e->due = due;
+	e->ctl = (u8)((e->ctl & (X4_CTL_SIGNAL1 | X4_CTL_SIGNAL2)) | ctl);
+}
+
+/* After an event of channel e->cur: the common case is that it runs alone. */
+static inline void schedule(struct x4_engine *e, const struct x4_chan *c)
+{
+	if (e->solo && c->phase != X4_IDLE) {
+		e->due = c->t_pending;
+		e->ctl = (u8)((e->ctl & (X4_CTL_SIGNAL1 | X4_CTL_SIGNAL2)) |
+			      c->ctl);
+		return;
+	}
+	schedule_all(e);
+}
+
+/*
+ * Which switches end the move of channel c: the limits its axes move
+ * toward, and in a reference run the REF input. A limit that is active
+ * already while the axis backs off the opposite limit on the same input
+ * (switches in parallel) is armed once it has been released.
+ */
+static void arm_switches(struct x4_engine *e, struct x4_chan *c)
+{
+	const struct x4_plan *p = &c->run;
+	int i;
+
+	c->halt_mask = 0;
+	c->halt_flip = 0;
+	c->deferred = 0;
+	for (i = 0; i < X4_AXES; i++) {
+		u8 bit = limit_bit(e, p, i), back;
+
+		if (!(p->axes & (1u << i)) || !bit)
+			continue;
+		back = p->sign[i] > 0 ? e->err[i] & X4_AXERR_LIMIT_NEG &&
+					input_bit(e->sw.minus[i]) == bit :
+					e->err[i] & X4_AXERR_LIMIT_POS &&
+					input_bit(e->sw.plus[i]) == bit;
+		if (back && (e->inputs & bit))
+			c->deferred |= bit;
+		else
+			c->halt_mask |= bit;
+	}
+	if (!c->home)
+		return;
+	c->halt_mask |= c->ref_bit;
+	c->deferred &= (u8)~c->ref_bit;
+	/* Phase 1 ends when REF is active, phase 2 when it changes. */
+	if (c->home == X4_HOME_PHASE2)
+		c->halt_flip = e->inputs & c->ref_bit;
+}
+
+/* Begin the move in c->run: directions go out at now_ns. */
+static void begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+{
+	int i;
+
+	c->phase = X4_SETUP;
+	c->no_steps = false;
+	c->n = 0;
+	c->t_cur = 0;
+	c->ctl = 0;
+	c->t_pending = now_ns;
+	c->origin = now_ns + e->timing.dir_setup_ns;
+	for (i = 0; i < X4_AXES; i++)
+		c->bres[i] = c->run.bres_2l / 2;
+	arm_switches(e, c);
+	for (i = 0; i < X4_AXES; i++)
+		if (c->run.axes & (1u << i))
+			e->err[i] = 0; /* a new command to the axis */
+	fold_steps(e, c->run.axes);
+	schedule_all(e);
+}
+
+/* Channel i runs the moves whose lowest axis is i. */
+static struct x4_chan *chan_of(struct x4_engine *e, u8 axes)
+{
+	return &e->ch[__builtin_ctz(axes)];
+}
+
 int x4_engine_load(struct x4_engine *e, const struct x4_move *m)
 {
 	int ret = x4_move_check(m);
+	s64 steps[X4_AXES];
+	int i;
 
 	if (!ret)
 		ret = timing_check(e, m->freq_hz);
-	if (!ret && e->mode != X4_MODE_CLOCK_DIR && m->steps[3])
+	if (!ret && phase_mode(e) && m->steps[3])
 		ret = X4_ERR_PARAM_FAIL; /* the SMC boards drive 3 motors */
 	if (ret)
 		return ret;
 	if (e->loaded)
 		return X4_ERR_IS_LOADED;
-	plan_axes(&e->next, m->steps);
+	for (i = 0; i < X4_AXES; i++)
+		steps[i] = m->steps[i];
+	plan_axes(&e->next, steps);
 	plan_profile(&e->next, e->next.abs_steps[e->next.leader],
 		     (u32)m->freq_hz, (u32)m->ramp_ms);
 	e->loaded = true;
 	return X4_OK;
 }
 
-/* Begin the move in e->run: directions and AKTIV go out at now_ns. */
-static void begin(struct x4_engine *e, u64 now_ns)
-{
-	int i;
-
-	e->phase = X4_SETUP;
-	e->no_steps = false;
-	e->n = 0;
-	e->t_cur = 0;
-	e->t_pending = now_ns;
-	e->origin = now_ns + e->timing.dir_setup_ns;
-	for (i = 0; i < X4_AXES; i++) {
-		e->steps[i] = 0;
-		e->bres[i] = e->run.bres_2l / 2;
-	}
-}
-
 int x4_engine_start(struct x4_engine *e, u64 now_ns)
 {
+	struct x4_chan *c;
+
 	if (!e->loaded)
 		return X4_ERR_NOT_LOADED;
-	if (x4_engine_busy(e))
+	if (busy_axes(e) & e->next.axes)
 		return X4_ERR_IS_ACTIVE;
-	e->run = e->next;
+	c = chan_of(e, e->next.axes);
+	c->run = e->next;
+	c->home = 0;
 	e->loaded = false;
-	begin(e, now_ns);
+	fold_steps(e, 0x0f); /* X4Start clears every step counter */
+	begin(e, c, now_ns);
 	return X4_OK;
 }
 
 int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 		      s32 freq_hz, s32 ramp_ms, u64 now_ns)
 {
-	s32 steps[X4_AXES] = { 0 };
+	s64 steps[X4_AXES] = { 0 };
+	struct x4_chan *c;
 	int ret;
 
-	if (axis < 1 || axis > X4_AXES ||
-	    (e->mode != X4_MODE_CLOCK_DIR && axis > X4_SMC_AXES))
+	if (axis < 1 || axis > X4_AXES || !(mode_axes(e) & (1u << (axis - 1))))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_ramp_check(freq_hz, ramp_ms);
 	if (!ret)
@@ -286,39 +556,151 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 		return ret;
 	if (e->loaded)
 		return X4_ERR_IS_LOADED;
-	if (x4_engine_busy(e))
+	if (busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
+	c = &e->ch[axis - 1];
 	steps[axis - 1] = negative ? -1 : 1;
-	plan_axes(&e->run, steps);
-	plan_profile(&e->run, 0, (u32)freq_hz, (u32)ramp_ms);
-	begin(e, now_ns);
+	plan_axes(&c->run, steps);
+	plan_profile(&c->run, 0, (u32)freq_hz, (u32)ramp_ms);
+	c->home = 0;
+	fold_steps(e, 0x0f);
+	begin(e, c, now_ns);
+	return X4_OK;
+}
+
+int x4_engine_set_profile(struct x4_engine *e, s32 axis,
+			  const struct x4_profile *p)
+{
+	if (axis < 1 || axis > X4_AXES || x4_profile_check(p))
+		return X4_ERR_PARAM_FAIL;
+	e->prof[axis - 1] = *p; /* for the axis' next move */
+	return X4_OK;
+}
+
+int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
+		   bool relative, u64 now_ns)
+{
+	s64 steps[X4_AXES];
+	int i, j, ret;
+
+	if (!axes || axes & ~mode_axes(e))
+		return X4_ERR_PARAM_FAIL;
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(axes & (1u << i)))
+			continue;
+		ret = timing_check(e, (s32)e->prof[i].vm);
+		if (ret)
+			return ret;
+	}
+	if (busy_axes(e) & axes)
+		return X4_ERR_IS_ACTIVE;
+	for (i = 0; i < X4_AXES; i++) {
+		struct x4_chan *c = &e->ch[i];
+
+		if (!(axes & (1u << i)))
+			continue;
+		e->err[i] = 0;
+		for (j = 0; j < X4_AXES; j++)
+			steps[j] = 0;
+		steps[i] = relative ? (s64)target[i] :
+				      (s64)target[i] - position(e, i);
+		if (!steps[i])
+			continue; /* there already */
+		plan_axes(&c->run, steps);
+		plan_prof(&c->run, c->run.abs_steps[i], &e->prof[i]);
+		c->home = 0;
+		begin(e, c, now_ns);
+	}
+	return X4_OK;
+}
+
+/* Start reference run phase `phase` of the axis of channel c. */
+static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
+		       u8 phase, s32 vref, u64 now_ns)
+{
+	s64 steps[X4_AXES] = { 0 };
+
+	steps[axis] = vref < 0 ? -(s64)c->sref : (s64)c->sref;
+	plan_axes(&c->run, steps);
+	plan_profile(&c->run, c->sref, (u32)(vref < 0 ? -vref : vref), 0);
+	c->home = phase;
+	begin(e, c, now_ns);
+}
+
+static bool vref_ok(s32 v)
+{
+	return v && v <= X4_VEL_MAX && v >= -X4_VEL_MAX;
+}
+
+int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
+		   s32 vref2, u32 sref, u64 now_ns)
+{
+	struct x4_chan *c;
+	int ret;
+
+	if (axis < 1 || axis > X4_AXES ||
+	    !(mode_axes(e) & (1u << (axis - 1))) || !phases ||
+	    phases & ~(X4_HOME_PHASE1 | X4_HOME_PHASE2) ||
+	    (phases & X4_HOME_PHASE1 && !vref_ok(vref1)) ||
+	    (phases & X4_HOME_PHASE2 && !vref_ok(vref2)) || !sref ||
+	    sref > 0x7fffffff || !e->sw.ref[axis - 1])
+		return X4_ERR_PARAM_FAIL;
+	ret = timing_check(e, phases & X4_HOME_PHASE1 ?
+			   (vref1 < 0 ? -vref1 : vref1) : 1);
+	if (!ret)
+		ret = timing_check(e, phases & X4_HOME_PHASE2 ?
+				   (vref2 < 0 ? -vref2 : vref2) : 1);
+	if (ret)
+		return ret;
+	if (busy_axes(e) & (1u << (axis - 1)))
+		return X4_ERR_IS_ACTIVE;
+	c = &e->ch[axis - 1];
+	c->sref = sref;
+	c->vref2 = vref2;
+	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
+	c->home_next = phases == (X4_HOME_PHASE1 | X4_HOME_PHASE2);
+	e->sync &= (u8)~(1u << (axis - 1));
+	if (phases & X4_HOME_PHASE1)
+		home_phase(e, c, axis - 1, X4_HOME_PHASE1, vref1, now_ns);
+	else
+		home_phase(e, c, axis - 1, X4_HOME_PHASE2, vref2, now_ns);
 	return X4_OK;
 }
 
 /*
- * Decelerate from leader step nb (whose time t_nb is already fixed) to
- * rest along the ramp. The pending event keeps its time, so the glue never
- * has to re-arm its timer: only what happens at that time changes.
+ * Decelerate channel c from leader step nb (whose time t_nb is already
+ * fixed) to rest along the ramp. The pending event keeps its time, so the
+ * glue never has to re-arm its timer: only what happens at that time
+ * changes.
  */
-static void brake_from(struct x4_engine *e, u64 nb, u64 t_nb)
+static void brake_from(struct x4_chan *c, u64 nb, u64 t_nb)
 {
-	struct x4_plan *p = &e->run;
-	u64 d;
+	struct x4_plan *p = &c->run;
+	const struct x4_profile *f = &p->prof;
+	u64 d, v2;
 
 	if (nb >= p->n_decel)
 		return; /* already braking */
-	if (!p->k_ns2)
+	if (f->vm) {
+		/* A profile move: from the speed at nb down to ve. */
+		v2 = nb < p->n_cruise ? (u64)f->v0 * f->v0 + 2ull * f->a0 * nb :
+					(u64)f->vm * f->vm;
+		d = f->ae && v2 > (u64)f->ve * f->ve ?
+			x4_div(v2 - (u64)f->ve * f->ve + 2ull * f->ae - 1,
+			       2ull * f->ae) : 0;
+	} else if (!p->dec.k) {
 		d = 0;
-	else if (nb < p->n_cruise)
+	} else if (nb < p->n_cruise) {
 		d = nb; /* v^2 / 2a = nb while accelerating from rest */
-	else
+	} else {
 		d = p->brake_steps;
+	}
 	if (!d) {
 		/* No ramp to follow: step nb - 1 was the last. */
-		if (e->phase == X4_SETUP)
-			e->no_steps = true;
-		else if (e->phase == X4_RISE)
-			e->phase = X4_END; /* at the time step nb was due */
+		if (c->phase == X4_SETUP)
+			c->no_steps = true;
+		else if (c->phase == X4_RISE)
+			c->phase = X4_END; /* at the time step nb was due */
 		else
 			p->last = nb - 1;
 		return;
@@ -328,35 +710,32 @@ static void brake_from(struct x4_engine *e, u64 nb, u64 t_nb)
 	p->endless = false;
 	p->last = nb + d;
 	p->n_decel = nb;
-	p->t_last = t_nb + x4_isqrt(d * p->k_ns2);
+	p->t_last = t_nb + ramp_u(&p->dec, d, 0) - p->dec.s_ns;
 }
 
-int x4_engine_brake(struct x4_engine *e)
+static void brake_chan(struct x4_chan *c)
 {
-	switch (e->phase) {
+	switch (c->phase) {
 	case X4_IDLE:
-		return X4_ERR_NOT_ACTIVE;
-	case X4_SETUP:
-		brake_from(e, 0, 0);
-		break;
-	case X4_RISE:
-		brake_from(e, e->n, e->t_cur);
-		break;
-	case X4_FALL:
-		if (e->n < e->run.last)
-			brake_from(e, e->n + 1, e->t_next);
-		break;
 	case X4_END:
 		break;
+	case X4_SETUP:
+		brake_from(c, 0, 0);
+		break;
+	case X4_RISE:
+		brake_from(c, c->n, c->t_cur);
+		break;
+	case X4_FALL:
+		if (c->n < c->run.last)
+			brake_from(c, c->n + 1, c->t_next);
+		break;
 	case X4_QUEUED: /* brake what comes after this instant's writes */
-		e->phase = e->phase_after;
-		if (e->phase != X4_IDLE)
-			x4_engine_brake(e);
-		e->phase_after = e->phase;
-		e->phase = X4_QUEUED;
+		c->phase = c->phase_after;
+		brake_chan(c);
+		c->phase_after = c->phase;
+		c->phase = X4_QUEUED;
 		break;
 	}
-	return X4_OK;
 }
 
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high)
@@ -368,9 +747,9 @@ void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high)
 }
 
 /* Clock bits of leader step n: the leader and the minors due now. */
-static u8 step_axes(struct x4_engine *e)
+static u8 step_axes(struct x4_engine *e, struct x4_chan *c)
 {
-	const struct x4_plan *p = &e->run;
+	const struct x4_plan *p = &c->run;
 	u8 clk = X4_CLK_BIT(p->leader);
 	int i;
 
@@ -379,9 +758,9 @@ static u8 step_axes(struct x4_engine *e)
 	for (i = 0; i < X4_AXES; i++) {
 		if (!p->bres_inc[i])
 			continue; /* the leader, or an axis that does not move */
-		e->bres[i] += p->bres_inc[i];
-		if (e->bres[i] >= p->bres_2l) {
-			e->bres[i] -= p->bres_2l;
+		c->bres[i] += p->bres_inc[i];
+		if (c->bres[i] >= p->bres_2l) {
+			c->bres[i] -= p->bres_2l;
 			e->steps[i] += p->sign[i];
 			clk |= X4_CLK_BIT(i);
 		}
@@ -390,29 +769,30 @@ static u8 step_axes(struct x4_engine *e)
 }
 
 /*
- * T(n + 1), from T(n) in e->t_cur, in O(1). BOOST is high for the
+ * T(n + 1), from T(n) in c->t_cur, in O(1). BOOST is high for the
  * interval when T(n + 1) lies on a ramp.
  */
-static u64 next_time(struct x4_engine *e)
+static u64 next_time(struct x4_chan *c)
 {
-	struct x4_plan *p = &e->run;
-	u64 n1 = e->n + 1;
-	u64 m, q;
+	struct x4_plan *p = &c->run;
+	u64 n1 = c->n + 1;
+	u64 m, q, u;
 
 	if (n1 >= p->n_decel) {
-		e->ctl |= X4_CTL_BOOST;
-		/* sqrt((last - n) k) = t_last - T(n) is the estimate. */
-		return p->t_last - isqrt_from((p->last - n1) * p->k_ns2,
-					      p->t_last - e->t_cur);
+		c->ctl = X4_CTL_AKTIV | X4_CTL_BOOST;
+		/* The previous u is the estimate. */
+		u = (p->t_last + p->dec.s_ns - c->t_cur) >> p->dec.sh;
+		return p->t_last + p->dec.s_ns -
+		       ramp_u(&p->dec, p->last - n1, u + 1);
 	}
 	if (n1 < p->n_cruise) {
-		e->ctl |= X4_CTL_BOOST;
-		if (!e->t_cur)
-			return x4_isqrt(n1 * p->k_ns2);
-		return isqrt_from(n1 * p->k_ns2,
-				  e->t_cur + p->k_ns2 / (2 * e->t_cur) + 1);
+		c->ctl = X4_CTL_AKTIV | X4_CTL_BOOST;
+		u = (c->t_cur + p->acc.s_ns) >> p->acc.sh;
+		if (u)
+			u += x4_div(p->acc.k, 2 * u) + 1;
+		return ramp_u(&p->acc, n1, u) - p->acc.s_ns;
 	}
-	e->ctl &= (u8)~X4_CTL_BOOST;
+	c->ctl = X4_CTL_AKTIV;
 	/* Rebase so that endless moves never overflow. */
 	m = 2 * n1 - p->c_m0;
 	if (m >= p->c_den) {
@@ -432,6 +812,12 @@ static u8 dir_bits(u8 axes)
 		if (axes & (1u << i))
 			bits |= X4_DIR_BIT(i);
 	return bits;
+}
+
+/* The clock bits of the axes in `axes`. */
+static u8 clk_bits(u8 axes)
+{
+	return (u8)(dir_bits(axes) << 1);
 }
 
 /* The axes whose clock bits are set in clk. */
@@ -466,30 +852,28 @@ static u8 smc_hold(u8 pattern)
 	return pattern;
 }
 
-static bool phase_mode(const struct x4_engine *e)
-{
-	return e->mode != X4_MODE_CLOCK_DIR;
-}
-
 /*
  * Writes due at time t: the first now, the rest queued at the same t,
- * before whatever e->phase and e->t_pending were going to be next.
+ * before whatever c->phase and c->t_pending were going to be next.
  */
-static void emit(struct x4_engine *e, const u8 *bytes, int n, u64 t)
+static void emit(struct x4_engine *e, struct x4_chan *c, const u8 *bytes,
+		 int n, u64 t)
 {
 	int i;
 
+	if (!n)
+		return;
 	e->data = bytes[0];
 	if (n < 2)
 		return;
-	e->queued = 0;
-	e->qhead = 0;
+	c->queued = 0;
+	c->qhead = 0;
 	for (i = 1; i < n; i++)
-		e->queue[e->queued++] = bytes[i];
-	e->phase_after = e->phase;
-	e->t_after = e->t_pending;
-	e->phase = X4_QUEUED;
-	e->t_pending = t;
+		c->queue[c->queued++] = bytes[i];
+	c->phase_after = c->phase;
+	c->t_after = c->t_pending;
+	c->phase = X4_QUEUED;
+	c->t_pending = t;
 }
 
 /* Phase-mode writes of the motors in `axes`: moving or resting. */
@@ -520,111 +904,213 @@ int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes)
 	return smc_patterns(e, 0x07, true, bytes);
 }
 
-static noinline void smc_energize(struct x4_engine *e, u64 now_ns)
+static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
+				 u64 now_ns)
 {
+	const struct x4_plan *p = &c->run;
 	u8 bytes[X4_SMC_AXES];
 
-	emit(e, bytes, smc_patterns(e, e->run.axes, false, bytes), now_ns);
-}
-
-static noinline void begin_setup(struct x4_engine *e, u64 now_ns)
-{
-	const struct x4_plan *p = &e->run;
-
-	e->ctl |= X4_CTL_AKTIV;
-	if (p->n_cruise)
-		e->ctl |= X4_CTL_BOOST;
+	c->ctl = p->n_cruise ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
 	/* Count the setup time from when the directions really go out. */
-	if (now_ns > e->t_pending)
-		e->origin = now_ns + e->timing.dir_setup_ns;
-	e->phase = e->no_steps ? X4_END : X4_RISE;
-	e->t_pending = e->origin;
+	if (now_ns > c->t_pending)
+		c->origin = now_ns + e->timing.dir_setup_ns;
+	c->phase = c->no_steps ? X4_END : X4_RISE;
+	c->t_pending = c->origin;
 	if (phase_mode(e))
-		smc_energize(e, now_ns);
+		emit(e, c, bytes, smc_patterns(e, p->axes, false, bytes), now_ns);
 	else /* axes that do not move keep their direction level */
 		e->data = (u8)((e->data & ~dir_bits(p->axes)) | p->dirs);
 }
 
-static noinline void smc_rest(struct x4_engine *e, u64 t)
+static void end(struct x4_engine *e, struct x4_chan *c)
 {
-	u8 bytes[X4_SMC_AXES];
+	u8 bytes[X4_SMC_AXES], others = 0;
+	int i;
 
-	emit(e, bytes, x4_engine_rest_writes(e, bytes), t);
-}
-
-static void end(struct x4_engine *e)
-{
-	u64 t = e->t_pending;
-
-	e->ctl &= (u8)~(X4_CTL_AKTIV | X4_CTL_BOOST);
-	e->phase = X4_IDLE;
-	if (phase_mode(e))
-		smc_rest(e, t);
+	c->ctl = 0;
+	c->phase = X4_IDLE;
+	c->halt_mask = 0;
+	c->deferred = 0;
+	e->ends++;
+	if (!phase_mode(e))
+		return;
+	/* Every motor not driven by another move goes to rest. */
+	for (i = 0; i < X4_AXES; i++)
+		if (e->ch[i].phase != X4_IDLE)
+			others |= e->ch[i].run.axes;
+	emit(e, c, bytes, smc_patterns(e, 0x07 & ~others, true, bytes),
+	     c->t_pending);
 }
 
 /* After the last step: end now, or after the hold (and settle) time. */
-static noinline void last_step_done(struct x4_engine *e, u64 t)
+static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
+				    u64 t)
 {
+	if (c->home) {
+		/* sref travelled without finding the reference switch */
+		e->err[c->run.leader] |= X4_AXERR_REF_TRAVEL;
+		c->home = 0;
+	}
 	if (!e->timing.dir_hold_ns && !phase_mode(e)) {
-		end(e);
+		end(e, c);
 		return;
 	}
 	/* Phase mode: give the motor its last step period to settle. */
-	e->phase = X4_END;
-	e->t_pending = t + e->timing.dir_hold_ns +
-		       (phase_mode(e) ? 2 * e->half_ns : 0);
+	c->phase = X4_END;
+	c->t_pending = t + e->timing.dir_hold_ns +
+		       (phase_mode(e) ? 2 * c->half_ns : 0);
 }
 
 /* After step n's clock fell (or its pattern went out): what comes next. */
-static inline void step_done(struct x4_engine *e, u64 t)
+static inline void step_done(struct x4_engine *e, struct x4_chan *c, u64 t)
 {
-	if (e->n >= e->run.last) {
-		last_step_done(e, t);
+	if (c->n >= c->run.last) {
+		last_step_done(e, c, t);
 		return;
 	}
-	e->n++;
-	e->t_cur = e->t_next;
-	e->phase = X4_RISE;
-	e->t_pending = e->origin + e->t_cur;
+	c->n++;
+	c->t_cur = c->t_next;
+	c->phase = X4_RISE;
+	c->t_pending = c->origin + c->t_cur;
 }
 
 /* Phase mode: walk the table of each motor that steps, write them. */
-static noinline void smc_step(struct x4_engine *e, u64 t)
+static noinline void smc_step(struct x4_engine *e, struct x4_chan *c, u64 t)
 {
 	u8 bytes[X4_SMC_AXES];
 	int m;
 
 	for (m = 0; m < X4_SMC_AXES; m++)
-		if (e->stepping & X4_CLK_BIT(m))
-			e->smc_phase[m] = (e->smc_phase[m] + e->run.sign[m]) & 7;
-	emit(e, bytes, smc_patterns(e, clk_axes(e->stepping), false, bytes), t);
+		if (c->stepping & X4_CLK_BIT(m))
+			e->smc_phase[m] = (e->smc_phase[m] + c->run.sign[m]) & 7;
+	emit(e, c, bytes, smc_patterns(e, clk_axes(c->stepping), false, bytes),
+	     t);
 }
 
-static noinline void rise(struct x4_engine *e, u64 now_ns)
+/* No further step of channel c: it ends at its pending event. */
+static void cut(struct x4_chan *c)
 {
-	const struct x4_plan *p = &e->run;
-	u64 t_step = e->origin + e->t_cur;
+	struct x4_plan *p = &c->run;
 
-	e->stepping = step_axes(e);
-	if (e->n < p->last) {
-		e->t_next = next_time(e);
-		e->half_ns = (e->t_next - e->t_cur) / 2;
-	} else if (!e->n) {
-		e->half_ns = p->single_half_ns;
+	c->home = 0;
+	switch (c->phase) {
+	case X4_SETUP:
+		c->no_steps = true;
+		break;
+	case X4_RISE:
+		c->phase = X4_END;
+		break;
+	case X4_FALL:
+		p->last = c->n;
+		break;
+	case X4_QUEUED:
+		if (c->phase_after == X4_RISE)
+			c->phase_after = X4_END;
+		else if (c->phase_after == X4_SETUP)
+			c->no_steps = true;
+		else
+			p->last = c->n;
+		break;
+	default:
+		break;
+	}
+}
+
+/* The limit input that axis i of running channel c watches, or 0. */
+static u8 watched_limit(const struct x4_engine *e, const struct x4_chan *c,
+			int i)
+{
+	if (c->phase == X4_IDLE || !(c->run.axes & (1u << i)))
+		return 0;
+	return limit_bit(e, &c->run, i) & c->halt_mask;
+}
+
+/*
+ * A limit switch is active: every running move toward it ends before its
+ * next step, on this very tick. The hit goes to each axis that was moving
+ * toward that input; ambiguous when there were several.
+ */
+static noinline void limits_hit(struct x4_engine *e, u8 hit)
+{
+	u8 watchers[X4_INPUTS] = { 0 };
+	struct x4_chan *c;
+	u8 bit;
+	int i;
+
+	for (c = e->ch; c < e->ch + X4_AXES; c++) {
+		for (i = 0; i < X4_AXES; i++) {
+			bit = watched_limit(e, c, i);
+			if (bit)
+				watchers[__builtin_ctz(bit)]++;
+		}
+	}
+	for (c = e->ch; c < e->ch + X4_AXES; c++) {
+		for (i = 0; i < X4_AXES; i++) {
+			bit = watched_limit(e, c, i) & hit;
+			if (!bit)
+				continue;
+			e->err[i] |= c->run.sign[i] > 0 ? X4_AXERR_LIMIT_POS :
+							  X4_AXERR_LIMIT_NEG;
+			if (watchers[__builtin_ctz(bit)] > 1)
+				e->err[i] |= X4_AXERR_AMBIGUOUS;
+			/* The partners stop too, without a ramp. */
+			e->sync &= (u8)~c->run.axes;
+			cut(c);
+		}
+	}
+}
+
+/* A switch that channel c watches is active at its step tick. */
+static noinline void halted(struct x4_engine *e, struct x4_chan *c)
+{
+	u8 hit = (e->inputs ^ c->halt_flip) & c->halt_mask;
+	int axis = c->run.leader;
+
+	if (!(hit & c->ref_bit) || !c->home) {
+		limits_hit(e, hit & (u8)~(c->home ? c->ref_bit : 0));
+		return;
+	}
+	if (c->home == X4_HOME_PHASE1 && c->home_next) {
+		home_phase(e, c, axis, X4_HOME_PHASE2, c->vref2, c->t_pending);
+		return;
+	}
+	if (c->home == X4_HOME_PHASE2) {
+		e->steps[axis] = 0;
+		e->pos_base[axis] = 0;
+		e->sync |= (u8)(1u << axis);
+	}
+	cut(c);
+}
+
+static noinline void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+{
+	const struct x4_plan *p = &c->run;
+	u64 t_step = c->origin + c->t_cur;
+
+	if ((e->inputs ^ c->halt_flip) & c->halt_mask) {
+		halted(e, c);
+		return;
+	}
+	c->stepping = step_axes(e, c);
+	if (c->n < p->last) {
+		c->t_next = next_time(c);
+		c->half_ns = (c->t_next - c->t_cur) / 2;
+	} else if (!c->n) {
+		c->half_ns = p->single_half_ns;
 	}
 	/* (The last step keeps the step time of the one before.) */
 
 	if (phase_mode(e)) {
-		step_done(e, t_step);
-		smc_step(e, t_step);
+		step_done(e, c, t_step);
+		smc_step(e, c, t_step);
 		return;
 	}
-	e->data |= e->stepping;
-	e->phase = X4_FALL;
+	e->data |= c->stepping;
+	c->phase = X4_FALL;
 	/* A configured pulse is a minimum: count it from the real edge. */
-	e->t_pending = e->timing.pulse_ns ?
+	c->t_pending = e->timing.pulse_ns ?
 		(now_ns > t_step ? now_ns : t_step) + e->timing.pulse_ns :
-		t_step + e->half_ns;
+		t_step + c->half_ns;
 }
 
 /*
@@ -633,40 +1119,166 @@ static noinline void rise(struct x4_engine *e, u64 now_ns)
  */
 void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 {
+	struct x4_chan *c = &e->ch[e->cur];
+
 	/* The two hot cases first: a clock edge falls, a step rises. */
-	if (e->phase == X4_FALL) {
-		e->data &= X4_DIR_MASK; /* only stepping clocks were high */
-		step_done(e, e->t_pending);
+	if (c->phase == X4_FALL) {
+		e->data &= (u8)~c->stepping;
+		step_done(e, c, c->t_pending);
 		/* A configured space is a minimum too: from the real edge. */
-		if (e->timing.space_ns && e->phase == X4_RISE &&
-		    now_ns + e->timing.space_ns > e->t_pending)
-			e->t_pending = now_ns + e->timing.space_ns;
-	} else if (e->phase == X4_RISE) {
-		rise(e, now_ns);
-	} else if (e->phase == X4_SETUP) {
-		begin_setup(e, now_ns);
-	} else if (e->phase == X4_END) {
-		end(e);
-	} else if (e->phase == X4_QUEUED) {
+		if (e->timing.space_ns && c->phase == X4_RISE &&
+		    now_ns + e->timing.space_ns > c->t_pending)
+			c->t_pending = now_ns + e->timing.space_ns;
+	} else if (c->phase == X4_RISE) {
+		rise(e, c, now_ns);
+	} else if (c->phase == X4_SETUP) {
+		begin_setup(e, c, now_ns);
+	} else if (c->phase == X4_END) {
+		end(e, c);
+	} else if (c->phase == X4_QUEUED) {
 		/* More writes of the same instant (phase mode). */
-		e->data = e->queue[e->qhead++];
-		if (e->qhead == e->queued) {
-			e->phase = e->phase_after;
-			e->t_pending = e->t_after;
+		e->data = c->queue[c->qhead++];
+		if (c->qhead == c->queued) {
+			c->phase = c->phase_after;
+			c->t_pending = c->t_after;
 		}
 	}
+	schedule(e, c);
 }
 
 /*
- * Emergency stop: no further step; clocks, BOOST and AKTIV drop now. The
- * caller writes the port, then fires what x4_engine_busy() still has.
+ * Emergency stop of channel c: no further step, its clocks drop now, its
+ * axes lose their synchronization. The caller writes the port, then fires
+ * what x4_engine_busy() still has.
  */
+static void stop_chan(struct x4_engine *e, struct x4_chan *c)
+{
+	e->data &= (u8)~(c->run.axes ? clk_bits(c->run.axes) : 0);
+	e->sync &= (u8)~c->run.axes;
+	c->home = 0;
+	c->t_pending = 0;
+	end(e, c); /* phase mode: the rest patterns are queued, due at once */
+}
+
+/* Brake (or stop) the moves of the axes in `axes`. */
+int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
+{
+	int ret = X4_ERR_NOT_ACTIVE;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		struct x4_chan *c = &e->ch[i];
+
+		if (c->phase == X4_IDLE || !(c->run.axes & axes))
+			continue;
+		ret = X4_OK;
+		if (stop) {
+			stop_chan(e, c);
+		} else {
+			c->home = 0;
+			brake_chan(c);
+		}
+	}
+	schedule_all(e);
+	return ret;
+}
+
+int x4_engine_brake(struct x4_engine *e)
+{
+	return x4_engine_halt(e, 0x0f, false);
+}
+
 int x4_engine_stop(struct x4_engine *e)
 {
-	if (e->phase == X4_IDLE)
-		return X4_ERR_NOT_ACTIVE;
-	e->data &= X4_DIR_MASK;
-	e->t_pending = 0;
-	end(e); /* phase mode: the rest patterns are queued, due at once */
+	return x4_engine_halt(e, 0x0f, true);
+}
+
+int x4_engine_set_position(struct x4_engine *e, u8 axes, const s32 *pos)
+{
+	int i;
+
+	if (!axes || axes > 0x0f)
+		return X4_ERR_PARAM_FAIL;
+	x4_engine_halt(e, axes, true);
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(axes & (1u << i)))
+			continue;
+		e->steps[i] = 0;
+		e->pos_base[i] = (u32)pos[i];
+		e->err[i] = 0;
+		e->sync |= (u8)(1u << i);
+	}
 	return X4_OK;
+}
+
+int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw)
+{
+	int i;
+
+	if (sw->nc >= 1u << X4_INPUTS)
+		return X4_ERR_PARAM_FAIL;
+	for (i = 0; i < X4_AXES; i++)
+		if (sw->ref[i] > X4_INPUTS || sw->plus[i] > X4_INPUTS ||
+		    sw->minus[i] > X4_INPUTS)
+			return X4_ERR_PARAM_FAIL;
+	if (x4_engine_busy(e))
+		return X4_ERR_IS_ACTIVE;
+	e->sw = *sw;
+	return X4_OK;
+}
+
+/*
+ * The input pin levels (X4GetIn bits, 1 = HIGH), sampled by the glue on
+ * every tick while a move watches switches, and before a move starts.
+ */
+void x4_engine_sense(struct x4_engine *e, u8 levels)
+{
+	int i;
+
+	e->inputs = (levels ^ e->sw.nc) & ((1u << X4_INPUTS) - 1);
+	for (i = 0; i < X4_AXES; i++) {
+		struct x4_chan *c = &e->ch[i];
+		u8 released = c->deferred & (u8)~e->inputs;
+
+		c->halt_mask |= released; /* backed off: armed again */
+		c->deferred &= (u8)~released;
+	}
+}
+
+void x4_engine_axis(const struct x4_engine *e, int axis,
+		    struct x4_axis_state *st)
+{
+	u8 bit = (u8)(1u << axis);
+	u64 interval;
+	int i;
+
+	st->position = position(e, axis);
+	st->error = e->err[axis];
+	st->state = (e->sync & bit ? X4_AX_SYNC : 0) |
+		    (st->error ? X4_AX_ERROR : 0);
+	st->velocity = 0;
+	for (i = 0; i < X4_AXES; i++) {
+		const struct x4_chan *c = &e->ch[i];
+		const struct x4_plan *p = &c->run;
+
+		if (c->phase == X4_IDLE || !(p->axes & bit))
+			continue;
+		st->state |= X4_AX_RUN;
+		if (c->home)
+			st->state |= c->home == X4_HOME_PHASE1 ? X4_AX_REF1 :
+								 X4_AX_REF2;
+		if (c->phase != X4_RISE && c->phase != X4_FALL)
+			continue;
+		if (c->n >= p->n_decel)
+			st->state |= X4_AX_DECEL;
+		else if (c->n < p->n_cruise)
+			st->state |= X4_AX_ACCEL;
+		else
+			st->state |= X4_AX_CRUISE;
+		interval = c->n < p->last ? c->t_next - c->t_cur : 2 * c->half_ns;
+		if (interval && p->bres_2l)
+			st->velocity = (u32)x4_div(NSEC_PER_SEC_U64 *
+						   p->abs_steps[axis] * 2,
+						   interval * p->bres_2l);
+	}
 }

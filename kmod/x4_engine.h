@@ -109,17 +109,81 @@ struct x4_move {
 };
 
 /*
+ * The ramp of an axis' own moves (ProStep4): start at v0, accelerate with
+ * a0 to vm, decelerate with ae to ve (steps/s, steps/s^2; 0: no ramp).
+ */
+struct x4_profile {
+	u32 v0;
+	u32 ve;
+	u32 vm;
+	u32 a0;
+	u32 ae;
+};
+#define X4_VEL_MAX 45000
+#define X4_ACC_MAX 1000000
+#define X4_RAMP_TIME_MAX_S 3600 /* vm / a: keeps the ramp math in 64 bits */
+
+/* Reference and limit switches: inputs 1..5 (X4GetIn bit 0..4), 0 none. */
+struct x4_switches {
+	u8 ref[X4_AXES];
+	u8 plus[X4_AXES];
+	u8 minus[X4_AXES];
+	u8 nc; /* bit k: input k + 1 is active while LOW */
+};
+#define X4_INPUTS 5
+
+/* Reference run phases (x4_engine_home). */
+#define X4_HOME_PHASE1 1
+#define X4_HOME_PHASE2 2
+
+/* Per-axis state and error bits, as ProStep4's asr and error registers. */
+#define X4_AX_RUN 0x001
+#define X4_AX_SYNC 0x002
+#define X4_AX_ERROR 0x004
+#define X4_AX_REF1 0x008
+#define X4_AX_REF2 0x010
+#define X4_AX_ACCEL 0x100
+#define X4_AX_CRUISE 0x200
+#define X4_AX_DECEL 0x400
+#define X4_AXERR_REF_TRAVEL 0x1
+#define X4_AXERR_LIMIT_POS 0x2
+#define X4_AXERR_LIMIT_NEG 0x4
+#define X4_AXERR_AMBIGUOUS 0x8
+
+struct x4_axis_state {
+	s32 position;
+	u32 state; /* X4_AX_* */
+	u32 error; /* X4_AXERR_* */
+	u32 velocity; /* steps/s */
+};
+
+/*
+ * One side of a ramp: the time to reach step m from the ramp's virtual
+ * rest point is u(m) = sqrt(c + m * k), with c and k in units of 4^sh ns^2
+ * (sh > 0 only for ramps longer than about 2 s, whose squares would not
+ * fit 64 bits in ns^2). s_ns = u(0): a start (or stop) at non-zero speed.
+ */
+struct x4_ramp {
+	u64 c;
+	u64 k;
+	u64 s_ns;
+	u8 sh;
+};
+
+/*
  * The leader axis' schedule, precomputed at load so that starting a
  * preloaded move needs no work. T(n) is the time of leader step n
  * (n = 0 is the first step, T(0) = 0) relative to the move's origin:
- *   n <  n_cruise: T(n) = sqrt(n * k)                (acceleration)
- *   n <  n_decel:  T(n) = c_base + (2n - c_m0) * c_num / c_den (cruise)
- *   n >= n_decel:  T(n) = t_last - sqrt((last - n) * k)  (deceleration)
- * with k = 2 / a in ns^2 per step, a = freq / ramp (thesis eq. 4.6).
+ *   n <  n_cruise: T(n) = u_acc(n) - acc.s_ns                 (accelerate)
+ *   n <  n_decel:  T(n) = c_base + (2n - c_m0) * c_num / c_den    (cruise)
+ *   n >= n_decel:  T(n) = t_last - (u_dec(last - n) - dec.s_ns)    (brake)
+ * X4Step moves ramp from and to rest (c = s = 0) with k = 2 / a in ns^2
+ * per step, a = freq / ramp (thesis eq. 4.6).
  */
 struct x4_plan {
 	u64 last; /* index of the last leader step; U64_MAX: endless */
-	u64 k_ns2;
+	struct x4_ramp acc;
+	struct x4_ramp dec;
 	u64 n_cruise;
 	u64 n_decel;
 	u64 c_base;
@@ -129,7 +193,8 @@ struct x4_plan {
 	u64 t_last;
 	u32 bres_2l; /* 2 * leader steps, for the interpolation */
 	u64 single_half_ns; /* high time of a one-step move */
-	u32 brake_steps; /* steps to stop from cruise along the ramp */
+	u32 brake_steps; /* X4Step: steps to stop from cruise along the ramp */
+	struct x4_profile prof; /* a profile move's ramp (vm 0: X4Step's) */
 	u32 abs_steps[X4_AXES];
 	u32 bres_inc[X4_AXES]; /* 2 * steps of a minor axis, else 0 */
 	u8 dirs; /* direction bits of the axes that move */
@@ -148,13 +213,23 @@ enum x4_phase {
 	X4_QUEUED, /* phase mode: more writes of the same instant */
 };
 
-struct x4_engine {
-	struct x4_plan run; /* the move in progress */
-	struct x4_plan next; /* the loaded (preloaded) move */
-	bool loaded;
-
+/*
+ * A channel runs one move: an interpolated one over several axes, or an
+ * axis' own move. Channel i runs the moves whose lowest axis is i, so
+ * moves on disjoint axes never share one.
+ */
+struct x4_chan {
+	struct x4_plan run;
 	enum x4_phase phase;
 	bool no_steps; /* braked before its first step */
+	u8 stepping; /* clock bits set by the current step */
+	u8 ctl; /* AKTIV while it runs, BOOST while it ramps */
+	u8 halt_mask; /* inputs that end the move ... */
+	u8 halt_flip; /* ... when (inputs ^ halt_flip) & halt_mask */
+	u8 deferred; /* limits left behind: armed once they are released */
+	u8 home; /* X4_HOME_PHASE1/2 running, 0: no reference run */
+	u8 home_next; /* phase 2 follows phase 1 */
+	u8 ref_bit;
 	u64 origin; /* engine time of leader step 0 */
 	u64 n; /* current leader step index */
 	u64 t_cur; /* T(n) */
@@ -162,19 +237,38 @@ struct x4_engine {
 	u64 t_pending; /* engine time of the pending event */
 	u64 half_ns; /* high time of the current step */
 	u32 bres[X4_AXES]; /* Bresenham accumulators of the minor axes */
-	u8 stepping; /* clock bits set by the current step */
+	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
+	u8 queued;
+	u8 qhead;
+	u8 phase_after; /* the phase when the queue is done, due at t_after */
+	u64 t_after;
+	s32 vref2; /* reference run: phase 2 speed */
+	u32 sref;
+};
+
+struct x4_engine {
+	struct x4_chan ch[X4_AXES];
+	struct x4_plan next; /* the loaded (preloaded) move */
+	bool loaded;
+	u8 busy; /* bit i: channel i runs */
+	bool solo; /* only one channel runs */
+	u8 cur; /* the channel whose event is due first */
+	u64 due; /* its time */
+	u64 ends; /* counts moves that came to an end */
 
 	u8 data; /* current pin levels */
 	u8 ctl;
 	struct x4_timing timing;
 	u8 mode; /* enum x4_output_mode */
 	u8 smc_phase[X4_SMC_AXES]; /* half-step table index of each motor */
-	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
-	u8 queued;
-	u8 qhead;
-	u8 phase_after; /* the phase when the queue is done, due at t_after */
-	u64 t_after;
-	s32 steps[X4_AXES]; /* signed steps since the last start */
+
+	s64 steps[X4_AXES]; /* signed steps since the axis' last start */
+	u32 pos_base[X4_AXES]; /* coordinate = pos_base + steps, mod 2^32 */
+	u8 sync; /* bit i: axis i's coordinate is referenced */
+	u8 err[X4_AXES]; /* X4_AXERR_* */
+	struct x4_profile prof[X4_AXES];
+	struct x4_switches sw;
+	u8 inputs; /* active switches (after NO/NC), last sampled */
 };
 
 void x4_engine_init(struct x4_engine *e);
@@ -188,19 +282,44 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 		      s32 freq_hz, s32 ramp_ms, u64 now_ns);
 int x4_engine_brake(struct x4_engine *e);
 int x4_engine_stop(struct x4_engine *e);
+int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop);
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
 void x4_engine_fire(struct x4_engine *e, u64 now_ns);
+
+int x4_profile_check(const struct x4_profile *p);
+int x4_engine_set_profile(struct x4_engine *e, s32 axis,
+			  const struct x4_profile *p);
+int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
+		   bool relative, u64 now_ns);
+int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
+		   s32 vref2, u32 sref, u64 now_ns);
+int x4_engine_set_position(struct x4_engine *e, u8 axes, const s32 *pos);
+int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw);
+void x4_engine_sense(struct x4_engine *e, u8 levels);
+void x4_engine_axis(const struct x4_engine *e, int axis,
+		    struct x4_axis_state *st);
 
 /* Busy: a move runs, or writes of its last instant are still due. */
 static inline bool x4_engine_busy(const struct x4_engine *e)
 {
-	return e->phase != X4_IDLE;
+	return e->busy;
 }
 
 /* Engine time at which x4_engine_fire() is due; valid while busy. */
 static inline u64 x4_engine_due(const struct x4_engine *e)
 {
-	return e->t_pending;
+	return e->due;
+}
+
+/* Whether the inputs matter now: some running move watches a switch. */
+static inline bool x4_engine_sensing(const struct x4_engine *e)
+{
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (e->ch[i].halt_mask | e->ch[i].deferred)
+			return true;
+	return false;
 }
 
 /* What the port shows at rest: 1 byte, or one per SMC motor (3). */

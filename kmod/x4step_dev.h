@@ -21,8 +21,8 @@
  * `slock` (raw: taken in the hard-irq hrtimer callback, also on RT)
  * guards the engine, the brake codes and the port registers; it is taken
  * by the timer, the ioctls and the input handler, never held while
- * sleeping. The timer is only (re)armed by a mutex holder while the
- * engine is idle and the timer cancelled, so it is never armed twice.
+ * sleeping. The timer is (re)armed only under slock, by the ioctls that
+ * start moves and by its own callback, with hrtimer_start().
  */
 struct x4_port {
 	struct device dev; /* lifetime: last of the files and the port */
@@ -60,7 +60,12 @@ struct x4_port {
 void x4_port_init(struct x4_port *x4);
 void x4_port_claimed(struct x4_port *x4);
 void x4_port_quiesce(struct x4_port *x4);
-int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless);
+/* Engine calls that start or halt moves, with the ioctl's arguments. */
+typedef int (*x4_starter)(struct x4_engine *e, const void *arg, u64 now_ns);
+typedef int (*x4_halter)(struct x4_engine *e, const void *arg);
+int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg);
+int x4_port_halt(struct x4_port *x4, x4_halter halt, const void *arg);
+void x4_note_ends_locked(struct x4_port *x4);
 void x4_port_write_locked(struct x4_port *x4);
 void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);
 void x4_port_write_rest_locked(struct x4_port *x4);

@@ -147,7 +147,7 @@ static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
 	st->data = x4->eng.data;
 	for (i = 0; i < X4_AXES; i++)
 		st->steps[i] = x4->eng.steps[i];
-	st->moves_ended = x4->moves_ended;
+	st->moves_ended = x4->eng.ends;
 	st->brake_time_ns = x4->brake_time_ns;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return 0;
@@ -197,50 +197,248 @@ static int x4_ioctl_load(struct x4_port *x4, struct x4step_move __user *arg)
 	return x4_errno(ret);
 }
 
-static int x4_ioctl_endless(struct x4_port *x4,
-			    struct x4step_endless __user *arg)
+static int x4_start_loaded(struct x4_engine *e, const void *arg, u64 now)
 {
-	struct x4step_endless ue;
+	return x4_engine_start(e, now);
+}
+
+static int x4_start_endless(struct x4_engine *e, const void *arg, u64 now)
+{
+	const struct x4step_endless *ue = arg;
+
+	if (ue->direction != 1 && ue->direction != -1)
+		return X4_ERR_PARAM_FAIL;
+	return x4_engine_endless(e, ue->axis, ue->direction < 0, ue->freq_hz,
+				 ue->ramp_ms, now);
+}
+
+static int x4_start_goto(struct x4_engine *e, const void *arg, u64 now)
+{
+	const struct x4step_goto *ug = arg;
+
+	if (ug->axes > 0x0f)
+		return X4_ERR_PARAM_FAIL;
+	return x4_engine_goto(e, (u8)ug->axes, ug->target,
+			      ug->flags & X4STEP_GOTO_RELATIVE, now);
+}
+
+static int x4_start_home(struct x4_engine *e, const void *arg, u64 now)
+{
+	const struct x4step_home *uh = arg;
+
+	if (uh->phases > X4STEP_HOME_AUTO)
+		return X4_ERR_PARAM_FAIL;
+	return x4_engine_home(e, uh->axis, (u8)uh->phases, uh->vref1,
+			      uh->vref2, uh->sref, now);
+}
+
+/*
+ * The ioctls that start moves and report an X4Step result: copy in the
+ * argument (`size` bytes, its s32 result at `result_off`), make sure the
+ * result is writable before anything moves, refuse non-zero reserved
+ * words (`bad`), start, write the result.
+ */
+static int x4_ioctl_run(struct x4_port *x4, void __user *uarg, void *karg,
+			size_t size, size_t result_off,
+			bool (*bad)(const void *karg), x4_starter start)
+{
+	s32 __user *uresult = (s32 __user *)((char __user *)uarg + result_off);
 	s32 result = X4_ERR_PARAM_FAIL;
 
-	if (copy_from_user(&ue, arg, sizeof(ue)))
+	if (copy_from_user(karg, uarg, size))
 		return -EFAULT;
-	/* The result must be writable before anything moves. */
-	if (put_user(result, &arg->result))
+	if (put_user(result, uresult))
 		return -EFAULT;
-	if (ue.flags || ue.reserved[0] || ue.reserved[1])
+	if (bad(karg))
 		return -EINVAL;
-	if (ue.direction == 1 || ue.direction == -1)
-		result = x4_port_start(x4, &ue);
-	if (put_user(result, &arg->result))
+	result = x4_port_run(x4, start, karg);
+	if (put_user(result, uresult))
 		return -EFAULT;
 	return x4_errno(result);
 }
 
-/* Brake or stop; both refuse when nothing runs. */
-static int x4_ioctl_halt(struct x4_port *x4, bool brake)
+static bool x4_bad_endless(const void *karg)
 {
+	const struct x4step_endless *ue = karg;
+
+	return ue->flags || ue->reserved[0] || ue->reserved[1];
+}
+
+static bool x4_bad_goto(const void *karg)
+{
+	const struct x4step_goto *ug = karg;
+
+	return ug->flags & ~X4STEP_GOTO_RELATIVE || ug->reserved[0] ||
+	       ug->reserved[1] || ug->reserved[2];
+}
+
+static bool x4_bad_home(const void *karg)
+{
+	const struct x4step_home *uh = karg;
+
+	return uh->reserved[0] || uh->reserved[1];
+}
+
+static int x4_halt_axes(struct x4_engine *e, const void *arg)
+{
+	const struct x4step_halt *h = arg;
+
+	return x4_engine_halt(e, (u8)h->axes, h->how == X4STEP_HALT_STOP);
+}
+
+static int x4_set_position(struct x4_engine *e, const void *arg)
+{
+	const struct x4step_position *up = arg;
+
+	return x4_engine_set_position(e, (u8)up->axes, up->position);
+}
+
+/* Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs. */
+static int x4_ioctl_halt(struct x4_port *x4, u32 axes, u32 how)
+{
+	struct x4step_halt h = { .axes = axes, .how = how };
+	int ret = x4_port_halt(x4, x4_halt_axes, &h);
+
+	if (ret == X4_OK && how == X4STEP_HALT_BRAKE)
+		WRITE_ONCE(x4->brake_time_ns, ktime_get_ns());
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_halt_axes(struct x4_port *x4,
+			      struct x4step_halt __user *arg)
+{
+	struct x4step_halt h;
+
+	if (copy_from_user(&h, arg, sizeof(h)))
+		return -EFAULT;
+	if (!h.axes || h.axes > 0x0f || h.how > X4STEP_HALT_STOP ||
+	    h.reserved[0] || h.reserved[1])
+		return -EINVAL;
+	return x4_ioctl_halt(x4, h.axes, h.how);
+}
+
+static int x4_ioctl_set_position(struct x4_port *x4,
+				 struct x4step_position __user *arg)
+{
+	struct x4step_position up;
+
+	if (copy_from_user(&up, arg, sizeof(up)))
+		return -EFAULT;
+	if (!up.axes || up.axes > 0x0f || up.reserved)
+		return -EINVAL;
+	return x4_errno(x4_port_halt(x4, x4_set_position, &up));
+}
+
+static int x4_ioctl_set_profile(struct x4_port *x4,
+				struct x4step_profile __user *arg)
+{
+	struct x4step_profile up;
+	struct x4_profile p;
 	unsigned long flags;
 	int ret;
 
+	if (copy_from_user(&up, arg, sizeof(up)))
+		return -EFAULT;
+	if (up.reserved[0] || up.reserved[1] || up.axis < 1 ||
+	    up.axis > X4_AXES)
+		return -EINVAL;
+	p.v0 = up.v0;
+	p.ve = up.ve;
+	p.vm = up.vm;
+	p.a0 = up.a0;
+	p.ae = up.ae;
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (brake) {
-		ret = x4_engine_brake(&x4->eng);
-		if (ret == X4_OK)
-			x4->brake_time_ns = ktime_get_ns();
-	} else {
-		ret = x4_engine_stop(&x4->eng);
-		if (ret == X4_OK) {
-			/* The timer finds the engine idle and does nothing. */
-			x4_port_write_locked(x4);
-			x4_port_drain_locked(x4, 0);
-			x4->moves_ended++;
-		}
+	ret = x4_engine_set_profile(&x4->eng, up.axis, &p);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_get_profile(struct x4_port *x4,
+				struct x4step_profile __user *arg)
+{
+	struct x4step_profile up;
+	struct x4_profile p;
+	unsigned long flags;
+	u32 axis;
+
+	if (get_user(axis, &arg->axis))
+		return -EFAULT;
+	if (axis < 1 || axis > X4_AXES)
+		return -EINVAL;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	p = x4->eng.prof[axis - 1];
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	memset(&up, 0, sizeof(up));
+	up.axis = axis;
+	up.v0 = p.v0;
+	up.ve = p.ve;
+	up.vm = p.vm;
+	up.a0 = p.a0;
+	up.ae = p.ae;
+	return copy_to_user(arg, &up, sizeof(up)) ? -EFAULT : 0;
+}
+
+static int x4_ioctl_set_switches(struct x4_port *x4,
+				 struct x4step_switches __user *arg)
+{
+	struct x4step_switches us;
+	struct x4_switches sw;
+	unsigned long flags;
+	int ret;
+
+	if (copy_from_user(&us, arg, sizeof(us)))
+		return -EFAULT;
+	if (memchr_inv(us.reserved, 0, sizeof(us.reserved)))
+		return -EINVAL;
+	memcpy(sw.ref, us.ref, sizeof(sw.ref));
+	memcpy(sw.plus, us.plus, sizeof(sw.plus));
+	memcpy(sw.minus, us.minus, sizeof(sw.minus));
+	sw.nc = us.nc;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_engine_set_switches(&x4->eng, &sw);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return x4_errno(ret);
+}
+
+static int x4_ioctl_get_switches(struct x4_port *x4, void __user *uarg)
+{
+	struct x4step_switches us;
+	unsigned long flags;
+
+	memset(&us, 0, sizeof(us));
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	memcpy(us.ref, x4->eng.sw.ref, sizeof(us.ref));
+	memcpy(us.plus, x4->eng.sw.plus, sizeof(us.plus));
+	memcpy(us.minus, x4->eng.sw.minus, sizeof(us.minus));
+	us.nc = x4->eng.sw.nc;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return copy_to_user(uarg, &us, sizeof(us)) ? -EFAULT : 0;
+}
+
+static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
+{
+	struct x4_axis_state st;
+	struct x4step_axes ua;
+	unsigned long flags;
+	int i;
+
+	memset(&ua, 0, sizeof(ua));
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4->gone) {
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		return -ENODEV;
+	}
+	ua.inputs = x4_port_inputs_locked(x4);
+	ua.switches = (ua.inputs ^ x4->eng.sw.nc) & 0x1f;
+	for (i = 0; i < X4_AXES; i++) {
+		x4_engine_axis(&x4->eng, i, &st);
+		ua.axis[i].position = st.position;
+		ua.axis[i].state = st.state;
+		ua.axis[i].error = st.error;
+		ua.axis[i].velocity = st.velocity;
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	if (!brake && ret == X4_OK)
-		irq_work_queue(&x4->wake_work);
-	return x4_errno(ret);
+	return copy_to_user(uarg, &ua, sizeof(ua)) ? -EFAULT : 0;
 }
 
 static int x4_ioctl_output(struct x4_port *x4, struct x4step_output __user *arg)
@@ -371,6 +569,11 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	struct x4step_status st;
 	struct x4step_info info;
 	struct x4step_config cfg;
+	union {
+		struct x4step_endless endless;
+		struct x4step_goto go;
+		struct x4step_home home;
+	} karg;
 	long ret;
 
 	/* Reading commands work on any descriptor. */
@@ -398,6 +601,18 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		return x4_ioctl_timing(x4, uarg);
 	case X4STEP_GET_STEP_TIMING:
 		return x4_ioctl_get_step_timing(x4, uarg);
+	case X4STEP_GET_PROFILE:
+		return x4_ioctl_get_profile(x4, uarg);
+	case X4STEP_GET_SWITCHES:
+		return x4_ioctl_get_switches(x4, uarg);
+	case X4STEP_GET_AXES:
+		return x4_ioctl_get_axes(x4, uarg);
+	case X4STEP_SET_PROFILE:
+	case X4STEP_GOTO:
+	case X4STEP_HOME:
+	case X4STEP_HALT:
+	case X4STEP_SET_POSITION:
+	case X4STEP_SET_SWITCHES:
 	case X4STEP_LOAD:
 	case X4STEP_START:
 	case X4STEP_BRAKE:
@@ -424,16 +639,40 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		ret = x4_ioctl_load(x4, uarg);
 		break;
 	case X4STEP_START:
-		ret = x4_errno(x4_port_start(x4, NULL));
+		ret = x4_errno(x4_port_run(x4, x4_start_loaded, NULL));
 		break;
 	case X4STEP_BRAKE:
-		ret = x4_ioctl_halt(x4, true);
+		ret = x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_BRAKE);
 		break;
 	case X4STEP_STOP:
-		ret = x4_ioctl_halt(x4, false);
+		ret = x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_STOP);
 		break;
 	case X4STEP_MOVE_ENDLESS:
-		ret = x4_ioctl_endless(x4, uarg);
+		ret = x4_ioctl_run(x4, uarg, &karg.endless, sizeof(karg.endless),
+				   offsetof(struct x4step_endless, result),
+				   x4_bad_endless, x4_start_endless);
+		break;
+	case X4STEP_GOTO:
+		ret = x4_ioctl_run(x4, uarg, &karg.go, sizeof(karg.go),
+				   offsetof(struct x4step_goto, result),
+				   x4_bad_goto, x4_start_goto);
+		break;
+	case X4STEP_HOME:
+		ret = x4_ioctl_run(x4, uarg, &karg.home, sizeof(karg.home),
+				   offsetof(struct x4step_home, result),
+				   x4_bad_home, x4_start_home);
+		break;
+	case X4STEP_HALT:
+		ret = x4_ioctl_halt_axes(x4, uarg);
+		break;
+	case X4STEP_SET_POSITION:
+		ret = x4_ioctl_set_position(x4, uarg);
+		break;
+	case X4STEP_SET_PROFILE:
+		ret = x4_ioctl_set_profile(x4, uarg);
+		break;
+	case X4STEP_SET_SWITCHES:
+		ret = x4_ioctl_set_switches(x4, uarg);
 		break;
 	case X4STEP_SET_OUTPUT:
 		ret = x4_ioctl_output(x4, uarg);

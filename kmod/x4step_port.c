@@ -136,19 +136,64 @@ static void x4_account_lateness(struct x4_port *x4, struct hrtimer *timer,
 		t->beyond++;
 }
 
+/* Sample the inputs when a running move watches its switches. */
+static void x4_sense_locked(struct x4_port *x4)
+{
+	if (x4->claimed && x4_engine_sensing(&x4->eng))
+		x4_engine_sense(&x4->eng, x4_port_inputs_locked(x4));
+}
+
+/* (Re)arm the timer for the engine's next event. Caller holds slock. */
+static void x4_arm_locked(struct x4_port *x4)
+{
+	if (x4_engine_busy(&x4->eng))
+		hrtimer_start(&x4->timer,
+			      ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng)),
+			      HRTIMER_MODE_ABS_HARD);
+}
+
+/* Wake pollers when moves ended since the last look. Caller holds slock. */
+void x4_note_ends_locked(struct x4_port *x4)
+{
+	if (x4->moves_ended != x4->eng.ends) {
+		x4->moves_ended = x4->eng.ends;
+		irq_work_queue(&x4->wake_work);
+	}
+}
+
+/*
+ * The timer re-arms itself with hrtimer_start() under slock rather than
+ * returning HRTIMER_RESTART: an ioctl may start another axis' move (and
+ * arm the timer) while this callback waits for the lock on another CPU;
+ * then the timer is queued again and this callback leaves it alone.
+ */
 static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 {
 	struct x4_port *x4 = container_of(timer, struct x4_port, timer);
-	enum hrtimer_restart ret = HRTIMER_NORESTART;
 	unsigned long flags;
 	ktime_t now, due;
 	u64 t;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (x4_engine_busy(&x4->eng)) {
+	if (x4_engine_busy(&x4->eng) && !hrtimer_is_queued(timer)) {
 		now = ktime_get();
 		x4_account_lateness(x4, timer, now);
+		x4_sense_locked(x4);
 		for (;;) {
+			/*
+			 * The armed event may have been stopped meanwhile:
+			 * fire only what is due. What is due within
+			 * X4_SPIN_NS (a configured pulse shorter than the
+			 * timer's jitter) is waited for here, so that it
+			 * lasts what was asked.
+			 */
+			due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
+			if (ktime_after(due, now)) {
+				if (ktime_to_ns(ktime_sub(due, now)) > X4_SPIN_NS)
+					break;
+				while (ktime_before(now = ktime_get(), due))
+					cpu_relax();
+			}
 			t = x4_engine_due(&x4->eng);
 			x4_engine_fire(&x4->eng,
 				       ktime_to_ns(ktime_sub(now, x4->epoch)));
@@ -156,28 +201,13 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 			x4_port_drain_locked(x4, t); /* the same instant */
 			if (!x4_engine_busy(&x4->eng))
 				break;
-			/*
-			 * A configured pulse shorter than the timer's jitter
-			 * is waited for here, so that it lasts what was asked.
-			 */
-			due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
-			if (ktime_to_ns(ktime_sub(due, ktime_get())) > X4_SPIN_NS)
-				break;
-			while (ktime_before(now = ktime_get(), due))
-				cpu_relax();
+			now = ktime_get();
 		}
-		if (x4_engine_busy(&x4->eng)) {
-			hrtimer_set_expires(timer,
-					    ktime_add_ns(x4->epoch,
-							 x4_engine_due(&x4->eng)));
-			ret = HRTIMER_RESTART;
-		} else {
-			x4->moves_ended++;
-			irq_work_queue(&x4->wake_work);
-		}
+		x4_arm_locked(x4);
+		x4_note_ends_locked(x4);
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return ret;
+	return HRTIMER_NORESTART;
 }
 
 /* Default step timing of new ports (X4STEP_SET_STEP_TIMING changes it). */
@@ -231,17 +261,15 @@ void x4_port_claimed(struct x4_port *x4)
 void x4_port_quiesce(struct x4_port *x4)
 {
 	unsigned long flags;
-	bool stopped;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	stopped = x4_engine_stop(&x4->eng) == X4_OK;
+	x4_engine_stop(&x4->eng);
 	x4_port_drain_locked(x4, U64_MAX);
 	x4->eng.loaded = false;
 	x4->eng.ctl = 0;
 	x4_port_write_rest_locked(x4);
 	x4->claimed = false;
-	if (stopped)
-		x4->moves_ended++;
+	x4->moves_ended = x4->eng.ends;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	hrtimer_cancel(&x4->timer);
 	irq_work_sync(&x4->wake_work);
@@ -249,42 +277,43 @@ void x4_port_quiesce(struct x4_port *x4)
 }
 
 /*
- * Start the loaded move, or an endless one. Caller holds the mutex, so
- * nobody else arms the timer; the engine is idle, so the timer can only
- * be finishing a callback that does nothing: cancel it before re-arming.
- * Returns an X4Step result.
+ * Start moves: `start` is an engine call that starts them at the engine
+ * time it is given. The inputs are sampled first, so that a move toward
+ * an active limit makes no step. Returns an X4Step result.
  */
-int x4_port_start(struct x4_port *x4, const struct x4step_endless *endless)
+int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg)
 {
 	unsigned long flags;
 	int ret;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	ret = x4_engine_busy(&x4->eng) ? X4_ERR_IS_ACTIVE : X4_OK;
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (x4->claimed)
+		x4_engine_sense(&x4->eng, x4_port_inputs_locked(x4));
+	ret = start(&x4->eng, arg,
+		    ktime_get_ns() - ktime_to_ns(x4->epoch));
 	if (ret == X4_OK) {
-		hrtimer_cancel(&x4->timer);
-		raw_spin_lock_irqsave(&x4->slock, flags);
-		if (endless)
-			ret = x4_engine_endless(&x4->eng, endless->axis,
-						endless->direction < 0,
-						endless->freq_hz,
-						endless->ramp_ms,
-						ktime_get_ns() -
-						ktime_to_ns(x4->epoch));
-		else
-			ret = x4_engine_start(&x4->eng,
-					      ktime_get_ns() -
-					      ktime_to_ns(x4->epoch));
-		if (ret == X4_OK) {
-			x4->last_brake_code = 0;
-			hrtimer_start(&x4->timer,
-				      ktime_add_ns(x4->epoch,
-						   x4_engine_due(&x4->eng)),
-				      HRTIMER_MODE_ABS_HARD);
-		}
-		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		x4->last_brake_code = 0;
+		x4_arm_locked(x4);
 	}
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return ret;
+}
+
+/*
+ * Brake or stop moves: `halt` is an engine call. A stop's writes go out
+ * at once. Returns an X4Step result.
+ */
+int x4_port_halt(struct x4_port *x4, x4_halter halt, const void *arg)
+{
+	unsigned long flags;
+	int ret;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = halt(&x4->eng, arg);
+	x4_port_write_locked(x4);
+	x4_port_drain_locked(x4, 0); /* a stop's rest patterns, due at 0 */
+	x4_note_ends_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
 }
 

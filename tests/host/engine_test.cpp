@@ -237,8 +237,8 @@ TEST(Interpolation, RandomMovesStayWithinHalfAStep) {
     while (x4_engine_busy(&eng.e)) {
       const x4_event ev = fire(eng.e);
       if (!(ev.data & X4_CLK_BIT(lead))) continue;
-      if (eng.e.phase != X4_FALL || eng.e.n + 1 == k) continue;
-      k = eng.e.n + 1;  // leader steps made
+      if (eng.e.ch[0].phase != X4_FALL || eng.e.ch[0].n + 1 == k) continue;
+      k = eng.e.ch[0].n + 1;  // leader steps made (axis 1 moves: channel 0)
       for (int a = 0; a < X4_AXES; a++) {
         // |pos - k * path / total| <= 1/2, in integers.
         const int64_t off = 2 * int64_t(total) * eng.e.steps[a] - 2 * int64_t(k) * m.steps[a];
@@ -438,7 +438,7 @@ TEST(Preload, SecondMoveStartsAfterTheFirst) {
   Recording r = eng.Run();
   EXPECT_EQ(eng.e.steps[0], 1000);
   ASSERT_EQ(x4_engine_start(&eng.e, r.events.back().t_ns), X4_OK);
-  EXPECT_EQ(std::memcmp(&planned, &eng.e.run, sizeof planned), 0) << "started as planned";
+  EXPECT_EQ(std::memcmp(&planned, &eng.e.ch[0].run, sizeof planned), 0) << "started as planned";
   Recording back = eng.Run();
   EXPECT_EQ(eng.e.steps[0], -1000);
   EXPECT_EQ(eng.e.steps[3], -400);

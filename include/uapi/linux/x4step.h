@@ -9,9 +9,9 @@
  * 32-bit programs use the same layout and later versions can extend them.
  *
  * Errors: every ioctl returns 0 or -1 with errno set.
- *   EINVAL  a parameter is out of range; for X4STEP_LOAD and
- *           X4STEP_MOVE_ENDLESS the X4Step error code (1..13, as in
- *           x4step.h) is written back into `result`
+ *   EINVAL  a parameter is out of range; for the ioctls with a
+ *           `result` field the X4Step error code (1..13, as in
+ *           x4step.h) is written back into it
  *   EBUSY   a move is running (X4ErrIsActive)
  *   EEXIST  a move is loaded already (X4ErrIsLoaded)
  *   ENODATA no move is loaded (X4ErrNotLoaded)
@@ -26,7 +26,7 @@
 #include <linux/ioctl.h>
 #include <linux/types.h>
 
-#define X4STEP_ABI_VERSION 1
+#define X4STEP_ABI_VERSION 2 /* 2: positioning */
 #define X4STEP_AXES 4
 #define X4STEP_MAX_BRAKE_CODES 20
 
@@ -150,6 +150,144 @@ struct x4step_timing {
 	__u32 hist[X4STEP_TIMING_BUCKETS];
 };
 
+/*
+ * Positioning (the ProStep4 model). Axes are numbered 1..4; an axis mask
+ * has bit i for axis i + 1. Every step of every kind of move updates the
+ * axis' machine coordinate (signed 32 bits, wrapping).
+ */
+#define X4STEP_VEL_MAX 45000 /* steps/s */
+#define X4STEP_ACC_MAX 1000000 /* steps/s^2 */
+
+/*
+ * X4STEP_SET_PROFILE / X4STEP_GET_PROFILE: the ramp of an axis' own moves
+ * (X4STEP_GOTO). Velocities in steps/s, accelerations in steps/s^2. The
+ * axis starts at v0, accelerates with a0 to vm, and decelerates with ae
+ * to ve, where it stops; a0 or ae 0: no ramp on that side. A move too
+ * short to reach vm turns where the ramps meet; one too short even for
+ * that runs at min(v0, ve) throughout. Rules: 1 <= vm <= X4STEP_VEL_MAX,
+ * v0 <= vm, ve <= vm, a0, ae <= X4STEP_ACC_MAX, and each ramp at most
+ * 3600 s long. Default: v0 = ve = 0, a0 = ae = 1000, vm = 1000.
+ */
+struct x4step_profile {
+	__u32 axis; /* 1..4 */
+	__u32 v0; /* start velocity */
+	__u32 ve; /* stop velocity */
+	__u32 vm; /* maximum velocity */
+	__u32 a0; /* acceleration */
+	__u32 ae; /* deceleration */
+	__u32 reserved[2];
+};
+
+/* Flags of struct x4step_goto. */
+#define X4STEP_GOTO_RELATIVE (1u << 0) /* target[] are distances */
+
+/*
+ * X4STEP_GOTO: independent moves of the axes in `axes`, each with its own
+ * profile, all started at once; other axes may be moving meanwhile. Each
+ * axis must be idle. An axis already at its target does not move.
+ */
+struct x4step_goto {
+	__u32 axes; /* axis mask, non-zero */
+	__u32 flags; /* X4STEP_GOTO_* */
+	__s32 target[X4STEP_AXES]; /* coordinates (or distances) */
+	__s32 result; /* out: X4Step error code */
+	__u32 reserved[3];
+};
+
+/* Phases of struct x4step_home. */
+#define X4STEP_HOME_PHASE1 (1u << 0) /* at vref1 until REF becomes active */
+#define X4STEP_HOME_PHASE2 (1u << 1) /* at vref2 until REF changes again */
+#define X4STEP_HOME_AUTO (X4STEP_HOME_PHASE1 | X4STEP_HOME_PHASE2)
+
+/*
+ * X4STEP_HOME: a reference run of one axis, without ramps (ProStep4
+ * section 3). Phase 2, alone or after phase 1, ends by zeroing the
+ * coordinate and synchronizing the axis. Each phase travels at most sref
+ * steps, else the axis stops with X4STEP_AXERR_REF_TRAVEL. Needs a REF
+ * input for the axis (X4STEP_SET_SWITCHES).
+ */
+struct x4step_home {
+	__u32 axis; /* 1..4 */
+	__u32 phases; /* X4STEP_HOME_* */
+	__s32 vref1; /* signed steps/s: direction and speed of phase 1 */
+	__s32 vref2; /* ... of phase 2 */
+	__u32 sref; /* maximum travel of a phase, 1..2^31 - 1 steps */
+	__s32 result; /* out: X4Step error code */
+	__u32 reserved[2];
+};
+
+/* How of struct x4step_halt. */
+#define X4STEP_HALT_BRAKE 0 /* along the ramp */
+#define X4STEP_HALT_STOP 1 /* at once: the axes lose their synchronization */
+
+/*
+ * X4STEP_HALT: brake or stop the moves of the axes in `axes`. The axes
+ * moving interpolated with them halt too. ESRCH if none of them moves.
+ */
+struct x4step_halt {
+	__u32 axes;
+	__u32 how; /* X4STEP_HALT_* */
+	__u32 reserved[2];
+};
+
+/*
+ * X4STEP_SET_POSITION: "stop and zero": stop the axes in `axes` at once
+ * (with their interpolated partners), then set their coordinates and
+ * mark them synchronized.
+ */
+struct x4step_position {
+	__u32 axes;
+	__u32 reserved;
+	__s32 position[X4STEP_AXES];
+};
+
+/*
+ * X4STEP_SET_SWITCHES / X4STEP_GET_SWITCHES: inputs 1..5 (X4GetIn bits
+ * 0..4) as reference and limit switches of the axes; 0 = none. An input
+ * may serve several axes and both directions (switches in parallel); a
+ * hit is then attributed to every axis that was moving toward such a
+ * limit, flagged X4STEP_AXERR_AMBIGUOUS when more than one could have
+ * caused it. Normally open switches are active while their pin is HIGH,
+ * normally closed ones while it is LOW. Only while no move runs.
+ */
+struct x4step_switches {
+	__u8 ref[X4STEP_AXES]; /* reference switch input of each axis */
+	__u8 plus[X4STEP_AXES]; /* limit E+ */
+	__u8 minus[X4STEP_AXES]; /* limit E- */
+	__u8 nc; /* bit k: input k + 1 is normally closed */
+	__u8 reserved[7];
+};
+
+/* State bits of struct x4step_axis (ProStep4's status register asr). */
+#define X4STEP_AX_RUN (1u << 0) /* the axis moves */
+#define X4STEP_AX_SYNC (1u << 1) /* the coordinate is referenced */
+#define X4STEP_AX_ERROR (1u << 2) /* error != 0 */
+#define X4STEP_AX_REF1 (1u << 3) /* reference run, phase 1 */
+#define X4STEP_AX_REF2 (1u << 4) /* reference run, phase 2 */
+#define X4STEP_AX_ACCEL (1u << 8) /* accelerating */
+#define X4STEP_AX_CRUISE (1u << 9) /* at constant speed */
+#define X4STEP_AX_DECEL (1u << 10) /* decelerating */
+/* Error bits (ProStep4's error register), cleared by the axis' next move. */
+#define X4STEP_AXERR_REF_TRAVEL (1u << 0) /* sref exceeded */
+#define X4STEP_AXERR_LIMIT_POS (1u << 1) /* stopped at E+ */
+#define X4STEP_AXERR_LIMIT_NEG (1u << 2) /* stopped at E- */
+#define X4STEP_AXERR_AMBIGUOUS (1u << 3) /* the input serves other limits */
+
+struct x4step_axis {
+	__s32 position; /* machine coordinate */
+	__u32 state; /* X4STEP_AX_* */
+	__u32 error; /* X4STEP_AXERR_* */
+	__u32 velocity; /* current speed, steps/s (the last step interval) */
+};
+
+/* X4STEP_GET_AXES: readable on any descriptor, never blocks. */
+struct x4step_axes {
+	struct x4step_axis axis[X4STEP_AXES];
+	__u32 inputs; /* as x4step_status.inputs */
+	__u32 switches; /* bit k: input k + 1 is active (after NO/NC) */
+	__u32 reserved[2];
+};
+
 #define X4STEP_IOC_MAGIC 0xB4
 
 /* Read the interface version. */
@@ -178,5 +316,15 @@ struct x4step_timing {
 #define X4STEP_GET_STEP_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0d, struct x4step_step_timing)
 /* Read and reset the timer lateness statistics. */
 #define X4STEP_GET_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0b, struct x4step_timing)
+/* Positioning: profiles, independent moves, homing, halts, switches. */
+#define X4STEP_SET_PROFILE _IOW(X4STEP_IOC_MAGIC, 0x10, struct x4step_profile)
+#define X4STEP_GET_PROFILE _IOWR(X4STEP_IOC_MAGIC, 0x11, struct x4step_profile)
+#define X4STEP_GOTO _IOWR(X4STEP_IOC_MAGIC, 0x12, struct x4step_goto)
+#define X4STEP_HOME _IOWR(X4STEP_IOC_MAGIC, 0x13, struct x4step_home)
+#define X4STEP_HALT _IOW(X4STEP_IOC_MAGIC, 0x14, struct x4step_halt)
+#define X4STEP_SET_POSITION _IOW(X4STEP_IOC_MAGIC, 0x15, struct x4step_position)
+#define X4STEP_SET_SWITCHES _IOW(X4STEP_IOC_MAGIC, 0x16, struct x4step_switches)
+#define X4STEP_GET_SWITCHES _IOR(X4STEP_IOC_MAGIC, 0x17, struct x4step_switches)
+#define X4STEP_GET_AXES _IOR(X4STEP_IOC_MAGIC, 0x18, struct x4step_axes)
 
 #endif /* _UAPI_LINUX_X4STEP_H */
