@@ -54,8 +54,8 @@ int main(int argc, char **argv) {
     edges++;
   }
   if (!per_step) {
-    std::printf("leader steps: %llu (axes %lld %lld %lld %lld)\n", (unsigned long long)n, (long long)e.steps[0], (long long)e.steps[1],
-                (long long)e.steps[2], (long long)e.steps[3]);
+    std::printf("leader steps: %llu (axes %lld %lld %lld %lld)\n", (unsigned long long)n,
+                (long long)e.steps[0], (long long)e.steps[1], (long long)e.steps[2], (long long)e.steps[3]);
     std::printf("edge-time error vs double reference: max %.1f ns, mean %.2f ns over %llu edges\n", max_err,
                 sum_err / edges, (unsigned long long)edges);
     std::printf("engine state: %zu bytes (struct x4_engine)\n", sizeof(struct x4_engine));
