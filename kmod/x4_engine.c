@@ -121,14 +121,17 @@ int x4_profile_check(const struct x4_profile *p)
 /* One side of a profile's ramp: from or to rest speed v, acceleration a. */
 static void plan_ramp(struct x4_ramp *r, u64 v, u64 a, u64 vm)
 {
-	u64 s;
+	u64 s, rem;
 
 	r->sh = 0;
 	/* u never exceeds vm / a: keep it below 2^31 units. */
 	while ((x4_div(vm * NSEC_PER_SEC_U64, a) >> r->sh) >= (1ull << 31))
 		r->sh++;
 	s = x4_div(v * NSEC_PER_SEC_U64, a << r->sh);
-	r->c = s * s;
+	rem = v * NSEC_PER_SEC_U64 - s * (a << r->sh);
+	/* (s + rem / D)^2 to a unit: the fraction matters when units are us */
+	r->c = s * s + x4_div(2 * s * rem + x4_div(rem * rem, a << r->sh),
+			      a << r->sh);
 	r->k = x4_div(2 * NSEC_PER_SEC_U64 * NSEC_PER_SEC_U64, a << (2 * r->sh));
 	r->s_ns = ramp_u(r, 0, 0);
 }
@@ -139,13 +142,21 @@ static u64 ramp_lag(u64 x, u64 y, u64 a, u64 vm)
 	return a ? x4_div((x - y) * (x - y) * NSEC_PER_SEC_U64, 2 * a * vm) : 0;
 }
 
-/* The time of a ramp from v to w (w > v) with acceleration a, in ns. */
-static u64 ramp_span(u64 v2, u64 w2, u64 a)
+/*
+ * The time a ramp side takes for num / den steps (a fraction) from its
+ * rest speed, in ns: u(num / den) - u(0), with m k split so that nothing
+ * overflows (num % den < den, k % den < den, den <= 4e6).
+ */
+static u64 ramp_frac(const struct x4_ramp *r, u64 num, u64 den)
 {
-	/* Square roots in 1/32768 steps/s keep this within ns. */
-	u64 v = x4_isqrt(v2 << 30), w = x4_isqrt(w2 << 30);
+	u64 m = x4_div(num, den), f = num - m * den;
+	u64 kq = x4_div(r->k, den), kr = r->k - kq * den;
+	u64 x = r->c + m * r->k + f * kq + x4_div(f * kr, den);
+	u64 q = x4_isqrt(x);
 
-	return x4_div((w - v) * NSEC_PER_SEC_U64, a << 15);
+	if (r->sh)
+		q = (q << r->sh) + x4_div((x - q * q) << r->sh, 2 * q + 1);
+	return q - r->s_ns;
 }
 
 /*
@@ -191,7 +202,7 @@ static void plan_prof(struct x4_plan *p, u64 steps, const struct x4_profile *f)
 	}
 	vp2 = a0 && ae ? x4_div(ae * (v0 * v0 + 2 * a0 * d) + a0 * ve * ve,
 				a0 + ae) : 0;
-	if (!a0 || vp2 < v0 * v0) {
+	if (!a0 || (ae && vp2 < v0 * v0)) {
 		/* Brake all the way, from where the ramp reaches ve. */
 		p->n_cruise = 0;
 		p->n_decel = 0;
@@ -200,10 +211,18 @@ static void plan_prof(struct x4_plan *p, u64 steps, const struct x4_profile *f)
 		p->n_cruise = d + 1; /* accelerate all the way */
 		p->n_decel = d + 1;
 	} else {
-		p->n_cruise = x4_div(vp2 - v0 * v0, 2 * a0) + 1;
+		/*
+		 * The ramps meet after (2 ae d + ve^2 - v0^2) / 2 (a0 + ae)
+		 * steps of acceleration: exact, not from the rounded vp2.
+		 */
+		u64 den = 2 * (a0 + ae);
+		u64 num_a = 2 * ae * d + ve * ve - v0 * v0;
+		u64 num_d = 2 * a0 * d + v0 * v0 - ve * ve;
+
+		p->n_cruise = x4_div(num_a, den) + 1;
 		p->n_decel = p->n_cruise;
-		p->t_last = ramp_span(v0 * v0, vp2, a0) +
-			    ramp_span(ve * ve, vp2, ae);
+		p->t_last = ramp_frac(&p->acc, num_a, den) +
+			    ramp_frac(&p->dec, num_d, den);
 	}
 }
 
@@ -599,13 +618,14 @@ int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 
 		if (!(axes & (1u << i)))
 			continue;
-		e->err[i] = 0;
 		for (j = 0; j < X4_AXES; j++)
 			steps[j] = 0;
 		steps[i] = relative ? (s64)target[i] :
 				      (s64)target[i] - position(e, i);
-		if (!steps[i])
-			continue; /* there already */
+		if (!steps[i]) {
+			e->err[i] = 0; /* a command, but there already */
+			continue;
+		}
 		plan_axes(&c->run, steps);
 		plan_prof(&c->run, c->run.abs_steps[i], &e->prof[i]);
 		c->home = 0;
@@ -622,7 +642,7 @@ static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 
 	steps[axis] = vref < 0 ? -(s64)c->sref : (s64)c->sref;
 	plan_axes(&c->run, steps);
-	plan_profile(&c->run, c->sref, (u32)(vref < 0 ? -vref : vref), 0);
+	plan_profile(&c->run, (u64)c->sref + 1, (u32)(vref < 0 ? -vref : vref), 0);
 	c->home = phase;
 	begin(e, c, now_ns);
 }
@@ -946,11 +966,6 @@ static void end(struct x4_engine *e, struct x4_chan *c)
 static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 				    u64 t)
 {
-	if (c->home) {
-		/* sref travelled without finding the reference switch */
-		e->err[c->run.leader] |= X4_AXERR_REF_TRAVEL;
-		c->home = 0;
-	}
 	if (!e->timing.dir_hold_ns && !phase_mode(e)) {
 		end(e, c);
 		return;
@@ -1089,6 +1104,12 @@ static noinline void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 
 	if ((e->inputs ^ c->halt_flip) & c->halt_mask) {
 		halted(e, c);
+		return;
+	}
+	if (c->home && c->n >= c->sref) {
+		/* sref travelled without finding the reference switch */
+		e->err[c->run.leader] |= X4_AXERR_REF_TRAVEL;
+		cut(c);
 		return;
 	}
 	c->stepping = step_axes(e, c);
@@ -1275,10 +1296,14 @@ void x4_engine_axis(const struct x4_engine *e, int axis,
 			st->state |= X4_AX_ACCEL;
 		else
 			st->state |= X4_AX_CRUISE;
-		interval = c->n < p->last ? c->t_next - c->t_cur : 2 * c->half_ns;
-		if (interval && p->bres_2l)
+		if (c->phase == X4_FALL && c->n < p->last)
+			interval = c->t_next - c->t_cur;
+		else
+			interval = c->phase == X4_FALL || c->n ? 2 * c->half_ns : 0;
+		if (interval)
 			st->velocity = (u32)x4_div(NSEC_PER_SEC_U64 *
-						   p->abs_steps[axis] * 2,
-						   interval * p->bres_2l);
+						   p->abs_steps[axis],
+						   interval *
+						   p->abs_steps[p->leader]);
 	}
 }

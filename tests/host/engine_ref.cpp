@@ -43,10 +43,11 @@ x4_event fire(x4_engine &e, uint64_t now_ns) {
   return {due, e.data, e.ctl};
 }
 
-void record(x4_engine &e, Recording &rec, size_t max_events) {
+void record(x4_engine &e, Recording &rec, size_t max_events, const std::function<void()> &before_fire) {
   uint8_t data = e.data;
   bool moving = false;
   for (size_t i = 0; i < max_events && x4_engine_busy(&e); i++) {
+    if (before_fire) before_fire();
     const x4_event ev = fire(e);
     rec.events.push_back(ev);
     const uint8_t changed = data ^ ev.data;

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 extern "C" {
@@ -37,7 +38,8 @@ struct Recording {
 x4_event fire(x4_engine &e, uint64_t now_ns = 0);
 
 // Fire the engine until idle (or max_events), recording what it emits.
-// `prev` is the port state before the first event.
-void record(x4_engine &e, Recording &rec, size_t max_events = SIZE_MAX);
+// `before_fire`, if set, runs before each event (e.g. to sense inputs).
+void record(x4_engine &e, Recording &rec, size_t max_events = SIZE_MAX,
+            const std::function<void()> &before_fire = nullptr);
 
 }  // namespace x4test

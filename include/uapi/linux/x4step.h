@@ -163,8 +163,10 @@ struct x4step_timing {
  * (X4STEP_GOTO). Velocities in steps/s, accelerations in steps/s^2. The
  * axis starts at v0, accelerates with a0 to vm, and decelerates with ae
  * to ve, where it stops; a0 or ae 0: no ramp on that side. A move too
- * short to reach vm turns where the ramps meet; one too short even for
- * that runs at min(v0, ve) throughout. Rules: 1 <= vm <= X4STEP_VEL_MAX,
+ * short to reach vm turns where the ramps meet; one too short to brake
+ * from v0 to ve starts at the speed from which the ramp just reaches ve,
+ * and one too short to accelerate to ve accelerates all the way (ending
+ * slower than ve). Rules: 1 <= vm <= X4STEP_VEL_MAX,
  * v0 <= vm, ve <= vm, a0, ae <= X4STEP_ACC_MAX, and each ramp at most
  * 3600 s long. Default: v0 = ve = 0, a0 = ae = 1000, vm = 1000.
  */
@@ -184,7 +186,9 @@ struct x4step_profile {
 /*
  * X4STEP_GOTO: independent moves of the axes in `axes`, each with its own
  * profile, all started at once; other axes may be moving meanwhile. Each
- * axis must be idle. An axis already at its target does not move.
+ * axis must be idle. An axis already at its target does not move. An
+ * absolute target is reached by the signed difference to the coordinate
+ * (no wrap-around: INT32_MIN to INT32_MAX is 2^32 - 1 steps forward).
  */
 struct x4step_goto {
 	__u32 axes; /* axis mask, non-zero */
@@ -277,7 +281,7 @@ struct x4step_axis {
 	__s32 position; /* machine coordinate */
 	__u32 state; /* X4STEP_AX_* */
 	__u32 error; /* X4STEP_AXERR_* */
-	__u32 velocity; /* current speed, steps/s (the last step interval) */
+	__u32 velocity; /* current speed, steps/s (the current step interval) */
 };
 
 /* X4STEP_GET_AXES: readable on any descriptor, never blocks. */
