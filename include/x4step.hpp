@@ -16,6 +16,24 @@
  *   c.wait();                                                 // poll(), no spinning
  *   std::cout << c.get_status() << '\n';
  * @endcode
+ *
+ * Positioning (the ProStep4 model): each axis keeps a machine coordinate,
+ * updated by every step of every kind of move, and can move on its own to
+ * a coordinate with its own ramp, run a reference run, and stop at limit
+ * switches. Axes are numbered 1..4; in an axis mask bit i is axis i + 1.
+ *
+ * @code
+ *   x4step::controller c(1);
+ *   x4step::switches sw;
+ *   sw.ref[0] = 1;                                            // REF of axis 1 on input 1 (pin 15)
+ *   c.set_switches(sw);
+ *   c.home(1, x4step::homing{});                              // both phases
+ *   c.wait_axes(0x1);
+ *   c.set_profile(1, {0, 0, 5000, 20000, 20000});
+ *   c.move_to(1, 12000);
+ *   c.wait_axes(0x1);
+ *   std::cout << c.get_axes() << '\n';
+ * @endcode
  */
 #ifndef X4STEP_HPP
 #define X4STEP_HPP
@@ -120,6 +138,86 @@ struct step_timing {
   std::chrono::nanoseconds dir_hold{0};        ///< directions after the last step
 };
 
+// ---- positioning -----------------------------------------------------------
+
+constexpr unsigned vel_max = 45000;    ///< steps/s
+constexpr unsigned acc_max = 1000000;  ///< steps/s^2
+
+/// Ramp of an axis' own moves (ProStep4 section 2.5): the axis starts at
+/// v0, accelerates with a0 to vm, decelerates with ae to ve and stops
+/// there; a0 or ae 0: no ramp on that side. Rules: 1 <= vm <= vel_max,
+/// v0 <= vm, ve <= vm, a0, ae <= acc_max, and a ramp from rest to vm at
+/// most 3600 s long: vm / a0 and vm / ae (when not 0) at most 3600 s.
+struct profile {
+  unsigned v0 = 0;     ///< start velocity, steps/s
+  unsigned ve = 0;     ///< stop velocity, steps/s
+  unsigned vm = 1000;  ///< maximum velocity, steps/s
+  unsigned a0 = 1000;  ///< acceleration, steps/s^2
+  unsigned ae = 1000;  ///< deceleration, steps/s^2
+};
+
+/// How halt() ends moves.
+enum class halt_mode {
+  brake,  ///< along the ramp
+  stop,   ///< at once: the axes lose their synchronization
+};
+
+/// A reference run (ProStep4 section 3): phase 1 at vref1 until the REF
+/// input becomes active, phase 2 at vref2 until it changes again; phase 2
+/// ends by zeroing the coordinate and synchronizing the axis. Each phase
+/// travels at most sref steps. Speeds are signed (the sign is the
+/// direction), 1..vel_max steps/s; sref 1..2^31 - 1; at least one phase.
+struct homing {
+  int vref1 = -1000;
+  int vref2 = 100;
+  unsigned long sref = 100000;
+  bool phase1 = true;
+  bool phase2 = true;
+};
+
+/// Inputs 1..5 (X4GetIn bit 0..4) per axis, 0 = none; nc bit k: input k+1
+/// normally closed (active while LOW; normally open ones while HIGH). An
+/// input may serve several axes and both directions (switches in parallel).
+struct switches {
+  std::array<int, axes> ref{};    ///< reference switch of each axis
+  std::array<int, axes> plus{};   ///< limit E+
+  std::array<int, axes> minus{};  ///< limit E-
+  unsigned nc = 0;
+};
+
+/// Error bits of an axis (ProStep4's error register), cleared by its next move.
+namespace axis_error {
+constexpr unsigned ref_travel = 1;  ///< a reference phase went beyond sref
+constexpr unsigned limit_pos = 2;   ///< stopped at E+
+constexpr unsigned limit_neg = 4;   ///< stopped at E-
+constexpr unsigned ambiguous = 8;   ///< the input serves other limits too: maybe not this axis' switch
+}  // namespace axis_error
+
+/// One axis (ProStep4's status register).
+struct axis_status {
+  long position = 0;      ///< machine coordinate (signed 32 bits, wrapping)
+  unsigned velocity = 0;  ///< current speed, steps/s
+  unsigned error = 0;     ///< axis_error bits
+  bool running = false;   ///< the axis moves
+  bool synced = false;    ///< the coordinate is referenced
+  bool ref1 = false;      ///< reference run, phase 1
+  bool ref2 = false;      ///< reference run, phase 2
+  bool accelerating = false, cruising = false, decelerating = false;
+};
+
+/// Every axis, the inputs, and which inputs' switches are active.
+struct axes_status {
+  std::array<axis_status, axes> axis{};
+  unsigned inputs = 0;           ///< X4GetIn bits
+  unsigned switches_active = 0;  ///< bit k: input k + 1 is active (after NO/NC)
+};
+std::ostream &operator<<(std::ostream &os, const axes_status &s);
+
+/// Why a profile is invalid (param_fail), or errc::ok: the kernel's rules.
+errc check(const profile &p) noexcept;
+/// Why a reference run is invalid (param_fail), or errc::ok.
+errc check(const homing &h) noexcept;
+
 /// Device path of LPT1..4 (/dev/x4step0..3); throws param_fail otherwise.
 std::string device_path(int lpt);
 
@@ -164,6 +262,36 @@ class controller {
   void set_step_timing(const step_timing &t);
   step_timing get_step_timing() const;
 
+  // Positioning. Axes 1..4; bad arguments throw param_fail before the
+  // kernel is asked. A move or setting of a moving axis: is_active.
+
+  void set_profile(int axis, const profile &p);
+  profile get_profile(int axis) const;
+  /// Independent move of one axis to a coordinate (-2^31..2^31 - 1) with its
+  /// profile; other axes may be moving meanwhile, this one must be idle.
+  void move_to(int axis, long target);
+  void move_by(int axis, long distance);
+  /// Independent moves of the axes in axis_mask, all started at once: to
+  /// targets[i], or by them if relative. An axis at its target does not move.
+  void move_to(unsigned axis_mask, const std::array<long, axes> &targets, bool relative = false);
+  /// A reference run of one axis; needs its REF input (set_switches).
+  void home(int axis, const homing &h);
+  /// Brake or stop the moves of the axes in axis_mask, with the axes moving
+  /// interpolated with them. not_active if none of them moves.
+  void halt(unsigned axis_mask, halt_mode how);
+  /// "Stop and zero": stops the axis at once (with its interpolated
+  /// partners), sets its coordinate and marks it synchronized.
+  void set_position(int axis, long position);
+  void zero(int axis) { set_position(axis, 0); }
+  /// Reference and limit inputs; only while no move runs.
+  void set_switches(const switches &s);
+  switches get_switches() const;
+  axes_status get_axes() const;
+  axis_status axis(int axis) const;
+  /// Block until none of the axes in axis_mask runs; false on timeout
+  /// (negative: for ever). Other axes may go on moving.
+  bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+
   /// Release the port now (what the destructor does); idempotent.
   void close();
 
@@ -184,6 +312,9 @@ class monitor {
 
   status get_status() const;
   bool wait(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+  axes_status get_axes() const;
+  /// As controller::wait_axes.
+  bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
 
  private:
   struct impl;

@@ -32,6 +32,111 @@ int X4SetStepTiming(long pulse_ns, long space_ns, long dir_setup_ns, long dir_ho
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive */
 int X4SetOutputMode(int mode);
 
+/*
+ * Positioning (the ProStep4 model). Each axis (1..4) keeps a signed
+ * 32-bit machine coordinate, updated by every step of every kind of move,
+ * X4Load/X4Start moves included, and can move on its own to a coordinate
+ * with its own ramp while other axes move. An X4Load/X4Start move needs
+ * all its axes idle. Every function checks, in this order: X4Init
+ * (X4ErrInitNotDone), its arguments (X4ErrParamFail), the state
+ * (X4ErrIsActive: the axis moves; X4ErrNotActive: it does not).
+ */
+
+/* Phases of X4Home. */
+#define X4HOME_PHASE1 1 /**< at vref1 until the reference switch becomes active */
+#define X4HOME_PHASE2 2 /**< at vref2 until it changes again; then zero and synchronize */
+#define X4HOME_AUTO (X4HOME_PHASE1 | X4HOME_PHASE2) /**< both, one after the other */
+
+/* State bits of X4GetAxisState (ProStep4's status register). */
+#define X4AX_RUN 0x001    /**< the axis moves */
+#define X4AX_SYNC 0x002   /**< the coordinate is referenced (X4Home, X4SetPosition) */
+#define X4AX_ERROR 0x004  /**< an error bit is set */
+#define X4AX_REF1 0x008   /**< reference run, phase 1 */
+#define X4AX_REF2 0x010   /**< reference run, phase 2 */
+#define X4AX_ACCEL 0x100  /**< accelerating */
+#define X4AX_CRUISE 0x200 /**< at constant speed */
+#define X4AX_DECEL 0x400  /**< decelerating */
+
+/* Error bits of X4GetAxisState, cleared by the axis' next move. */
+#define X4AXERR_REF_TRAVEL 1 /**< a reference phase went beyond sref */
+#define X4AXERR_LIMIT_POS 2  /**< stopped at limit switch E+ */
+#define X4AXERR_LIMIT_NEG 4  /**< stopped at limit switch E- */
+#define X4AXERR_AMBIGUOUS 8  /**< the input serves other limits too */
+
+/**
+ * Ramp of the axis' own moves (X4MoveTo, X4MoveBy): start at v0, speed up
+ * with a0 to vm, slow down with ae to ve and stop there; a0 or ae 0: no
+ * ramp on that side. Velocities in steps/s, accelerations in steps/s^2:
+ * 1 <= vm <= 45000, v0 <= vm, ve <= vm, a0, ae <= 1000000, and vm / a0,
+ * vm / ae (when not 0) at most 3600 s. Default: v0 = ve = 0, vm = 1000,
+ * a0 = ae = 1000.
+ * @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive
+ */
+int X4SetProfile(int axis, long v0, long ve, long vm, long a0, long ae);
+
+/** Move axis on its own to the coordinate target (-2^31..2^31-1) with its
+ *  profile; returns once it runs (X4GetAxisState tells when it ends).
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive */
+int X4MoveTo(int axis, long target);
+
+/** The same, by distance steps from where the axis is.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive */
+int X4MoveBy(int axis, long distance);
+
+/**
+ * Reference run of axis (ProStep4 section 3), without ramps: phase 1 at
+ * vref1 steps/s until the reference switch becomes active, phase 2 at
+ * vref2 until it changes again, then the coordinate is 0 and the axis
+ * synchronized. Speeds are signed (the sign is the direction),
+ * 1..45000 steps/s; each phase travels at most sref (1..2^31-1) steps,
+ * else the axis stops with X4AXERR_REF_TRAVEL. phases: X4HOME_PHASE1,
+ * X4HOME_PHASE2 or X4HOME_AUTO. Needs the axis' reference input
+ * (X4SetSwitches). X4BrakeAxis and X4StopAxis end it.
+ * @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive
+ */
+int X4Home(int axis, long vref1, long vref2, long sref, int phases);
+
+/** "Stop and zero": stop axis at once (with the axes moving interpolated
+ *  with it), set its coordinate to position and mark it synchronized.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail */
+int X4SetPosition(int axis, long position);
+
+/** The machine coordinate of axis into *position.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail (axis, NULL) */
+int X4GetPosition(int axis, long *position);
+
+/** The X4AX_* state bits and X4AXERR_* error bits of axis; either pointer
+ *  may be NULL.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail */
+int X4GetAxisState(int axis, int *state, int *error);
+
+/**
+ * Inputs 1..5 (X4GetIn bits 0..4; 0 = none) as the reference switch and
+ * the limit switches E+ and E- of axis. An input may serve several axes
+ * and both directions (switches in parallel). An axis moving toward an
+ * active limit is stopped by the module on that very step, with the axes
+ * moving interpolated with it; moving away from it is allowed. Only while
+ * no move runs.
+ * @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive
+ */
+int X4SetSwitches(int axis, int ref_input, int plus_input, int minus_input);
+
+/** Which inputs have normally closed switches: bit k for input k+1
+ *  (0..31). Normally open switches are active while their pin is HIGH,
+ *  normally closed ones while it is LOW. Only while no move runs.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive */
+int X4SetSwitchPolarity(int nc_mask);
+
+/** Brake the move of axis along its ramp (X4Brake for one axis; the axes
+ *  moving interpolated with it brake too).
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNotActive */
+int X4BrakeAxis(int axis);
+
+/** Stop the move of axis at once (X4Stop for one axis): the axis loses
+ *  its synchronization.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNotActive */
+int X4StopAxis(int axis);
+
 #ifdef __cplusplus
 }
 #endif

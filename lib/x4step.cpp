@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <climits>
 #include <ostream>
 #include <utility>
 
@@ -18,7 +19,19 @@ extern "C" {
 }
 
 namespace x4step {
+
+static_assert(axes == X4STEP_AXES);
+static_assert(vel_max == X4STEP_VEL_MAX && acc_max == X4STEP_ACC_MAX);
+static_assert(vel_max == X4_VEL_MAX && acc_max == X4_ACC_MAX);
+static_assert(axis_error::ref_travel == X4STEP_AXERR_REF_TRAVEL &&
+              axis_error::limit_pos == X4STEP_AXERR_LIMIT_POS &&
+              axis_error::limit_neg == X4STEP_AXERR_LIMIT_NEG &&
+              axis_error::ambiguous == X4STEP_AXERR_AMBIGUOUS);
+
 namespace {
+
+constexpr unsigned all_axes = (1u << axes) - 1;
+constexpr int inputs_count = 5;
 
 class category_impl : public std::error_category {
  public:
@@ -100,6 +113,36 @@ int open_device(const std::string &path, int flags) {
   return fd;
 }
 
+// Axis 1..4 as its mask bit; param_fail otherwise.
+unsigned axis_bit(int axis) {
+  if (axis < 1 || axis > axes) fail(errc::param_fail);
+  return 1u << (axis - 1);
+}
+
+void need_mask(unsigned mask) {
+  if (mask == 0 || mask > all_axes) fail(errc::param_fail);
+}
+
+// The end of a wait; a negative timeout never comes.
+class deadline {
+ public:
+  explicit deadline(std::chrono::milliseconds timeout)
+      : forever_(timeout.count() < 0), end_(std::chrono::steady_clock::now() + timeout) {}
+  bool expired() const { return !forever_ && std::chrono::steady_clock::now() >= end_; }
+  // Milliseconds for poll(): up to the end (rounded up, so that a timeout
+  // has expired when poll() returns), at most cap if cap >= 0; -1 for ever.
+  int poll_ms(int cap = -1) const {
+    if (forever_) return cap;
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(end_ - std::chrono::steady_clock::now());
+    const long long ms = std::max<long long>(0, left.count());
+    return static_cast<int>(cap >= 0 ? std::min<long long>(ms, cap) : std::min<long long>(ms, INT_MAX));
+  }
+
+ private:
+  bool forever_;
+  std::chrono::steady_clock::time_point end_;
+};
+
 // One open descriptor; the common part of controller and monitor.
 struct device {
   int fd = -1;
@@ -132,25 +175,85 @@ struct device {
     return s;
   }
 
+  // One poll() for POLLIN (no move runs) of up to ms (-1: for ever);
+  // false on timeout or signal.
+  bool poll_in(int ms) const {
+    pollfd p{fd, POLLIN, 0};
+    const int n = ::poll(&p, 1, ms);
+    if (n < 0 && errno == EINTR) return false;
+    if (n < 0) fail_errno(errno, "poll " + path);
+    if (n > 0 && (p.revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
+    return n > 0;
+  }
+
   bool wait(std::chrono::milliseconds timeout) const {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    const deadline d(timeout);
     for (;;) {
-      int ms = -1;
-      if (timeout.count() >= 0) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-            deadline - std::chrono::steady_clock::now());
-        ms = static_cast<int>(std::max<long long>(0, left.count()));
-      }
-      pollfd p{fd, POLLIN, 0};
-      const int n = ::poll(&p, 1, ms);
-      if (n < 0 && errno == EINTR) continue;
-      if (n < 0) fail_errno(errno, "poll " + path);
-      if (n == 0) return false;
-      if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
-      return true;
+      if (poll_in(d.poll_ms())) return true;
+      if (d.expired()) return false;
+    }
+  }
+
+  axes_status get_axes() const {
+    x4step_axes ka{};
+    call(X4STEP_GET_AXES, &ka, "X4STEP_GET_AXES");
+    axes_status s;
+    for (int i = 0; i < axes; i++) {
+      const x4step_axis &k = ka.axis[i];
+      axis_status &a = s.axis[i];
+      a.position = k.position;
+      a.velocity = k.velocity;
+      a.error = k.error;
+      a.running = k.state & X4STEP_AX_RUN;
+      a.synced = k.state & X4STEP_AX_SYNC;
+      a.ref1 = k.state & X4STEP_AX_REF1;
+      a.ref2 = k.state & X4STEP_AX_REF2;
+      a.accelerating = k.state & X4STEP_AX_ACCEL;
+      a.cruising = k.state & X4STEP_AX_CRUISE;
+      a.decelerating = k.state & X4STEP_AX_DECEL;
+    }
+    s.inputs = ka.inputs;
+    s.switches_active = ka.switches;
+    return s;
+  }
+
+  // poll() reports POLLIN only while no move at all runs; the end of any
+  // move wakes the pollers, but the kernel puts them back to sleep while
+  // another move still runs. So this looks at the axes themselves and
+  // polls in slices of at most 5 ms: it returns at once when everything
+  // ends, and within 5 ms when only the axes waited for end.
+  bool wait_axes(unsigned mask, std::chrono::milliseconds timeout) const {
+    need_mask(mask);
+    const deadline d(timeout);
+    for (;;) {
+      const axes_status s = get_axes();
+      bool runs = false;
+      for (int i = 0; i < axes; i++) runs |= (mask >> i & 1u) && s.axis[i].running;
+      if (!runs) return true;
+      if (d.expired()) return false;
+      poll_in(d.poll_ms(5));
     }
   }
 };
+
+// A coordinate or distance: signed 32 bits.
+int32_t narrow_s32(long v) {
+  if (v < INT32_MIN || v > INT32_MAX) fail(errc::param_fail);
+  return static_cast<int32_t>(v);
+}
+
+// The targets of a move of one axis only.
+std::array<long, axes> one_axis(int axis, long value) {
+  axis_bit(axis);  // 1..4
+  std::array<long, axes> t{};
+  t[axis - 1] = value;
+  return t;
+}
+
+uint8_t narrow_input(int in) {
+  if (in < 0 || in > inputs_count) fail(errc::param_fail);
+  return static_cast<uint8_t>(in);
+}
 
 int32_t narrow_steps(long s) {
   // Beyond the range, keep a value the kernel's check also refuses.
@@ -183,6 +286,35 @@ errc check_endless(int axis, int freq_hz, std::chrono::milliseconds ramp) noexce
 std::string device_path(int lpt) {
   if (lpt < 1 || lpt > 4) fail(errc::param_fail);
   return "/dev/x4step" + std::to_string(lpt - 1);
+}
+
+errc check(const profile &p) noexcept {
+  const x4_profile kp{p.v0, p.ve, p.vm, p.a0, p.ae};
+  return static_cast<errc>(x4_profile_check(&kp));
+}
+
+errc check(const homing &h) noexcept {
+  const auto speed_ok = [](int v) {
+    return v != 0 && v >= -static_cast<int>(vel_max) && v <= static_cast<int>(vel_max);
+  };
+  if (!h.phase1 && !h.phase2) return errc::param_fail;
+  if ((h.phase1 && !speed_ok(h.vref1)) || (h.phase2 && !speed_ok(h.vref2))) return errc::param_fail;
+  return h.sref >= 1 && h.sref <= INT32_MAX ? errc::ok : errc::param_fail;
+}
+
+std::ostream &operator<<(std::ostream &os, const axes_status &s) {
+  for (int i = 0; i < axes; i++) {
+    const axis_status &a = s.axis[i];
+    os << (i ? " | " : "") << i + 1 << ": " << a.position << (a.synced ? " synced" : "");
+    if (a.running) os << " running " << a.velocity << "/s";
+    if (a.ref1) os << " ref1";
+    if (a.ref2) os << " ref2";
+    if (a.accelerating) os << " accel";
+    if (a.cruising) os << " cruise";
+    if (a.decelerating) os << " decel";
+    if (a.error) os << " error 0x" << std::hex << a.error << std::dec;
+  }
+  return os << " | inputs 0x" << std::hex << s.inputs << " switches 0x" << s.switches_active << std::dec;
 }
 
 std::ostream &operator<<(std::ostream &os, const status &s) {
@@ -313,11 +445,126 @@ step_timing controller::get_step_timing() const {
           nanoseconds(kt.dir_hold_ns)};
 }
 
+void controller::set_profile(int axis, const profile &p) {
+  const auto &d = need();
+  axis_bit(axis);
+  if (check(p) != errc::ok) fail(errc::param_fail);
+  x4step_profile kp{};
+  kp.axis = static_cast<uint32_t>(axis);
+  kp.v0 = p.v0;
+  kp.ve = p.ve;
+  kp.vm = p.vm;
+  kp.a0 = p.a0;
+  kp.ae = p.ae;
+  d.call(X4STEP_SET_PROFILE, &kp, "X4STEP_SET_PROFILE");
+}
+
+profile controller::get_profile(int axis) const {
+  const auto &d = need();
+  axis_bit(axis);
+  x4step_profile kp{};
+  kp.axis = static_cast<uint32_t>(axis);
+  d.call(X4STEP_GET_PROFILE, &kp, "X4STEP_GET_PROFILE");
+  return {kp.v0, kp.ve, kp.vm, kp.a0, kp.ae};
+}
+
+void controller::move_to(int axis, long target) {
+  need();
+  move_to(axis_bit(axis), one_axis(axis, target), false);
+}
+
+void controller::move_by(int axis, long distance) {
+  need();
+  move_to(axis_bit(axis), one_axis(axis, distance), true);
+}
+
+void controller::move_to(unsigned axis_mask, const std::array<long, axes> &targets, bool relative) {
+  const auto &d = need();
+  need_mask(axis_mask);
+  x4step_goto g{};
+  g.axes = axis_mask;
+  g.flags = relative ? X4STEP_GOTO_RELATIVE : 0;
+  for (int i = 0; i < axes; i++)
+    if (axis_mask >> i & 1u) g.target[i] = narrow_s32(targets[i]);
+  if (::ioctl(d.fd, X4STEP_GOTO, &g)) fail_ioctl(errno, "X4STEP_GOTO", g.result);
+}
+
+void controller::home(int axis, const homing &h) {
+  const auto &d = need();
+  axis_bit(axis);
+  if (check(h) != errc::ok) fail(errc::param_fail);
+  x4step_home kh{};
+  kh.axis = static_cast<uint32_t>(axis);
+  kh.phases = (h.phase1 ? X4STEP_HOME_PHASE1 : 0) | (h.phase2 ? X4STEP_HOME_PHASE2 : 0);
+  kh.vref1 = h.vref1;
+  kh.vref2 = h.vref2;
+  kh.sref = static_cast<uint32_t>(h.sref);
+  if (::ioctl(d.fd, X4STEP_HOME, &kh)) fail_ioctl(errno, "X4STEP_HOME", kh.result);
+}
+
+void controller::halt(unsigned axis_mask, halt_mode how) {
+  const auto &d = need();
+  need_mask(axis_mask);
+  x4step_halt kh{};
+  kh.axes = axis_mask;
+  kh.how = how == halt_mode::stop ? X4STEP_HALT_STOP : X4STEP_HALT_BRAKE;
+  d.call(X4STEP_HALT, &kh, "X4STEP_HALT");
+}
+
+void controller::set_position(int axis, long position) {
+  const auto &d = need();
+  const unsigned bit = axis_bit(axis);
+  x4step_position kp{};
+  kp.axes = bit;
+  kp.position[axis - 1] = narrow_s32(position);
+  d.call(X4STEP_SET_POSITION, &kp, "X4STEP_SET_POSITION");
+}
+
+void controller::set_switches(const switches &s) {
+  const auto &d = need();
+  if (s.nc >= 1u << inputs_count) fail(errc::param_fail);
+  x4step_switches ks{};
+  for (int i = 0; i < axes; i++) {
+    ks.ref[i] = narrow_input(s.ref[i]);
+    ks.plus[i] = narrow_input(s.plus[i]);
+    ks.minus[i] = narrow_input(s.minus[i]);
+  }
+  ks.nc = static_cast<uint8_t>(s.nc);
+  d.call(X4STEP_SET_SWITCHES, &ks, "X4STEP_SET_SWITCHES");
+}
+
+switches controller::get_switches() const {
+  x4step_switches ks{};
+  need().call(X4STEP_GET_SWITCHES, &ks, "X4STEP_GET_SWITCHES");
+  switches s;
+  for (int i = 0; i < axes; i++) {
+    s.ref[i] = ks.ref[i];
+    s.plus[i] = ks.plus[i];
+    s.minus[i] = ks.minus[i];
+  }
+  s.nc = ks.nc;
+  return s;
+}
+
+axes_status controller::get_axes() const { return need().get_axes(); }
+
+axis_status controller::axis(int axis) const {
+  const auto &d = need();
+  axis_bit(axis);
+  return d.get_axes().axis[axis - 1];
+}
+
+bool controller::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) const {
+  return need().wait_axes(axis_mask, timeout);
+}
+
 void controller::close() {
   if (!impl_) return;
   // Brake and wait here rather than in the kernel's release, so that the
-  // caller's close returns once the motors stand.
-  if (::ioctl(impl_->fd, X4STEP_BRAKE) == 0) impl_->wait(std::chrono::milliseconds(5000));
+  // caller's close returns once the motors stand. HALT of every axis
+  // covers the axes' own moves and the interpolated move alike.
+  x4step_halt all{all_axes, X4STEP_HALT_BRAKE, {}};
+  if (::ioctl(impl_->fd, X4STEP_HALT, &all) == 0) impl_->wait(std::chrono::milliseconds(5000));
   impl_.reset();
 }
 
@@ -341,6 +588,16 @@ status monitor::get_status() const {
 bool monitor::wait(std::chrono::milliseconds timeout) const {
   if (!impl_) fail(errc::init_not_done);
   return impl_->wait(timeout);
+}
+
+axes_status monitor::get_axes() const {
+  if (!impl_) fail(errc::init_not_done);
+  return impl_->get_axes();
+}
+
+bool monitor::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) const {
+  if (!impl_) fail(errc::init_not_done);
+  return impl_->wait_axes(axis_mask, timeout);
 }
 
 }  // namespace x4step

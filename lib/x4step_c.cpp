@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // The X4Step C API: a thin layer over the C++ API. Nothing is thrown
 // across it: every exception becomes the documented error code.
+#include <linux/x4step.h>
+
+#include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cstring>
 #include <optional>
 #include <vector>
@@ -9,6 +13,13 @@
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
+
+static_assert(X4HOME_PHASE1 == X4STEP_HOME_PHASE1 && X4HOME_PHASE2 == X4STEP_HOME_PHASE2);
+static_assert(X4AX_RUN == X4STEP_AX_RUN && X4AX_SYNC == X4STEP_AX_SYNC && X4AX_ERROR == X4STEP_AX_ERROR &&
+              X4AX_REF1 == X4STEP_AX_REF1 && X4AX_REF2 == X4STEP_AX_REF2 && X4AX_ACCEL == X4STEP_AX_ACCEL &&
+              X4AX_CRUISE == X4STEP_AX_CRUISE && X4AX_DECEL == X4STEP_AX_DECEL);
+static_assert(X4AXERR_REF_TRAVEL == X4STEP_AXERR_REF_TRAVEL && X4AXERR_LIMIT_POS == X4STEP_AXERR_LIMIT_POS &&
+              X4AXERR_LIMIT_NEG == X4STEP_AXERR_LIMIT_NEG && X4AXERR_AMBIGUOUS == X4STEP_AXERR_AMBIGUOUS);
 
 namespace {
 
@@ -42,6 +53,34 @@ x4step::status status_or_idle() noexcept {
     }
   }
   return {};
+}
+
+// A value for an unsigned field; out of its range: param_fail.
+unsigned to_unsigned(long v) {
+  if (v < 0 || static_cast<unsigned long>(v) > UINT_MAX)
+    throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
+  return static_cast<unsigned>(v);
+}
+
+// A speed for an int field; beyond int, a value the library also refuses.
+int to_speed(long v) { return static_cast<int>(std::clamp<long>(v, INT_MIN, INT_MAX)); }
+
+int state_bits(const x4step::axis_status &a) {
+  return (a.running ? X4AX_RUN : 0) | (a.synced ? X4AX_SYNC : 0) | (a.error ? X4AX_ERROR : 0) |
+         (a.ref1 ? X4AX_REF1 : 0) | (a.ref2 ? X4AX_REF2 : 0) | (a.accelerating ? X4AX_ACCEL : 0) |
+         (a.cruising ? X4AX_CRUISE : 0) | (a.decelerating ? X4AX_DECEL : 0);
+}
+
+// The axis' own status, or param_fail for a bad axis.
+int axis_state(int axis, x4step::axis_status &out) noexcept {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] { out = port->axis(axis); });
+}
+
+int halt_axis(int axis, x4step::halt_mode how) noexcept {
+  if (!port) return X4ErrInitNotDone;
+  if (axis < 1 || axis > x4step::axes) return X4ErrParamFail;
+  return guarded([&] { port->halt(1u << (axis - 1), how); });
 }
 
 int move_endless(int axis, int freq, int ramp, x4step::direction dir) noexcept {
@@ -144,5 +183,81 @@ int X4SetOutputMode(int mode) {
     port->set_config(c);
   });
 }
+
+int X4SetProfile(int axis, long v0, long ve, long vm, long a0, long ae) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] {
+    port->set_profile(axis,
+                      {to_unsigned(v0), to_unsigned(ve), to_unsigned(vm), to_unsigned(a0), to_unsigned(ae)});
+  });
+}
+
+int X4MoveTo(int axis, long target) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] { port->move_to(axis, target); });
+}
+
+int X4MoveBy(int axis, long distance) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] { port->move_by(axis, distance); });
+}
+
+int X4Home(int axis, long vref1, long vref2, long sref, int phases) {
+  if (!port) return X4ErrInitNotDone;
+  if (phases & ~X4HOME_AUTO) return X4ErrParamFail;
+  x4step::homing h;  // the library checks the rest
+  h.vref1 = to_speed(vref1);
+  h.vref2 = to_speed(vref2);
+  h.sref = static_cast<unsigned long>(std::max(0L, sref));
+  h.phase1 = phases & X4HOME_PHASE1;
+  h.phase2 = phases & X4HOME_PHASE2;
+  return guarded([&] { port->home(axis, h); });
+}
+
+int X4SetPosition(int axis, long position) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] { port->set_position(axis, position); });
+}
+
+int X4GetPosition(int axis, long *position) {
+  x4step::axis_status a;
+  if (const int e = axis_state(axis, a); e != X4NoErr) return e;
+  if (!position) return X4ErrParamFail;
+  *position = a.position;
+  return X4NoErr;
+}
+
+int X4GetAxisState(int axis, int *state, int *error) {
+  x4step::axis_status a;
+  if (const int e = axis_state(axis, a); e != X4NoErr) return e;
+  if (state) *state = state_bits(a);
+  if (error) *error = static_cast<int>(a.error);
+  return X4NoErr;
+}
+
+int X4SetSwitches(int axis, int ref_input, int plus_input, int minus_input) {
+  if (!port) return X4ErrInitNotDone;
+  if (axis < 1 || axis > x4step::axes) return X4ErrParamFail;
+  return guarded([&] {
+    x4step::switches s = port->get_switches();
+    s.ref[axis - 1] = ref_input;
+    s.plus[axis - 1] = plus_input;
+    s.minus[axis - 1] = minus_input;
+    port->set_switches(s);
+  });
+}
+
+int X4SetSwitchPolarity(int nc_mask) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] {
+    x4step::switches s = port->get_switches();
+    s.nc = static_cast<unsigned>(nc_mask);  // a negative one is out of range too
+    port->set_switches(s);
+  });
+}
+
+int X4BrakeAxis(int axis) { return halt_axis(axis, x4step::halt_mode::brake); }
+
+int X4StopAxis(int axis) { return halt_axis(axis, x4step::halt_mode::stop); }
 
 }  // extern "C"

@@ -2,10 +2,19 @@
 // libx4step on the host, without the kernel module: every error the
 // library decides itself.
 #include <gtest/gtest.h>
+#include <linux/x4step.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstdarg>
+#include <cstring>
+#include <functional>
+#include <sstream>
 #include <thread>
+#include <vector>
 
 #include "x4step.h"
 #include "x4step.hpp"
@@ -122,4 +131,404 @@ TEST(CppApi, OpeningAMissingOrForeignDevice) {
 TEST(CApi, ExtensionsBeforeInit) {
   EXPECT_EQ(X4SetStepTiming(5000, 0, 100000, 0), X4ErrInitNotDone);
   EXPECT_EQ(X4SetOutputMode(X4MODE_SMC_PHASE), X4ErrInitNotDone);
+}
+
+// ---- positioning ------------------------------------------------------------------
+
+TEST(CppApi, ProfileRules) {
+  using x4step::errc;
+  using x4step::profile;
+  EXPECT_EQ(x4step::check(profile{}), errc::ok);  // the kernel's default
+  EXPECT_EQ(x4step::check(profile{0, 0, 45000, 1000000, 1000000}), errc::ok);
+  EXPECT_EQ(x4step::check(profile{100, 200, 1000, 0, 0}), errc::ok);  // no ramps: jumps
+  EXPECT_EQ(x4step::check(profile{1000, 1000, 1000, 1, 1}), errc::ok);
+  EXPECT_EQ(x4step::check(profile{0, 0, 0, 1000, 1000}), errc::param_fail);        // vm 0
+  EXPECT_EQ(x4step::check(profile{0, 0, 45001, 1000, 1000}), errc::param_fail);    // vm
+  EXPECT_EQ(x4step::check(profile{1001, 0, 1000, 1000, 1000}), errc::param_fail);  // v0 > vm
+  EXPECT_EQ(x4step::check(profile{0, 1001, 1000, 1000, 1000}), errc::param_fail);  // ve > vm
+  EXPECT_EQ(x4step::check(profile{0, 0, 1000, 1000001, 1000}), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile{0, 0, 1000, 1000, 1000001}), errc::param_fail);
+  // vm / a at most 3600 s: 36000 steps/s at 10 steps/s^2 just fits, from any v0.
+  EXPECT_EQ(x4step::check(profile{0, 0, 36000, 10, 10}), errc::ok);
+  EXPECT_EQ(x4step::check(profile{0, 0, 36001, 10, 1000}), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile{0, 0, 36001, 1000, 10}), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile{30000, 0, 36001, 10, 1000}), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile{0, 30000, 36001, 1000, 10}), errc::param_fail);
+}
+
+TEST(CppApi, HomingRules) {
+  using x4step::errc;
+  using x4step::homing;
+  EXPECT_EQ(x4step::check(homing{}), errc::ok);
+  EXPECT_EQ(x4step::check(homing{45000, -45000, 1, true, true}), errc::ok);
+  EXPECT_EQ(x4step::check(homing{-1, 1, 2147483647, true, true}), errc::ok);
+  EXPECT_EQ(x4step::check(homing{0, 100, 1000, true, true}), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing{0, 100, 1000, false, true}), errc::ok);  // phase 1 unused
+  EXPECT_EQ(x4step::check(homing{100, 0, 1000, true, false}), errc::ok);  // phase 2 unused
+  EXPECT_EQ(x4step::check(homing{100, 0, 1000, true, true}), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing{45001, 100, 1000, true, true}), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing{100, -45001, 1000, true, true}), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing{100, 100, 0, true, true}), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing{100, 100, 2147483648UL, true, true}), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing{100, 100, 1000, false, false}), errc::param_fail);
+}
+
+TEST(CppApi, AxesStatusPrints) {
+  x4step::axes_status s;
+  s.axis[0].position = -1200;
+  s.axis[0].synced = true;
+  s.axis[1].running = true;
+  s.axis[1].velocity = 850;
+  s.axis[1].accelerating = true;
+  s.axis[3].error = x4step::axis_error::limit_pos | x4step::axis_error::ambiguous;
+  s.inputs = 0x1f;
+  s.switches_active = 0x3;
+  std::ostringstream o;
+  o << s;
+  EXPECT_EQ(o.str(),
+            "1: -1200 synced | 2: 0 running 850/s accel | 3: 0 | 4: 0 error 0xa | inputs 0x1f switches 0x3");
+}
+
+TEST(CApi, PositioningBeforeInit) {
+  long pos = 7;
+  int state = 7, error = 7;
+  EXPECT_EQ(X4SetProfile(1, 0, 0, 1000, 1000, 1000), X4ErrInitNotDone);
+  EXPECT_EQ(X4SetProfile(9, -1, 0, 0, 0, 0), X4ErrInitNotDone);  // state first
+  EXPECT_EQ(X4MoveTo(1, 100), X4ErrInitNotDone);
+  EXPECT_EQ(X4MoveBy(1, -100), X4ErrInitNotDone);
+  EXPECT_EQ(X4Home(1, -1000, 100, 100000, X4HOME_AUTO), X4ErrInitNotDone);
+  EXPECT_EQ(X4SetPosition(1, 0), X4ErrInitNotDone);
+  EXPECT_EQ(X4GetPosition(1, &pos), X4ErrInitNotDone);
+  EXPECT_EQ(X4GetAxisState(1, &state, &error), X4ErrInitNotDone);
+  EXPECT_EQ(X4SetSwitches(1, 1, 2, 3), X4ErrInitNotDone);
+  EXPECT_EQ(X4SetSwitchPolarity(0x3), X4ErrInitNotDone);
+  EXPECT_EQ(X4BrakeAxis(1), X4ErrInitNotDone);
+  EXPECT_EQ(X4StopAxis(1), X4ErrInitNotDone);
+  EXPECT_EQ(pos, 7);
+  EXPECT_EQ(state, 7);
+  EXPECT_EQ(error, 7);
+}
+
+TEST(CApi, PositioningConstantsAsTheKernels) {
+  EXPECT_EQ(X4HOME_AUTO, 3);
+  EXPECT_EQ(X4AX_RUN, 1);
+  EXPECT_EQ(X4AX_SYNC, 2);
+  EXPECT_EQ(X4AX_ERROR, 4);
+  EXPECT_EQ(X4AX_REF1, 8);
+  EXPECT_EQ(X4AX_REF2, 16);
+  EXPECT_EQ(X4AX_ACCEL, 0x100);
+  EXPECT_EQ(X4AX_CRUISE, 0x200);
+  EXPECT_EQ(X4AX_DECEL, 0x400);
+  EXPECT_EQ(X4AXERR_REF_TRAVEL, 1);
+  EXPECT_EQ(X4AXERR_LIMIT_POS, 2);
+  EXPECT_EQ(X4AXERR_LIMIT_NEG, 4);
+  EXPECT_EQ(X4AXERR_AMBIGUOUS, 8);
+}
+
+// ---- the library against a fake kernel ---------------------------------------------
+//
+// ioctl() is interposed: on a descriptor of /dev/zero it is answered by
+// fake_kernel (GET_INFO says ABI 2, the rest as a test wishes), so that
+// the library's own checks, the structures it passes, its errno mapping
+// and wait_axes can be tested without the module. poll() on /dev/zero
+// says POLLIN at once.
+
+struct fake_kernel {
+  std::vector<unsigned long> calls;  // every ioctl but GET_INFO, in order
+  std::function<int(unsigned long cmd, void *arg)> answer = [](unsigned long, void *) { return 0; };
+
+  static fake_kernel &get() {
+    static fake_kernel k;
+    return k;
+  }
+};
+
+bool is_fake(int fd) {
+  struct stat fs {
+  }, zs{};
+  return ::fstat(fd, &fs) == 0 && ::stat("/dev/zero", &zs) == 0 && S_ISCHR(fs.st_mode) &&
+         fs.st_rdev == zs.st_rdev;
+}
+
+extern "C" int ioctl(int fd, unsigned long cmd, ...) noexcept {
+  va_list ap;
+  va_start(ap, cmd);
+  void *arg = va_arg(ap, void *);
+  va_end(ap);
+  if (!is_fake(fd)) return static_cast<int>(::syscall(SYS_ioctl, fd, cmd, arg));
+  if (cmd == X4STEP_GET_INFO) {
+    auto *info = static_cast<x4step_info *>(arg);
+    *info = {};
+    info->abi_version = X4STEP_ABI_VERSION;
+    info->axes = X4STEP_AXES;
+    return 0;
+  }
+  fake_kernel &k = fake_kernel::get();
+  k.calls.push_back(cmd);
+  return k.answer(cmd, arg);
+}
+
+class FakeKernel : public ::testing::Test {
+ protected:
+  void SetUp() override { k = fake_kernel{}; }
+  void TearDown() override { k = fake_kernel{}; }
+  // Answers cmd with the errno err (and a result, for the ioctls that have one).
+  void refuse(unsigned long cmd, int err, int result = 0) {
+    k.answer = [=](unsigned long c, void *arg) {
+      if (c != cmd) return 0;
+      if (c == X4STEP_GOTO) static_cast<x4step_goto *>(arg)->result = result;
+      if (c == X4STEP_HOME) static_cast<x4step_home *>(arg)->result = result;
+      errno = err;
+      return -1;
+    };
+  }
+  fake_kernel &k = fake_kernel::get();
+};
+
+// The errc a call throws, errc::ok if none.
+template <typename F>
+x4step::errc thrown(F &&f) {
+  try {
+    f();
+  } catch (const x4step::error &e) {
+    EXPECT_EQ(&e.code().category(), &x4step::category()) << e.what();
+    return static_cast<x4step::errc>(e.code().value());
+  }
+  return x4step::errc::ok;
+}
+
+TEST_F(FakeKernel, BadArgumentsNeverReachTheKernel) {
+  using x4step::errc;
+  x4step::controller c("/dev/zero");
+  k.calls.clear();
+  const std::array<long, 4> t{};
+  EXPECT_EQ(thrown([&] { c.set_profile(0, {}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.set_profile(5, {}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.set_profile(1, {2000, 0, 1000, 1000, 1000}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.get_profile(0); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(0, 100); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(1, 2147483648L); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_by(4, -2147483649L); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(0u, t); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(0x10u, t); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(0x2u, {0, 1L << 40, 0, 0}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.home(0, {}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.home(1, {0, 100, 1000, true, true}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.halt(0, x4step::halt_mode::brake); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.halt(0x1f, x4step::halt_mode::stop); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.set_position(5, 0); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.zero(0); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.set_position(1, 1L << 31); }), errc::param_fail);
+  x4step::switches s;
+  s.ref[2] = 6;
+  EXPECT_EQ(thrown([&] { c.set_switches(s); }), errc::param_fail);
+  s.ref[2] = 0;
+  s.minus[0] = -1;
+  EXPECT_EQ(thrown([&] { c.set_switches(s); }), errc::param_fail);
+  s.minus[0] = 0;
+  s.nc = 0x20;
+  EXPECT_EQ(thrown([&] { c.set_switches(s); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.axis(0); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.wait_axes(0); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.wait_axes(0x10); }), errc::param_fail);
+  EXPECT_TRUE(k.calls.empty());
+}
+
+TEST_F(FakeKernel, ArgumentsAsTheKernelWantsThem) {
+  x4step::controller c("/dev/zero");
+  std::vector<std::vector<unsigned char>> args;  // a copy of each argument
+  k.answer = [&](unsigned long cmd, void *arg) {
+    args.emplace_back(static_cast<unsigned char *>(arg), static_cast<unsigned char *>(arg) + _IOC_SIZE(cmd));
+    return 0;
+  };
+  auto last = [&](auto type) {
+    decltype(type) v{};
+    EXPECT_EQ(args.back().size(), sizeof v);
+    std::memcpy(&v, args.back().data(), sizeof v);
+    return v;
+  };
+  c.set_profile(2, {10, 20, 3000, 4000, 5000});
+  const auto p = last(x4step_profile{});
+  EXPECT_EQ(k.calls.back(), X4STEP_SET_PROFILE);
+  EXPECT_EQ(p.axis, 2u);
+  EXPECT_EQ(std::vector<unsigned>({p.v0, p.ve, p.vm, p.a0, p.ae}),
+            std::vector<unsigned>({10, 20, 3000, 4000, 5000}));
+
+  c.move_to(3, -2147483648L);
+  auto g = last(x4step_goto{});
+  EXPECT_EQ(k.calls.back(), X4STEP_GOTO);
+  EXPECT_EQ(g.axes, 0x4u);
+  EXPECT_EQ(g.flags, 0u);
+  EXPECT_EQ(g.target[2], INT32_MIN);
+  c.move_by(1, -5);
+  g = last(x4step_goto{});
+  EXPECT_EQ(g.axes, 0x1u);
+  EXPECT_EQ(g.flags, unsigned(X4STEP_GOTO_RELATIVE));
+  EXPECT_EQ(g.target[0], -5);
+  c.move_to(0x9u, {100, 1L << 40, 0, -300});  // axes outside the mask are not looked at
+  g = last(x4step_goto{});
+  EXPECT_EQ(g.axes, 0x9u);
+  EXPECT_EQ(g.target[0], 100);
+  EXPECT_EQ(g.target[1], 0);
+  EXPECT_EQ(g.target[3], -300);
+
+  c.home(4, {-500, 50, 7000, false, true});
+  const auto h = last(x4step_home{});
+  EXPECT_EQ(h.axis, 4u);
+  EXPECT_EQ(h.phases, unsigned(X4STEP_HOME_PHASE2));
+  EXPECT_EQ(h.vref1, -500);
+  EXPECT_EQ(h.vref2, 50);
+  EXPECT_EQ(h.sref, 7000u);
+
+  c.halt(0x6, x4step::halt_mode::stop);
+  const auto hl = last(x4step_halt{});
+  EXPECT_EQ(hl.axes, 0x6u);
+  EXPECT_EQ(hl.how, unsigned(X4STEP_HALT_STOP));
+
+  c.zero(2);
+  auto pos = last(x4step_position{});
+  EXPECT_EQ(pos.axes, 0x2u);
+  EXPECT_EQ(pos.position[1], 0);
+  c.set_position(4, -77);
+  pos = last(x4step_position{});
+  EXPECT_EQ(pos.axes, 0x8u);
+  EXPECT_EQ(pos.position[3], -77);
+
+  x4step::switches s;
+  s.ref = {1, 0, 0, 5};
+  s.plus = {2, 2, 0, 0};
+  s.minus = {3, 3, 0, 4};
+  s.nc = 0x1f;
+  c.set_switches(s);
+  const auto ks = last(x4step_switches{});
+  EXPECT_EQ(ks.ref[3], 5);
+  EXPECT_EQ(ks.plus[1], 2);
+  EXPECT_EQ(ks.minus[3], 4);
+  EXPECT_EQ(ks.nc, 0x1f);
+  k.calls.clear();
+  c.close();  // brakes every axis
+  ASSERT_FALSE(k.calls.empty());
+  EXPECT_EQ(k.calls.front(), X4STEP_HALT);
+  EXPECT_EQ(last(x4step_halt{}).axes, 0xfu);
+  EXPECT_EQ(last(x4step_halt{}).how, unsigned(X4STEP_HALT_BRAKE));
+}
+
+TEST_F(FakeKernel, ReadsAxesAndSwitches) {
+  x4step::controller c("/dev/zero");
+  k.answer = [](unsigned long cmd, void *arg) {
+    if (cmd == X4STEP_GET_AXES) {
+      auto *a = static_cast<x4step_axes *>(arg);
+      a->axis[0] = {-5, X4STEP_AX_RUN | X4STEP_AX_DECEL, 0, 321};
+      a->axis[2] = {INT32_MAX, X4STEP_AX_SYNC | X4STEP_AX_ERROR | X4STEP_AX_REF2, X4STEP_AXERR_LIMIT_NEG, 0};
+      a->inputs = 0x15;
+      a->switches = 0x4;
+    } else if (cmd == X4STEP_GET_SWITCHES) {
+      auto *s = static_cast<x4step_switches *>(arg);
+      s->ref[1] = 3;
+      s->plus[3] = 5;
+      s->minus[0] = 1;
+      s->nc = 0x11;
+    } else if (cmd == X4STEP_GET_PROFILE) {
+      auto *p = static_cast<x4step_profile *>(arg);
+      if (p->axis != 3) return errno = EINVAL, -1;
+      p->vm = 2500;
+      p->a0 = 7;
+    }
+    return 0;
+  };
+  const x4step::axes_status s = c.get_axes();
+  EXPECT_EQ(s.axis[0].position, -5);
+  EXPECT_TRUE(s.axis[0].running);
+  EXPECT_TRUE(s.axis[0].decelerating);
+  EXPECT_FALSE(s.axis[0].accelerating || s.axis[0].cruising || s.axis[0].synced);
+  EXPECT_EQ(s.axis[0].velocity, 321u);
+  EXPECT_EQ(c.axis(3).position, INT32_MAX);
+  EXPECT_TRUE(c.axis(3).synced);
+  EXPECT_TRUE(c.axis(3).ref2);
+  EXPECT_FALSE(c.axis(3).running);
+  EXPECT_EQ(c.axis(3).error, x4step::axis_error::limit_neg);
+  EXPECT_EQ(s.inputs, 0x15u);
+  EXPECT_EQ(s.switches_active, 0x4u);
+  const x4step::switches sw = c.get_switches();
+  EXPECT_EQ(sw.ref, (std::array<int, 4>{0, 3, 0, 0}));
+  EXPECT_EQ(sw.plus, (std::array<int, 4>{0, 0, 0, 5}));
+  EXPECT_EQ(sw.minus, (std::array<int, 4>{1, 0, 0, 0}));
+  EXPECT_EQ(sw.nc, 0x11u);
+  const x4step::profile p = c.get_profile(3);
+  EXPECT_EQ(p.vm, 2500u);
+  EXPECT_EQ(p.a0, 7u);
+  EXPECT_EQ(thrown([&] { c.get_profile(2); }), x4step::errc::param_fail);
+}
+
+// The errnos of the UAPI become the X4 codes, as for the older ioctls.
+TEST_F(FakeKernel, ErrnosBecomeX4Codes) {
+  using x4step::errc;
+  x4step::controller c("/dev/zero");
+  refuse(X4STEP_GOTO, EINVAL, X4ErrParamFail);
+  EXPECT_EQ(thrown([&] { c.move_to(1, 10); }), errc::param_fail);
+  refuse(X4STEP_GOTO, EINVAL, X4ErrFreqTooHigh);  // e.g. vm beyond the step timing
+  EXPECT_EQ(thrown([&] { c.move_to(1, 10); }), errc::freq_too_high);
+  refuse(X4STEP_GOTO, EBUSY);
+  EXPECT_EQ(thrown([&] { c.move_by(1, 10); }), errc::is_active);
+  refuse(X4STEP_HOME, EINVAL, X4ErrParamFail);  // no REF input
+  EXPECT_EQ(thrown([&] { c.home(1, {}); }), errc::param_fail);
+  refuse(X4STEP_HOME, EBUSY);
+  EXPECT_EQ(thrown([&] { c.home(1, {}); }), errc::is_active);
+  refuse(X4STEP_HALT, ESRCH);
+  EXPECT_EQ(thrown([&] { c.halt(1, x4step::halt_mode::brake); }), errc::not_active);
+  refuse(X4STEP_SET_SWITCHES, EBUSY);
+  EXPECT_EQ(thrown([&] { c.set_switches({}); }), errc::is_active);
+  refuse(X4STEP_SET_PROFILE, EBUSY);
+  EXPECT_EQ(thrown([&] { c.set_profile(1, {}); }), errc::is_active);
+  refuse(X4STEP_SET_POSITION, ENODEV);
+  EXPECT_EQ(thrown([&] { c.zero(1); }), errc::lpt_not_found);
+  refuse(X4STEP_GET_AXES, EFAULT);
+  try {
+    c.get_axes();
+    FAIL() << "no throw";
+  } catch (const x4step::error &e) {
+    EXPECT_EQ(e.code(), std::error_code(EFAULT, std::system_category()));
+  }
+  refuse(X4STEP_HALT, ESRCH);  // the destructor's brake finds nothing running
+}
+
+TEST_F(FakeKernel, WaitAxesLooksAtTheAxesOnly) {
+  x4step::controller c("/dev/zero");
+  int reads = 0;
+  // Axis 2 runs for 3 reads, axis 4 for ever.
+  k.answer = [&](unsigned long cmd, void *arg) {
+    if (cmd == X4STEP_GET_AXES) {
+      auto *a = static_cast<x4step_axes *>(arg);
+      a->axis[1].state = ++reads <= 3 ? X4STEP_AX_RUN : 0;
+      a->axis[3].state = X4STEP_AX_RUN;
+    }
+    return 0;
+  };
+  EXPECT_TRUE(c.wait_axes(0x2, 1000ms));
+  EXPECT_EQ(reads, 4);
+  EXPECT_TRUE(c.wait_axes(0x1));  // never ran
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_FALSE(c.wait_axes(0xa, 30ms));
+  const auto took = std::chrono::steady_clock::now() - t0;
+  EXPECT_GE(took, 30ms);
+  EXPECT_LT(took, 1000ms);
+  EXPECT_FALSE(c.wait_axes(0x8, 0ms));
+  x4step::monitor m("/dev/zero");
+  EXPECT_TRUE(m.wait_axes(0x2, 0ms));
+  EXPECT_FALSE(m.wait_axes(0x8, 10ms));
+  EXPECT_TRUE(m.get_axes().axis[3].running);
+}
+
+TEST_F(FakeKernel, ClosedControllerSaysInitNotDone) {
+  x4step::controller c("/dev/zero");
+  c.close();
+  k.calls.clear();
+  // State before arguments: even bad ones.
+  EXPECT_EQ(thrown([&] { c.move_to(0, 1); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.move_by(9, 1); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.set_profile(0, {}); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.get_axes(); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.wait_axes(0); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.zero(1); }), x4step::errc::init_not_done);
+  EXPECT_TRUE(k.calls.empty());
 }

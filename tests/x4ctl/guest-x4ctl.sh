@@ -8,8 +8,10 @@
 # exits nonzero if anything failed.
 #
 # Needs a (static) x4ctl on PATH, parport0 as the only port, and x4step
-# loaded or $X4MOD/x4step.ko. Run by tests/qemu/run-guest.sh:
-#   run-guest.sh --kver K --out DIR --module x4step.ko --bin x4ctl tests/x4ctl/guest-x4ctl.sh
+# loaded or $X4MOD/x4step.ko. With $X4MOD/x4vport.ko too, it ends with the
+# positioning commands on the virtual port's machine (switches). Run by
+# tests/qemu/run-guest.sh:
+#   run-guest.sh --kver K --out DIR --module x4step.ko [--module x4vport.ko] --bin x4ctl #     tests/x4ctl/guest-x4ctl.sh
 # shellcheck disable=SC2317 # helpers are called indirectly
 
 mod=${X4MOD:-/lib/x4}/x4step.ko
@@ -102,7 +104,7 @@ pass setup
 # ---- help and usage: no device needed -------------------------------------
 check help 0 '^Usage: x4ctl \[' '' x4ctl --help
 check help-version 0 '^x4ctl [0-9]' '' x4ctl --version
-for c in move jog brake stop status in out keys sweep monitor run timing mode; do
+for c in move jog brake stop status in out keys sweep monitor run timing mode profile goto home zero limits halt; do
 	check "help-$c" 0 "^Usage: x4ctl $c " '' x4ctl "$c" --help
 	check "help-cmd-$c" 0 "^Usage: x4ctl $c " '' x4ctl help "$c"
 done
@@ -439,6 +441,123 @@ has timing-restore-space "$out" '^space *0 ns$'
 has timing-restore-setup "$out" '^dir setup *100000 ns$'
 has timing-restore-max "$out" '^max freq *20000 Hz$'
 check mode-restore-axis4 0 '^done: 0 0 0 5$' '' x4ctl move 0 0 0 5 --freq 1000 --ramp 0 --wait
+
+# ---- positioning: profile, zero, goto, halt, limits, status (ProStep4) ---------------------------
+# No switch is wired on QEMU's port (tests/x4ctl/guest-x4ctl-machine.sh has them).
+check profile-show 0 '^vm *1000 steps/s (maximum)$' '' x4ctl profile 1
+check profile-set 0 '^vm *4000 steps/s (maximum)$' '' x4ctl profile 1 --vm 4000 --a0 40000 --ae 20000
+has profile-set-a0 "$out" '^a0 *40000 steps/s^2 (ramp 0.100 s)$'
+has profile-set-ae "$out" '^ae *20000 steps/s^2 (ramp 0.200 s)$'
+check profile-kept 0 '^vm *4000 steps/s' '' x4ctl profile 1
+check bad-profile-vm 2 '' '^x4ctl: profile: vm 50000 out of range: use 1 to 45000 steps/s$' x4ctl profile 1 --vm 50000
+check bad-profile-fit 2 '' 'profile: v0 5000, ve 0, vm 4000, .* do not fit together' x4ctl profile 1 --v0 5000
+check bad-profile-unchanged 0 '^v0 *0 steps/s' '' x4ctl profile 1
+check zero 0 '^axis 1 at 0, synchronized$' '' x4ctl zero 1 2 3 4
+has zero-4 "$out" '^axis 4 at 0, synchronized$'
+ended=$(field moves_ended)
+check goto 0 '^done: 1000 -200 0 0$' '' x4ctl goto 1=1000 2=-200
+has goto-header "$out" '^goto: 1 to 1000, 2 to -200$'
+check goto-relative 0 '^done: 900 -200 0 50$' '' x4ctl goto 1=-100 4=50 --relative
+has goto-relative-header "$out" '^goto: 1 by -100 to 900, 4 by 50 to 50$'
+check goto-there 0 '^done: 900 -200 0 50$' '' x4ctl goto 1=900
+check status-coordinates 0 '^axis 1 *900, synchronized, idle$' '' x4ctl status
+has status-coordinates-4 "$out" '^axis 4 *50, synchronized, idle$'
+check status-json-axes 0 '"axes":\[{"axis":1,"position":900,"velocity":0,"running":false,"synced":true,' '' \
+	x4ctl status --json
+check goto-no-wait 0 'running in the background as PID' '' x4ctl goto 3=4000 --no-wait
+has goto-no-wait-header "$out" '^goto: 3 to 4000$'
+usleep 300000
+check halt 0 '^braked: 3=[0-9]*$' '' x4ctl halt 3
+if settle 50; then pass halt-released; else fail halt-released "port still held"; fi
+check halt-idle 1 '' '^x4ctl: halt: axis 3 is not moving$' x4ctl halt 3
+check halt-idle-two 1 '' '^x4ctl: halt: axes 1, 3 are not moving$' x4ctl halt 1 3
+check goto-brake-start 0 'running in the background' '' x4ctl goto 2=5000 --no-wait
+usleep 300000
+check goto-brake 0 '^braked: ' '' x4ctl brake
+if settle 50; then pass goto-brake-released; else fail goto-brake-released "port still held"; fi
+check zero-at 0 '^axis 3 at -40, synchronized$' '' x4ctl zero 3 --at -40
+check bad-goto-twice 2 '' "^x4ctl: goto: axis 3 given twice$" x4ctl goto 3=0 3=-40
+check bad-goto-form 2 '' "^x4ctl: goto: '3': use AXIS=POSITION, e.g. 1=1000$" x4ctl goto 3
+check bad-goto-range 2 '' 'goto: position 2147483648 out of range' x4ctl goto 1=2147483648
+check bad-halt-axis 2 '' 'halt: axis 5 out of range: use 1 to 4' x4ctl halt 5
+check limits-show 0 '^axis 1 *ref none, E+ none, E- none$' '' x4ctl limits
+has limits-show-inputs "$out" '^input 5 *pin 11 [A-Z]*, free (X4GetIn only)$'
+check home-no-ref 1 '' '^x4ctl: home: axis 1 has no reference switch' x4ctl home 1
+check limits-set 0 '^axis 2 *ref input 5 (pin 11), E+ none, E- input 4 (pin 10)$' '' x4ctl limits 2 --ref 5 --minus 4
+check limits-nc 0 '^input 4 *pin 10 [A-Z]*, normally closed, [a-z]*, E- 2$' '' x4ctl limits --nc 4
+check limits-kept 0 '^axis 2 *ref input 5 (pin 11)' '' x4ctl limits
+check limits-clear 0 '^axis 2 *ref none, E+ none, E- none$' '' x4ctl limits 2 --ref 0 --minus none --nc none
+check bad-limits-input 2 '' 'limits: input 6 out of range: use 1 to 5' x4ctl limits 1 --plus 6
+check bad-limits-noaxis 2 '' 'limits: --ref, --plus and --minus need an AXIS' x4ctl limits --ref 1
+check bad-home-vref 2 '' 'home: vref1 0 out of range' x4ctl home 1 --vref1 0
+# Back to the default profile and 0 for whatever runs next.
+check profile-restore 0 '^vm *1000 steps/s (maximum)$' '' x4ctl profile 1 --vm 1000 --a0 1000 --ae 1000
+check zero-restore 0 '^axis 4 at 0, synchronized$' '' x4ctl zero 1 2 3 4
+
+# ---- the machine: home and limit switches on the test-only virtual port ---------------------------
+# With x4vport.ko in $X4MOD (run-suite: --module @KOUT@/src/tests/kmod/x4vport.ko) the
+# virtual port is a machine whose switches drive the inputs; without it, skipped.
+vmod=${X4MOD:-/lib/x4}/x4vport.ko
+V=/sys/kernel/debug/x4vport
+if [ -r "$vmod" ]; then
+	mount -t debugfs none /sys/kernel/debug 2>/dev/null
+	if insmod "$vmod" && [ -d "$V" ]; then pass machine-setup; else fail machine-setup "insmod $vmod"; fi
+	vlpt=$(($(cat "$V/port") + 1))
+	for _ in 1 2 3 4 5 6 7 8 9 10; do [ -c "/dev/x4step$((vlpt - 1))" ] && break; usleep 100000; done
+	m() { x4ctl -p "$vlpt" "$@"; }
+	at() { cut -d' ' -f"$1" "$V/positions"; } # the machine's position of axis $1, from the edges
+	coordinate() { m status --json | sed -n "s/.*\"axis\":$1,\"position\":\([-0-9]*\).*/\1/p"; }
+	same() {                                   # NAME GOT WANT
+		if [ "$2" = "$3" ]; then pass "$1"; else fail "$1" "'$2', want '$3'"; fi
+	}
+
+	# Reference run: REF of axis 1 on input 1, a switch active at -500 and below (5 steps hysteresis).
+	echo "add 1 0 below -500 5 no" >"$V/switches"
+	check machine-ref 0 '^axis 1 *ref input 1 (pin 15), E+ none, E- none$' '' m limits 1 --ref 1
+	check machine-home 0 '^done: axis 1 at 0, synchronized$' '' m home 1 --vref1 -2000 --vref2 200 --sref 10000
+	home=$(at 1)
+	case "$home" in -49[0-4]) pass machine-home-where ;; *) fail machine-home-where "machine at $home" ;; esac
+	check machine-home-status 0 '^axis 1 *0, synchronized, idle$' '' m status
+	check machine-home-goto 0 '^done: 100 ' '' m goto 1=100
+	same machine-home-edges "$(at 1)" "$((home + 100))"
+
+	# E+ of axis 2 on input 2 at 300: goto stops there, with the error; backing off works.
+	echo "add 2 1 above 300 0 no" >"$V/switches"
+	check machine-limit-set 0 '^axis 2 *ref none, E+ input 2 (pin 13), E- none$' '' m limits 2 --plus 2
+	check machine-zero 0 '^axis 2 at 0, synchronized$' '' m zero 2
+	check machine-limit 1 '' '^x4ctl: goto: axis 2: stopped at E+ at 30[0-9] (target 1000); coordinates 100 30[0-9] 0 0$' \
+		m goto 2=1000
+	# A limit hit costs the synchronization.
+	check machine-limit-status 0 '^axis 2 *30[0-9], not synchronized, idle, error: stopped at E+$' '' m status
+	hit=$(at 2)
+	same machine-limit-edges "$hit" "$(coordinate 2)"
+	check machine-limit-again 1 '' '^x4ctl: goto: ' m goto 2=400 # toward the active limit: not a step
+	same machine-limit-again-edges "$(at 2)" "$hit"
+	check machine-back-off 0 '^done: 100 0 0 0$' '' m goto 2=0
+	same machine-back-off-edges "$(at 2)" 0
+
+	# A normally closed switch: with the input taken as normally open it is "active" at once.
+	echo "clear; add 2 1 above 300 0 nc" >"$V/switches"
+	check machine-nc-wrong 1 '' '^x4ctl: goto: ' m goto 2=100
+	same machine-nc-wrong-edges "$(at 2)" 0
+	check machine-nc-set 0 '^input 2 *pin 13 HIGH, normally closed, idle, E+ 2$' '' m limits --nc 2
+	check machine-nc-goto 0 '^done: 100 100 0 0$' '' m goto 2=100
+	check machine-nc-limit 1 '' 'goto: axis 2: stopped at E+ at 30[0-9] (target 1000)' m goto 2=1000
+
+	# sref: REF of axis 3 on input 3, its switch far beyond reach.
+	echo "add 3 2 below -100000 0 no" >"$V/switches"
+	m limits 3 --ref 3 >/dev/null
+	check machine-sref 1 '' '^x4ctl: home: axis 3: reference travel exceeded at -10[0-9][0-9]: ' \
+		m home 3 --vref1 -5000 --sref 1000
+	same machine-sref-edges "$(at 3)" "$(coordinate 3)"
+	check machine-sref-status 0 '^axis 3 *-10[0-9][0-9], not synchronized, idle, error: reference travel exceeded$' \
+		'' m status
+
+	echo clear >"$V/switches"
+	m limits 1 --ref 0 >/dev/null
+	m limits 2 --plus 0 --nc none >/dev/null
+	m limits 3 --ref 0 >/dev/null
+fi
 
 settle 50
 if [ "$failed" = 0 ]; then echo "x4ctl guest tests: all passed"; else echo "x4ctl guest tests: FAILED"; fi

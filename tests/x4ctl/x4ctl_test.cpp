@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <deque>
 #include <fstream>
@@ -18,6 +19,7 @@
 #include "commands.hpp"
 #include "lang.hpp"
 #include "motion.hpp"
+#include "position.hpp"
 #include "show.hpp"
 #include "term.hpp"
 
@@ -295,6 +297,140 @@ TEST(Cli, Mode) {
   EXPECT_TRUE(parse({"mode", "bogus", "--help"}).help);  // --help wins over a bad operand
 }
 
+TEST(Cli, Profile) {
+  config c = parse({"profile", "2"});
+  EXPECT_EQ(c.cmd, subcommand::profile);
+  EXPECT_EQ(c.axis, 2);
+  EXPECT_FALSE(c.v0 || c.ve || c.vm || c.a0 || c.ae);
+  c = parse({"profile", "4", "--v0", "0", "--ve=45000", "--vm", "45000", "--a0", "1000000", "--ae=0"});
+  EXPECT_EQ(c.v0, 0u);
+  EXPECT_EQ(c.ve, 45000u);
+  EXPECT_EQ(c.vm, 45000u);
+  EXPECT_EQ(c.a0, 1000000u);
+  EXPECT_EQ(c.ae, 0u);
+  EXPECT_EQ(usage_message({"profile"}), "profile: missing arguments");
+  EXPECT_EQ(usage_message({"profile", "5"}), "profile: axis 5 out of range: use 1 to 4");
+  EXPECT_EQ(usage_message({"profile", "1", "2"}), "profile: unexpected argument '2'");
+  EXPECT_EQ(usage_message({"profile", "1", "--vm", "0"}),
+            "profile: vm 0 out of range: use 1 to 45000 steps/s");
+  EXPECT_EQ(usage_message({"profile", "1", "--vm", "45001"}),
+            "profile: vm 45001 out of range: use 1 to 45000 steps/s");
+  EXPECT_EQ(usage_message({"profile", "1", "--v0", "-1"}),
+            "profile: v0 -1 out of range: use 0 to 45000 steps/s");
+  EXPECT_EQ(usage_message({"profile", "1", "--a0", "1000001"}),
+            "profile: a0 1000001 out of range: use 0 to 1000000 steps/s^2");
+  EXPECT_EQ(usage_message({"profile", "1", "--ae", "x"}), "profile: ae 'x' is not a whole number");
+  EXPECT_EQ(usage_message({"profile", "1", "--freq", "5"}), "profile: unknown option '--freq'");
+}
+
+TEST(Cli, Goto) {
+  config c = parse({"goto", "1=1000", "3=-2147483648"});
+  EXPECT_EQ(c.cmd, subcommand::go_to);
+  EXPECT_EQ(c.axis_mask, 0x5u);
+  EXPECT_EQ(c.targets, (std::array<long, 4>{1000, 0, -2147483648L, 0}));
+  EXPECT_FALSE(c.relative);
+  EXPECT_FALSE(c.no_wait);
+  c = parse({"goto", "4=-5", "--relative", "--no-wait", "2=2147483647"});
+  EXPECT_EQ(c.axis_mask, 0xau);
+  EXPECT_EQ(c.targets, (std::array<long, 4>{0, 2147483647L, 0, -5}));
+  EXPECT_TRUE(c.relative);
+  EXPECT_TRUE(c.no_wait);
+  EXPECT_EQ(usage_message({"goto"}), "goto: missing arguments");
+  EXPECT_EQ(usage_message({"goto", "1000"}), "goto: '1000': use AXIS=POSITION, e.g. 1=1000");
+  EXPECT_EQ(usage_message({"goto", "--relative", "5"}), "goto: '5': use AXIS=DISTANCE, e.g. 1=1000");
+  EXPECT_EQ(usage_message({"goto", "5=1"}), "goto: axis 5 out of range: use 1 to 4");
+  EXPECT_EQ(usage_message({"goto", "x=1"}), "goto: axis 'x' is not a whole number");
+  EXPECT_EQ(usage_message({"goto", "1=1", "1=2"}), "goto: axis 1 given twice");
+  EXPECT_EQ(usage_message({"goto", "1=2147483648"}),
+            "goto: position 2147483648 out of range: use -2147483648 to 2147483647");
+  EXPECT_EQ(usage_message({"goto", "1=-3000000000", "--relative"}),
+            "goto: distance -3000000000 out of range: use -2147483648 to 2147483647");
+  EXPECT_EQ(usage_message({"goto", "1="}), "goto: position '' is not a whole number");
+  EXPECT_EQ(usage_message({"goto", "1=1", "2=2", "3=3", "4=4", "1=5"}), "goto: unexpected argument '1=5'");
+  EXPECT_EQ(usage_message({"goto", "1=5", "--wait"}), "goto: unknown option '--wait'");
+}
+
+TEST(Cli, Home) {
+  config c = parse({"home", "3"});
+  EXPECT_EQ(c.cmd, subcommand::home);
+  EXPECT_EQ(c.axis, 3);
+  EXPECT_EQ(c.homing.vref1, -1000);  // the library's defaults
+  EXPECT_EQ(c.homing.vref2, 100);
+  EXPECT_EQ(c.homing.sref, 100000ul);
+  EXPECT_TRUE(c.homing.phase1 && c.homing.phase2);
+  c = parse({"home", "1", "--vref1", "45000", "--vref2=-1", "--sref", "2147483647", "--phase", "2"});
+  EXPECT_EQ(c.homing.vref1, 45000);
+  EXPECT_EQ(c.homing.vref2, -1);
+  EXPECT_EQ(c.homing.sref, 2147483647ul);
+  EXPECT_FALSE(c.homing.phase1);
+  EXPECT_TRUE(c.homing.phase2);
+  c = parse({"home", "1", "--phase=1"});
+  EXPECT_TRUE(c.homing.phase1);
+  EXPECT_FALSE(c.homing.phase2);
+  const std::string vref =
+      " out of range: use -45000 to -1 or 1 to 45000 steps/s (the sign is the direction)";
+  EXPECT_EQ(usage_message({"home", "1", "--vref1", "0"}), "home: vref1 0" + vref);
+  EXPECT_EQ(usage_message({"home", "1", "--vref2", "-45001"}), "home: vref2 -45001" + vref);
+  EXPECT_EQ(usage_message({"home", "1", "--sref", "0"}),
+            "home: sref 0 out of range: use 1 to 2147483647 steps");
+  EXPECT_EQ(usage_message({"home", "1", "--sref", "2147483648"}),
+            "home: sref 2147483648 out of range: use 1 to 2147483647 steps");
+  EXPECT_EQ(usage_message({"home", "1", "--phase", "3"}), "home: phase 3: use 1 or 2 (both: no --phase)");
+  EXPECT_EQ(usage_message({"home"}), "home: missing arguments");
+  EXPECT_EQ(usage_message({"home", "1", "2"}), "home: unexpected argument '2'");
+}
+
+TEST(Cli, ZeroHaltLimits) {
+  config c = parse({"zero", "1", "4"});
+  EXPECT_EQ(c.cmd, subcommand::zero);
+  EXPECT_EQ(c.axis_mask, 0x9u);
+  EXPECT_EQ(c.at, 0);
+  EXPECT_EQ(parse({"zero", "2", "--at", "-1500"}).at, -1500);
+  EXPECT_EQ(usage_message({"zero"}), "zero: missing arguments");
+  EXPECT_EQ(usage_message({"zero", "2", "2"}), "zero: axis 2 given twice");
+  EXPECT_EQ(usage_message({"zero", "1", "--at", "2147483648"}),
+            "zero: position 2147483648 out of range: use -2147483648 to 2147483647");
+
+  c = parse({"halt", "2", "3"});
+  EXPECT_EQ(c.cmd, subcommand::halt);
+  EXPECT_EQ(c.axis_mask, 0x6u);
+  EXPECT_FALSE(c.halt_stop);
+  EXPECT_TRUE(parse({"halt", "1", "--stop"}).halt_stop);
+  EXPECT_TRUE(parse({"halt", "1", "-s"}).halt_stop);
+  EXPECT_EQ(usage_message({"halt"}), "halt: missing arguments");
+  EXPECT_EQ(usage_message({"halt", "0"}), "halt: axis 0 out of range: use 1 to 4");
+
+  c = parse({"limits"});
+  EXPECT_EQ(c.cmd, subcommand::limits);
+  EXPECT_EQ(c.axis_mask, 0u);
+  EXPECT_FALSE(c.ref || c.plus || c.minus || c.nc);
+  c = parse({"limits", "2", "--ref", "3", "--plus=1", "--minus", "none"});
+  EXPECT_EQ(c.axis, 2);
+  EXPECT_EQ(c.axis_mask, 0x2u);
+  EXPECT_EQ(c.ref, 3);
+  EXPECT_EQ(c.plus, 1);
+  EXPECT_EQ(c.minus, 0);
+  EXPECT_EQ(parse({"limits", "1"}).axis_mask, 0x1u);  // shows
+  EXPECT_EQ(parse({"limits", "--nc", "1,3,5"}).nc, 0x15u);
+  EXPECT_EQ(parse({"limits", "--nc", "4"}).nc, 0x8u);
+  EXPECT_EQ(parse({"limits", "--nc", "0x1f"}).nc, 0x1fu);
+  EXPECT_EQ(parse({"limits", "--nc", "none"}).nc, 0u);
+  EXPECT_EQ(parse({"limits", "4", "--minus", "0", "--nc", "0x00"}).nc, 0u);
+  EXPECT_EQ(usage_message({"limits", "--ref", "3"}),
+            "limits: --ref, --plus and --minus need an AXIS, e.g. 'x4ctl limits 1 --ref 3'");
+  EXPECT_EQ(usage_message({"limits", "1", "--plus", "6"}),
+            "limits: input 6 out of range: use 1 to 5 (pins 15, 13, 12, 10, 11), or 0 for none");
+  EXPECT_EQ(usage_message({"limits", "1", "2"}), "limits: unexpected argument '2'");
+  EXPECT_EQ(usage_message({"limits", "--nc", "1,6"}),
+            "limits: --nc input 6 out of range: use 1 to 5 (pins 15, 13, 12, 10, 11), or 0 for none");
+  EXPECT_EQ(usage_message({"limits", "--nc", "1,0"}), "limits: --nc input 0: use 1 to 5, e.g. --nc 1,3");
+  EXPECT_EQ(usage_message({"limits", "--nc", "1,"}), "limits: --nc input '' is not a whole number");
+  EXPECT_EQ(usage_message({"limits", "--nc", "0x20"}),
+            "limits: nc mask 0x20 out of range: use 0x00 to 0x1f (bit k: input k+1)");
+  EXPECT_EQ(usage_message({"limits", "--nc", "0xg"}),
+            "limits: nc mask 0xg out of range: use 0x00 to 0x1f (bit k: input k+1)");
+}
+
 TEST(Cli, HelpWinsOverMissingArguments) {
   EXPECT_TRUE(parse({"move", "--help"}).help);
   EXPECT_TRUE(parse({"sweep", "-h"}).help);
@@ -307,15 +443,31 @@ TEST(Cli, HelpWinsOverMissingArguments) {
 TEST(Cli, HelpTexts) {
   const std::vector<std::pair<subcommand, std::vector<std::string>>> expected = {
       {subcommand::interactive,
-       {"--port", "--device", "--help", "--version", "move", "jog", "brake", "stop", "status", "in", "out",
-        "keys", "sweep", "monitor", "run", "timing", "mode [MODE]", "smc-phase", "Exit status"}},
+       {"--port",    "--device", "--help",      "--version",  "move",         "jog",           "brake",
+        "stop",      "status",   "in",          "out",        "keys",         "sweep",         "monitor",
+        "run",       "timing",   "mode [MODE]", "smc-phase",  "profile AXIS", "goto AXIS=POS", "home AXIS",
+        "zero AXIS", "limits",   "halt AXIS",   "Exit status"}},
+      {subcommand::profile,
+       {"--v0", "--ve", "--vm", "--a0", "--ae", "0..45000 steps/s", "1..45000", "0..1000000 steps/s^2",
+        "3600 s", "--port", "--device", "--help", "Exit status"}},
+      {subcommand::go_to,
+       {"--relative", "--no-wait", "-2147483648..2147483647", "limit switch", "x4ctl halt", "--port",
+        "--device", "--help", "Exit status"}},
+      {subcommand::home,
+       {"--vref1", "--vref2", "--sref", "--phase", "sign is the direction", "--ref INPUT", "--port",
+        "--device", "--help", "Exit status"}},
+      {subcommand::zero, {"--at", "synchronized", "--port", "--device", "--help", "Exit status"}},
+      {subcommand::limits,
+       {"--ref", "--plus", "--minus", "--nc", "pins 15, 13", "normally closed", "ambiguous", "--port",
+        "--device", "--help", "Exit status"}},
+      {subcommand::halt, {"--stop", "goto --no-wait", "--port", "--device", "--help", "Exit status"}},
       {subcommand::move,
        {"--freq", "--ramp", "--wait", "--then", "--port", "--device", "--help", "Exit status", "background",
         "preload", "the rest do not start"}},
       {subcommand::jog, {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
       {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
-      {subcommand::status, {"--json", "--port", "--device", "--help"}},
+      {subcommand::status, {"--json", "--port", "--device", "--help", "coordinate", "synchronized"}},
       {subcommand::in, {"--watch", "--port", "--device", "--help", "pins 15, 13, 12, 10"}},
       {subcommand::out, {"--time", "--port", "--device", "--help", "pin 14"}},
       {subcommand::keys, {"--port", "--device", "--help", "ESC (1)"}},
@@ -382,8 +534,9 @@ TEST(Main, HelpAndVersion) {
   EXPECT_EQ(r.status, 0);
   EXPECT_TRUE(contains(r.out, "Usage: x4ctl"));
   EXPECT_EQ(r.err, "");
-  for (const char *c : {"move", "jog", "brake", "stop", "status", "in", "out", "keys", "sweep", "monitor",
-                        "run", "timing", "mode", "help"}) {
+  for (const char *c :
+       {"move", "jog",    "brake", "stop",    "status", "in",   "out",  "keys",   "sweep", "monitor",
+        "run",  "timing", "mode",  "profile", "goto",   "home", "zero", "limits", "halt",  "help"}) {
     r = run({c, "--help"});
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_TRUE(contains(r.out, "Usage: x4ctl ")) << c;
@@ -455,6 +608,41 @@ TEST(Main, MissingPortExits1) {
   r = run({"-d", "/nonexistent/x4step9"});
   EXPECT_EQ(r.status, 1);
   EXPECT_TRUE(contains(r.err, "x4ctl: /nonexistent/x4step9: port not found")) << r.err;
+}
+
+// Positioning: bad values are found before the device is opened (exit 2);
+// a missing port is exit 1.
+TEST(Main, PositioningUsageErrorsExit2) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{"goto", "1=x"}, "goto: position 'x' is not a whole number"},
+      {{"profile", "1", "--vm", "50000"}, "profile: vm 50000 out of range: use 1 to 45000 steps/s"},
+      {{"home", "1", "--vref1", "0"}, "home: vref1 0 out of range"},
+      {{"zero"}, "zero: missing arguments"},
+      {{"limits", "--plus", "1"}, "limits: --ref, --plus and --minus need an AXIS"},
+      {{"halt", "7"}, "halt: axis 7 out of range: use 1 to 4"},
+  };
+  for (auto [args, want] : bad) {
+    const std::string name = args[0];
+    args.insert(args.begin(), {"-d", "/nonexistent/x4step9"});
+    const captured r = run(args);
+    EXPECT_EQ(r.status, 2) << name;
+    EXPECT_EQ(r.out, "") << name;
+    EXPECT_TRUE(contains(r.err, "x4ctl: " + want)) << r.err;
+    EXPECT_TRUE(contains(r.err, "Try 'x4ctl " + name + " --help'.")) << r.err;
+  }
+  for (const auto &args : std::vector<std::vector<std::string>>{{"goto", "1=5"},
+                                                                {"goto", "1=5", "--no-wait"},
+                                                                {"profile", "1"},
+                                                                {"home", "1"},
+                                                                {"zero", "1"},
+                                                                {"limits"},
+                                                                {"halt", "1"}}) {
+    std::vector<std::string> a = {"-d", "/nonexistent/x4step9"};
+    a.insert(a.end(), args.begin(), args.end());
+    const captured r = run(a);
+    EXPECT_EQ(r.status, 1) << args[0];
+    EXPECT_TRUE(contains(r.err, "x4ctl: " + args[0] + ": /nonexistent/x4step9: port not found")) << r.err;
+  }
 }
 
 TEST(Main, RunCheckNeedsNoDevice) {
@@ -658,7 +846,142 @@ class fake_port : public port {
   }
   x4step::step_timing get_step_timing() const override { return timing; }
 
+  // Positioning: an axis' own move goes a quarter of its way per
+  // wait_axes() (a long wait runs it to the end), or stops at its E+
+  // switch; a brake takes two more waits, a step each; each phase of a
+  // reference run takes two waits; phase 2 ends at 0, synchronized.
+  std::array<x4step::profile, x4step::axes> profiles{};
+  x4step::switches sw;
+  std::array<std::optional<long>, x4step::axes> e_plus{};  // where each axis' E+ switch is
+  bool ref_found = true;                                   // reference runs find their switch
+  std::vector<std::tuple<unsigned, coordinates, bool>> gotos;
+  std::vector<std::pair<int, x4step::homing>> homes;
+  std::vector<std::pair<unsigned, x4step::halt_mode>> halts;
+  int profile_sets = 0, switch_sets = 0;
+
+  void set_profile(int axis, const x4step::profile &p) override {
+    if (x4step::check(p) != x4step::errc::ok)
+      throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
+    if (ax_.axis.at(axis - 1).running) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
+    profiles[axis - 1] = p;
+    profile_sets++;
+  }
+  x4step::profile get_profile(int axis) const override { return profiles.at(axis - 1); }
+  void move_to(unsigned axis_mask, const coordinates &targets, bool relative) override {
+    refuse(1000, axis_mask & 8u);
+    if (runs(axis_mask)) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
+    gotos.emplace_back(axis_mask, targets, relative);
+    for (int i = 0; i < x4step::axes; i++) {
+      if (!(axis_mask >> i & 1u)) continue;
+      x4step::axis_status &a = ax_.axis[i];
+      own_[i] = {a.position, relative ? a.position + targets[i] : targets[i], 0, 0, 0, {}};
+      a.error = 0;
+      a.running = own_[i].to != a.position;
+    }
+  }
+  void home(int axis, const x4step::homing &h) override {
+    if (!sw.ref.at(axis - 1)) throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
+    homes.emplace_back(axis, h);
+    x4step::axis_status &a = ax_.axis[axis - 1];
+    own_[axis - 1] = {a.position, a.position, 0, 0, h.phase1 ? 1 : 2, h};
+    a.error = 0;
+    a.running = true;
+    a.ref1 = h.phase1;
+    a.ref2 = !h.phase1;
+  }
+  void halt(unsigned axis_mask, x4step::halt_mode how) override {
+    if (!runs(axis_mask)) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
+    halts.emplace_back(axis_mask, how);
+    for (int i = 0; i < x4step::axes; i++) {
+      x4step::axis_status &a = ax_.axis[i];
+      if (!(axis_mask >> i & 1u) || !a.running) continue;
+      if (how == x4step::halt_mode::brake) {
+        own_[i].braking = 2;
+      } else {
+        a.running = a.ref1 = a.ref2 = false;
+        a.synced = false;
+      }
+    }
+  }
+  void set_position(int axis, long position) override {
+    x4step::axis_status &a = ax_.axis.at(axis - 1);
+    a.running = a.ref1 = a.ref2 = false;
+    a.position = position;
+    a.synced = true;
+  }
+  void set_switches(const x4step::switches &s) override {
+    if (runs(all_axes)) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
+    sw = s;
+    switch_sets++;
+  }
+  x4step::switches get_switches() const override { return sw; }
+  x4step::axes_status get_axes() const override {
+    x4step::axes_status a = ax_;
+    a.inputs = inputs;
+    return a;
+  }
+  bool wait_axes(unsigned axis_mask, milliseconds timeout) const override {
+    for (int i = 0; i < (timeout >= milliseconds(1000) ? 100 : 1) && runs(axis_mask); i++) advance_axes();
+    return !runs(axis_mask);
+  }
+  // Where the axes are; for tests to place them.
+  x4step::axes_status &axes() { return ax_; }
+
  private:
+  struct own_move {
+    long from, to;
+    int n, braking;
+    int phase;  // of a reference run, else 0
+    x4step::homing h;
+  };
+
+  bool runs(unsigned axis_mask) const {
+    for (int i = 0; i < x4step::axes; i++)
+      if ((axis_mask >> i & 1u) && ax_.axis[i].running) return true;
+    return false;
+  }
+  void advance_axes() const {
+    for (int i = 0; i < x4step::axes; i++) {
+      x4step::axis_status &a = ax_.axis[i];
+      own_move &m = own_[i];
+      if (!a.running) continue;
+      if (m.braking) {
+        a.position += m.to >= m.from ? 1 : -1;
+        a.running = --m.braking > 0;
+      } else if (m.phase) {
+        if (++m.n < 2) continue;
+        const int ref_bit = 1 << (sw.ref[i] - 1);
+        if (!ref_found) {
+          a.position += (m.phase == 1 ? m.h.vref1 : m.h.vref2) > 0 ? long(m.h.sref) : -long(m.h.sref);
+          a.error = x4step::axis_error::ref_travel;
+          a.running = a.ref1 = a.ref2 = false;
+        } else if (m.phase == 1) {
+          a.position -= 300;
+          ax_.switches_active |= ref_bit;  // found
+          a.ref1 = false;
+          a.ref2 = m.h.phase2;
+          a.running = m.h.phase2;
+          m = {0, 0, 0, 0, 2, m.h};
+        } else {
+          ax_.switches_active &= ~ref_bit;  // left again
+          a.position = 0;
+          a.synced = true;
+          a.running = a.ref2 = false;
+        }
+      } else {
+        const long next = m.from + (m.to - m.from) * std::min(++m.n, 4) / 4;
+        if (e_plus[i] && m.to > m.from && next >= *e_plus[i]) {
+          a.position = *e_plus[i];
+          a.error = x4step::axis_error::limit_pos;
+          a.running = false;
+        } else {
+          a.position = next;
+          a.running = m.n < 4;
+        }
+      }
+    }
+  }
+
   // The module's checks of the settings (x4_engine_load, x4_engine_endless).
   void refuse(int freq_hz, bool axis4) const {
     const long long period = 1000000000LL / freq_hz;
@@ -692,6 +1015,8 @@ class fake_port : public port {
 
   // wait() is const in port, as in x4step::controller; the simulation moves on in it.
   mutable x4step::status s_;
+  mutable x4step::axes_status ax_;
+  mutable std::array<own_move, x4step::axes> own_{};
   mutable int braking_ = 0, n_ = 0;
   step_counts target_{};
   bool loaded_ = false, endless_ = false;
@@ -1250,16 +1575,81 @@ TEST(Show, StatusJson) {
   s.outputs = 0x9;
   s.last_brake_code = 1;
   s.moves_ended = 7;
+  x4step::axes_status a;
+  a.axis[0].position = 1200;
+  a.axis[0].synced = true;
+  a.axis[1].position = -7;
+  a.axis[1].running = true;
+  a.axis[1].velocity = 850;
+  a.axis[1].ref2 = true;
+  a.axis[1].cruising = true;
+  a.axis[3].error = x4step::axis_error::limit_neg | x4step::axis_error::ambiguous;
+  a.switches_active = 0x5;
   EXPECT_EQ(
-      status_json(s, "/dev/x4step0"),
+      status_json(s, a, "/dev/x4step0"),
       "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
       "\"steps\":[1,-2,3,0],\"inputs\":17,\"input_pins\":{\"15\":1,\"13\":0,\"12\":0,\"10\":0,\"11\":1},"
       "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
-      "\"moves_ended\":7}");
+      "\"moves_ended\":7,\"axes\":["
+      "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
+      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+      "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
+      "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
+      "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+      "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+      "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
+      "\"switches_active\":5}");
   EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
-  const std::string text = status_text(s, "/dev/x4step0");
+  const std::string text = status_text(s, a, "/dev/x4step0");
   EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;
   EXPECT_TRUE(contains(text, "braked by    ESC\n")) << text;
+  EXPECT_TRUE(contains(text, "axis 1       1200, synchronized, idle\n")) << text;
+  EXPECT_TRUE(
+      contains(text, "axis 2       -7, not synchronized, running 850 steps/s, reference phase 2, cruising\n"))
+      << text;
+  EXPECT_TRUE(
+      contains(text,
+               "axis 4       0, not synchronized, idle, error: stopped at E-, ambiguous: the input serves "
+               "other limits too\n"))
+      << text;
+}
+
+TEST(Show, Positioning) {
+  EXPECT_EQ(errors_text(0), "");
+  EXPECT_EQ(errors_text(x4step::axis_error::ref_travel | x4step::axis_error::limit_pos),
+            "reference travel exceeded, stopped at E+");
+  x4step::axes_status a;
+  a.axis[0].position = 5;
+  a.axis[2].position = -2147483648L;
+  EXPECT_EQ(positions_text(a, 0x5), "1=5 3=-2147483648");
+  EXPECT_EQ(coordinates_text(a), "5 0 -2147483648 0");
+  EXPECT_EQ(input_name(0), "none");
+  EXPECT_EQ(input_name(5), "input 5 (pin 11)");
+  EXPECT_EQ(profile_text(2, {100, 0, 3100, 1000, 0}),
+            "axis         2\n"
+            "v0           100 steps/s (start)\n"
+            "ve           0 steps/s (stop)\n"
+            "vm           3100 steps/s (maximum)\n"
+            "a0           1000 steps/s^2 (ramp 3.000 s)\n"
+            "ae           0 steps/s^2 (no ramp: jumps to 0 steps/s)\n");
+  x4step::switches sw;
+  sw.ref[0] = 3;
+  sw.plus = {1, 1, 0, 0};
+  sw.minus[0] = 2;
+  sw.nc = 0x3;
+  a.inputs = 0x06;
+  a.switches_active = 0x01;
+  EXPECT_EQ(limits_text(sw, a),
+            "axis 1       ref input 3 (pin 12), E+ input 1 (pin 15), E- input 2 (pin 13)\n"
+            "axis 2       ref none, E+ input 1 (pin 15), E- none\n"
+            "axis 3       ref none, E+ none, E- none\n"
+            "axis 4       ref none, E+ none, E- none\n"
+            "input 1      pin 15 LOW, normally closed, active, E+ 1, E+ 2\n"
+            "input 2      pin 13 HIGH, normally closed, idle, E- 1\n"
+            "input 3      pin 12 HIGH, normally open, idle, ref 1\n"
+            "input 4      pin 10 LOW, free (X4GetIn only)\n"
+            "input 5      pin 11 LOW, free (X4GetIn only)\n");
 }
 
 TEST(Show, TimingAndMode) {
@@ -1287,6 +1677,286 @@ TEST(Show, TimingAndMode) {
     EXPECT_EQ(mode_text(m).rfind(names.back() + ": ", 0), 0u) << mode_text(m);
   }
   EXPECT_EQ(names, (std::vector<std::string>{"clock-dir", "smc-phase", "smc-hold"}));
+}
+
+// ---- positioning on the simulated port -------------------------------------------------
+
+// A console whose brake and stop requests name some axes (`x4ctl halt 2`).
+class halt_console : public fake_console {
+ public:
+  unsigned axes = all_axes;
+  unsigned requested_axes() const override { return axes; }
+};
+
+TEST(Position, ProfileShowsAndChangesOnlyWhatIsGiven) {
+  fake_port p;
+  p.profiles[1] = {0, 0, 1000, 1000, 1000};
+  std::ostringstream out;
+  profile_command(p, parse({"profile", "2"}), out);
+  EXPECT_EQ(p.profile_sets, 0);
+  EXPECT_TRUE(contains(out.str(), "axis         2\nv0           0 steps/s (start)\n")) << out.str();
+  EXPECT_TRUE(contains(out.str(), "a0           1000 steps/s^2 (ramp 1.000 s)\n")) << out.str();
+  out.str("");
+  profile_command(p, parse({"profile", "2", "--vm", "8000", "--v0", "200"}), out);
+  EXPECT_EQ(p.profile_sets, 1);
+  EXPECT_EQ(p.profiles[1].v0, 200u);
+  EXPECT_EQ(p.profiles[1].vm, 8000u);
+  EXPECT_EQ(p.profiles[1].ve, 0u);     // kept
+  EXPECT_EQ(p.profiles[1].a0, 1000u);  // kept
+  EXPECT_TRUE(contains(out.str(), "vm           8000 steps/s (maximum)\n")) << out.str();
+  EXPECT_TRUE(contains(out.str(), "a0           1000 steps/s^2 (ramp 7.800 s)\n")) << out.str();
+}
+
+TEST(Position, ProfileThatDoesNotFitChangesNothing) {
+  fake_port p;
+  p.profiles[0] = {0, 0, 1000, 1000, 1000};
+  std::ostringstream out;
+  try {
+    profile_command(p, parse({"profile", "1", "--v0", "2000"}), out);  // above the vm the port has
+    FAIL() << "set";
+  } catch (const usage_error &e) {
+    EXPECT_STREQ(e.what(),
+                 "profile: v0 2000, ve 0, vm 1000, a0 1000, ae 1000 do not fit together: v0 and ve must not "
+                 "exceed vm, and a ramp from rest to vm must last at most 3600 s (vm / a0 and vm / ae)");
+  }
+  EXPECT_THROW(profile_command(p, parse({"profile", "1", "--vm", "40000", "--a0", "10"}), out), usage_error);
+  EXPECT_EQ(p.profile_sets, 0);
+  EXPECT_EQ(out.str(), "");
+}
+
+TEST(Position, LimitsNameInputsOfOneAxis) {
+  fake_port p;
+  p.sw.plus[1] = 5;
+  std::ostringstream out;
+  limits_command(p, parse({"limits"}), out);
+  EXPECT_EQ(p.switch_sets, 0);
+  EXPECT_TRUE(contains(out.str(), "axis 2       ref none, E+ input 5 (pin 11), E- none\n")) << out.str();
+  out.str("");
+  limits_command(p, parse({"limits", "1", "--ref", "3", "--minus", "2"}), out);
+  EXPECT_EQ(p.switch_sets, 1);
+  EXPECT_EQ(p.sw.ref, (std::array<int, 4>{3, 0, 0, 0}));
+  EXPECT_EQ(p.sw.plus, (std::array<int, 4>{0, 5, 0, 0}));  // kept
+  EXPECT_EQ(p.sw.minus, (std::array<int, 4>{2, 0, 0, 0}));
+  EXPECT_TRUE(contains(out.str(), "axis 1       ref input 3 (pin 12), E+ none, E- input 2 (pin 13)\n"))
+      << out.str();
+  limits_command(p, parse({"limits", "--nc", "2,5"}), out);
+  EXPECT_EQ(p.sw.nc, 0x12u);
+  EXPECT_EQ(p.sw.ref[0], 3);  // kept
+  limits_command(p, parse({"limits", "1", "--ref", "none"}), out);
+  EXPECT_EQ(p.sw.ref[0], 0);
+  EXPECT_EQ(p.sw.nc, 0x12u);
+  EXPECT_EQ(p.switch_sets, 3);
+  limits_command(p, parse({"limits", "3"}), out);  // an axis alone: show
+  EXPECT_EQ(p.switch_sets, 3);
+}
+
+TEST(Position, ZeroSetsAndSynchronizes) {
+  fake_port p;
+  p.axes().axis[0].position = 500;
+  p.axes().axis[2].position = -7;
+  std::ostringstream out;
+  zero_command(p, parse({"zero", "1", "3"}), out);
+  EXPECT_EQ(out.str(), "axis 1 at 0, synchronized\naxis 3 at 0, synchronized\n");
+  out.str("");
+  zero_command(p, parse({"zero", "2", "--at", "-1500"}), out);
+  EXPECT_EQ(out.str(), "axis 2 at -1500, synchronized\n");
+  EXPECT_EQ(coordinates_text(p.get_axes()), "0 -1500 0 0");
+}
+
+TEST(Position, GotoWaitsAndShowsTheCoordinates) {
+  fake_console con;
+  fake_port p;
+  p.axes().axis[3].position = 40;
+  std::ostringstream out;
+  config c = parse({"goto", "1=1000", "2=-500"});
+  coordinates want = start_goto_command(p, c, out);
+  ASSERT_EQ(p.gotos.size(), 1u);
+  EXPECT_EQ(std::get<0>(p.gotos[0]), 0x3u);
+  EXPECT_EQ(std::get<1>(p.gotos[0]), (coordinates{1000, -500, 0, 0}));
+  EXPECT_FALSE(std::get<2>(p.gotos[0]));
+  finish_goto_command(p, con, c, want, out);
+  EXPECT_EQ(out.str(), "goto: 1 to 1000, 2 to -500\ndone: 1000 -500 0 40\n");
+
+  out.str("");
+  c = parse({"goto", "4=-50", "1=5", "--relative"});
+  want = start_goto_command(p, c, out);
+  EXPECT_EQ(want, (coordinates{1005, 0, 0, -10}));
+  EXPECT_TRUE(std::get<2>(p.gotos[1]));
+  finish_goto_command(p, con, c, want, out);
+  EXPECT_EQ(out.str(), "goto: 1 by 5 to 1005, 4 by -50 to -10\ndone: 1005 -500 0 -10\n");
+}
+
+TEST(Position, GotoRelativeWrapsAsTheCoordinates) {
+  fake_port p;
+  p.axes().axis[0].position = 2147483600L;
+  std::ostringstream out;
+  EXPECT_EQ(start_goto_command(p, parse({"goto", "1=100", "--relative"}), out)[0], -2147483596L);
+}
+
+TEST(Position, GotoStoppedByALimitFails) {
+  fake_console con;
+  fake_port p;
+  p.e_plus[0] = 600;
+  std::ostringstream out;
+  const config c = parse({"goto", "1=1000", "2=300"});
+  const coordinates want = start_goto_command(p, c, out);
+  try {
+    finish_goto_command(p, con, c, want, out);
+    FAIL() << "done";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(), "axis 1: stopped at E+ at 600 (target 1000); coordinates 600 300 0 0");
+  }
+}
+
+TEST(Position, GotoEscBrakesEveryAxis) {
+  fake_console con;
+  fake_port p;
+  con.keys = {key::esc};
+  std::ostringstream out;
+  const config c = parse({"goto", "1=1000", "3=-1000"});
+  const coordinates want = start_goto_command(p, c, out);
+  try {
+    finish_goto_command(p, con, c, want, out);
+    FAIL() << "done";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(),
+                 "axis 1 halted (ESC) at 252 (target 1000); axis 3 halted (ESC) at -252 (target -1000); "
+                 "coordinates 252 0 -252 0");
+  }
+  ASSERT_EQ(p.halts.size(), 1u);
+  EXPECT_EQ(p.halts[0], std::make_pair(0x5u, x4step::halt_mode::brake));
+}
+
+// `x4ctl halt 3` asks the goto's x4ctl to halt axis 3: axis 1 goes on to its target.
+TEST(Position, HaltRequestsHaltOnlyTheAxesNamed) {
+  halt_console con;
+  fake_port p;
+  con.axes = 0x4;
+  con.keys = {key::brake_request};
+  const axes_outcome o = [&] {
+    p.move_to(0x5, {1000, 0, 1000, 0}, false);
+    return follow_axes(p, con, 0x5);
+  }();
+  ASSERT_EQ(p.halts.size(), 1u);
+  EXPECT_EQ(p.halts[0], std::make_pair(0x4u, x4step::halt_mode::brake));
+  EXPECT_EQ(o.halted_by, "brake request");
+  EXPECT_EQ(o.end.axis[0].position, 1000);
+  EXPECT_EQ(o.end.axis[2].position, 252);
+  // A stop request of axis 1: it stops; another request for it finds it halted.
+  fake_port q;
+  con.keys = {key::stop_request, key::none, key::brake_request};
+  con.axes = 0x1;
+  q.move_to(0x5, {1000, 0, 1000, 0}, false);
+  EXPECT_EQ(follow_axes(q, con, 0x5).halted_by, "stop request");
+  ASSERT_EQ(q.halts.size(), 1u);
+  EXPECT_EQ(q.halts[0], std::make_pair(0x1u, x4step::halt_mode::stop));
+  EXPECT_FALSE(q.get_axes().axis[0].synced);
+  EXPECT_EQ(q.get_axes().axis[2].position, 1000);
+  // Requests for other axes than the followed ones are not ours.
+  fake_port r;
+  con.keys = {key::brake_request};
+  con.axes = 0x2;
+  r.move_to(0x1, {100, 0, 0, 0}, false);
+  EXPECT_EQ(follow_axes(r, con, 0x1).halted_by, "");
+  EXPECT_TRUE(r.halts.empty());
+}
+
+TEST(Position, GotoInPhaseModeRefusesAxis4Clearly) {
+  fake_port p;
+  p.cfg.mode = x4step::output_mode::smc_phase_hold;
+  std::ostringstream out;
+  try {
+    start_goto_command(p, parse({"goto", "4=10"}), out);
+    FAIL() << "moved";
+  } catch (const failure &e) {
+    EXPECT_TRUE(contains(e.what(), "axis 4 cannot move in smc-hold mode")) << e.what();
+  }
+  EXPECT_TRUE(p.gotos.empty());
+}
+
+TEST(Position, HomeBothPhases) {
+  fake_console con;
+  fake_port p;
+  p.sw.ref[1] = 3;
+  p.axes().axis[1].position = 4711;
+  std::ostringstream out;
+  home_command(p, con, parse({"home", "2", "--vref1", "-2000", "--vref2", "50", "--sref", "9000"}), out);
+  ASSERT_EQ(p.homes.size(), 1u);
+  EXPECT_EQ(p.homes[0].first, 2);
+  EXPECT_EQ(p.homes[0].second.vref1, -2000);
+  EXPECT_EQ(p.homes[0].second.sref, 9000ul);
+  EXPECT_EQ(out.str(),
+            "home: axis 2, phase 1 at -2000 steps/s, phase 2 at 50 steps/s, at most 9000 steps each\n"
+            "done: axis 2 at 0, synchronized\n");
+  EXPECT_TRUE(p.get_axes().axis[1].synced);
+}
+
+TEST(Position, HomePhase1Only) {
+  fake_console con;
+  fake_port p;
+  p.sw.ref[0] = 1;
+  std::ostringstream out;
+  home_command(p, con, parse({"home", "1", "--phase", "1"}), out);
+  EXPECT_TRUE(p.homes.at(0).second.phase1);
+  EXPECT_FALSE(p.homes.at(0).second.phase2);
+  EXPECT_TRUE(contains(out.str(),
+                       "done: axis 1 at -300, reference switch active (phase 1; 'x4ctl home 1 --phase 2' "
+                       "completes it)\n"))
+      << out.str();
+}
+
+TEST(Position, HomeFailures) {
+  fake_console con;
+  fake_port p;
+  std::ostringstream out;
+  try {
+    home_command(p, con, parse({"home", "3"}), out);
+    FAIL() << "homed";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(),
+                 "axis 3 has no reference switch: 'x4ctl limits 3 --ref INPUT' names its input (1..5)");
+  }
+  EXPECT_TRUE(p.homes.empty());
+  p.sw.ref[2] = 2;
+  p.ref_found = false;
+  try {
+    home_command(p, con, parse({"home", "3", "--sref", "5000"}), out);
+    FAIL() << "homed";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(),
+                 "axis 3: reference travel exceeded at -5000: the reference switch did not become active "
+                 "(phase 1) or change again (phase 2) within 5000 steps (sref); check its input ('x4ctl "
+                 "limits') and the direction (sign) of the speed");
+  }
+  p.ref_found = true;
+  con.keys = {key::esc};
+  try {
+    home_command(p, con, parse({"home", "3"}), out);
+    FAIL() << "homed";
+  } catch (const failure &e) {
+    EXPECT_STREQ(e.what(), "axis 3 halted (ESC) at -4998: not referenced");
+  }
+  EXPECT_FALSE(p.get_axes().axis[2].synced);
+}
+
+TEST(Term, HaltRequestsCarryTheirAxes) {
+  install_signal_handlers();
+  while (take_signal() != key::none) {
+  }
+  ASSERT_TRUE(send_request(::getpid(), false, 0x4));
+  EXPECT_EQ(take_signal(), key::brake_request);
+  EXPECT_EQ(taken_axes(), 0x4u);
+  ASSERT_TRUE(send_request(::getpid(), true, 0x3));
+  EXPECT_EQ(take_signal(), key::stop_request);
+  EXPECT_EQ(taken_axes(), 0x3u);
+  ::kill(::getpid(), SIGUSR1);  // `x4ctl brake`, or kill from a shell: every axis
+  EXPECT_EQ(take_signal(), key::brake_request);
+  EXPECT_EQ(taken_axes(), all_axes);
+  ASSERT_TRUE(send_request(::getpid(), false, 0x1));
+  ASSERT_TRUE(send_request(::getpid(), false, 0x8));  // requests add up until taken
+  EXPECT_EQ(take_signal(), key::brake_request);
+  EXPECT_EQ(taken_axes(), 0x9u);
+  EXPECT_EQ(take_signal(), key::none);
 }
 
 // ---- keys from a terminal ------------------------------------------------------------------

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdlib>
 #include <iterator>
 #include <string_view>
@@ -42,7 +43,24 @@ enum opt_id {
   opt_pulse,
   opt_space,
   opt_setup,
-  opt_hold
+  opt_hold,
+  opt_v0,
+  opt_ve,
+  opt_vm,
+  opt_a0,
+  opt_ae,
+  opt_relative,
+  opt_no_wait,
+  opt_vref1,
+  opt_vref2,
+  opt_sref,
+  opt_phase,
+  opt_at,
+  opt_ref,
+  opt_plus,
+  opt_minus,
+  opt_nc,
+  opt_stop
 };
 
 struct option_spec {
@@ -155,11 +173,13 @@ struct command_entry {
 };
 
 const command_entry commands[] = {
-    {subcommand::move, "move"},       {subcommand::jog, "jog"},       {subcommand::brake, "brake"},
-    {subcommand::stop, "stop"},       {subcommand::status, "status"}, {subcommand::in, "in"},
-    {subcommand::out, "out"},         {subcommand::keys, "keys"},     {subcommand::sweep, "sweep"},
-    {subcommand::monitor, "monitor"}, {subcommand::run, "run"},       {subcommand::timing, "timing"},
-    {subcommand::mode, "mode"},       {subcommand::help, "help"},
+    {subcommand::move, "move"},       {subcommand::jog, "jog"},         {subcommand::brake, "brake"},
+    {subcommand::stop, "stop"},       {subcommand::status, "status"},   {subcommand::in, "in"},
+    {subcommand::out, "out"},         {subcommand::keys, "keys"},       {subcommand::sweep, "sweep"},
+    {subcommand::monitor, "monitor"}, {subcommand::run, "run"},         {subcommand::timing, "timing"},
+    {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
+    {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
+    {subcommand::halt, "halt"},       {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -221,6 +241,83 @@ x4step::output_mode parse_mode(const std::string &text, const std::string &prefi
     names += std::string(names.empty() ? "" : ", ") + mode_name(m);
   }
   throw usage_error(prefix + "no mode '" + text + "': use " + names);
+}
+
+// A number in min..max, else "WHAT TEXT out of range: use MIN to MAX UNIT".
+long parse_range(const std::string &text, const std::string &what, long min, long max,
+                 const std::string &unit, const std::string &prefix) {
+  const long v = parse_number(text, prefix + what);
+  if (v < min || v > max)
+    throw usage_error(prefix + what + " " + text + " out of range: use " + std::to_string(min) + " to " +
+                      std::to_string(max) + unit);
+  return v;
+}
+
+// A coordinate or distance of the axes' own moves: signed 32 bits.
+long parse_position(const std::string &text, const std::string &what, const std::string &prefix) {
+  return parse_range(text, what, INT32_MIN, INT32_MAX, "", prefix);
+}
+
+unsigned parse_speed(const std::string &text, const std::string &what, long min, const std::string &prefix) {
+  return static_cast<unsigned>(parse_range(text, what, min, x4step::vel_max, " steps/s", prefix));
+}
+
+unsigned parse_acceleration(const std::string &text, const std::string &what, const std::string &prefix) {
+  return static_cast<unsigned>(parse_range(text, what, 0, x4step::acc_max, " steps/s^2", prefix));
+}
+
+// A signed reference speed: the sign is the direction.
+int parse_vref(const std::string &text, const std::string &what, const std::string &prefix) {
+  const long v = parse_number(text, prefix + what);
+  const long max = x4step::vel_max;
+  if (v == 0 || v < -max || v > max)
+    throw usage_error(prefix + what + " " + text + " out of range: use -" + std::to_string(max) +
+                      " to -1 or 1 to " + std::to_string(max) + " steps/s (the sign is the direction)");
+  return static_cast<int>(v);
+}
+
+// An input 1..5, or 0 or "none".
+int parse_input(const std::string &text, const std::string &prefix) {
+  if (text == "none") return 0;
+  const long v = parse_number(text, prefix + "input");
+  if (v < 0 || v > 5)
+    throw usage_error(prefix + "input " + text +
+                      " out of range: use 1 to 5 (pins 15, 13, 12, 10, 11), or 0 for none");
+  return static_cast<int>(v);
+}
+
+// Normally closed inputs: "none", a list "1,3", or a mask "0x05".
+unsigned parse_nc(const std::string &text, const std::string &prefix) {
+  if (text == "none") return 0;
+  if (text.rfind("0x", 0) == 0) {
+    char *end = nullptr;
+    const unsigned long v = std::strtoul(text.c_str() + 2, &end, 16);
+    if (text.size() == 2 || *end || v > 0x1f)
+      throw usage_error(prefix + "nc mask " + text + " out of range: use 0x00 to 0x1f (bit k: input k+1)");
+    return static_cast<unsigned>(v);
+  }
+  unsigned mask = 0;
+  size_t from = 0;
+  for (;;) {
+    const size_t comma = text.find(',', from);
+    const std::string one = text.substr(from, comma == std::string::npos ? comma : comma - from);
+    const int in = parse_input(one, prefix + "--nc ");
+    if (in == 0) throw usage_error(prefix + "--nc input " + one + ": use 1 to 5, e.g. --nc 1,3");
+    mask |= 1u << (in - 1);
+    if (comma == std::string::npos) return mask;
+    from = comma + 1;
+  }
+}
+
+// AXIS... as a mask: each 1..4, once.
+unsigned parse_axes(const std::vector<std::string> &ops, const std::string &prefix) {
+  unsigned mask = 0;
+  for (const auto &o : ops) {
+    const unsigned bit = 1u << (parse_axis(o, prefix) - 1);
+    if (mask & bit) throw usage_error(prefix + "axis " + o + " given twice");
+    mask |= bit;
+  }
+  return mask;
 }
 
 void need_operands(const split_result &r, size_t min, size_t max, const std::string &prefix) {
@@ -298,6 +395,35 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("hold", 0, true, opt_hold);
       add("json", 'j', false, opt_json);
       break;
+    case subcommand::profile:
+      add("v0", 0, true, opt_v0);
+      add("ve", 0, true, opt_ve);
+      add("vm", 0, true, opt_vm);
+      add("a0", 0, true, opt_a0);
+      add("ae", 0, true, opt_ae);
+      break;
+    case subcommand::go_to:
+      add("relative", 0, false, opt_relative);
+      add("no-wait", 0, false, opt_no_wait);
+      break;
+    case subcommand::home:
+      add("vref1", 0, true, opt_vref1);
+      add("vref2", 0, true, opt_vref2);
+      add("sref", 0, true, opt_sref);
+      add("phase", 0, true, opt_phase);
+      break;
+    case subcommand::zero:
+      add("at", 0, true, opt_at);
+      break;
+    case subcommand::limits:
+      add("ref", 0, true, opt_ref);
+      add("plus", 0, true, opt_plus);
+      add("minus", 0, true, opt_minus);
+      add("nc", 0, true, opt_nc);
+      break;
+    case subcommand::halt:
+      add("stop", 's', false, opt_stop);
+      break;
     default:
       break;
   }
@@ -352,6 +478,63 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         break;
       case opt_hold:
         c.dir_hold = parse_ns(o.value, "hold", false, prefix);
+        break;
+      case opt_v0:
+        c.v0 = parse_speed(o.value, "v0", 0, prefix);
+        break;
+      case opt_ve:
+        c.ve = parse_speed(o.value, "ve", 0, prefix);
+        break;
+      case opt_vm:
+        c.vm = parse_speed(o.value, "vm", 1, prefix);
+        break;
+      case opt_a0:
+        c.a0 = parse_acceleration(o.value, "a0", prefix);
+        break;
+      case opt_ae:
+        c.ae = parse_acceleration(o.value, "ae", prefix);
+        break;
+      case opt_relative:
+        c.relative = true;
+        break;
+      case opt_no_wait:
+        c.no_wait = true;
+        break;
+      case opt_vref1:
+        c.homing.vref1 = parse_vref(o.value, "vref1", prefix);
+        break;
+      case opt_vref2:
+        c.homing.vref2 = parse_vref(o.value, "vref2", prefix);
+        break;
+      case opt_sref:
+        c.homing.sref =
+            static_cast<unsigned long>(parse_range(o.value, "sref", 1, INT32_MAX, " steps", prefix));
+        break;
+      case opt_phase: {
+        const long ph = parse_number(o.value, prefix + "phase");
+        if (ph != 1 && ph != 2)
+          throw usage_error(prefix + "phase " + o.value + ": use 1 or 2 (both: no --phase)");
+        c.homing.phase1 = ph == 1;
+        c.homing.phase2 = ph == 2;
+        break;
+      }
+      case opt_at:
+        c.at = parse_position(o.value, "position", prefix);
+        break;
+      case opt_ref:
+        c.ref = parse_input(o.value, prefix);
+        break;
+      case opt_plus:
+        c.plus = parse_input(o.value, prefix);
+        break;
+      case opt_minus:
+        c.minus = parse_input(o.value, prefix);
+        break;
+      case opt_nc:
+        c.nc = parse_nc(o.value, prefix);
+        break;
+      case opt_stop:
+        c.halt_stop = true;
         break;
       default:
         break;
@@ -440,6 +623,42 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
     case subcommand::mode:
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) c.mode = parse_mode(ops[0], prefix);
+      break;
+    case subcommand::profile:
+    case subcommand::home:
+      need_operands(r, 1, 1, prefix);
+      c.axis = parse_axis(ops[0], prefix);
+      break;
+    case subcommand::go_to: {
+      need_operands(r, 1, x4step::axes, prefix);
+      const std::string what = c.relative ? "distance" : "position";
+      std::vector<std::string> names;  // AXIS of each AXIS=VALUE
+      for (const auto &o : ops) {
+        const size_t eq = o.find('=');
+        if (eq == std::string::npos)
+          throw usage_error(prefix + "'" + o + "': use AXIS=" + (c.relative ? "DISTANCE" : "POSITION") +
+                            ", e.g. 1=1000");
+        names.push_back(o.substr(0, eq));
+      }
+      c.axis_mask = parse_axes(names, prefix);
+      for (size_t i = 0; i < ops.size(); i++)
+        c.targets[parse_axis(names[i], prefix) - 1] =
+            parse_position(ops[i].substr(names[i].size() + 1), what, prefix);
+      break;
+    }
+    case subcommand::zero:
+    case subcommand::halt:
+      need_operands(r, 1, x4step::axes, prefix);
+      c.axis_mask = parse_axes(ops, prefix);
+      break;
+    case subcommand::limits:
+      need_operands(r, 0, 1, prefix);
+      if (!ops.empty()) {
+        c.axis = parse_axis(ops[0], prefix);
+        c.axis_mask = 1u << (c.axis - 1);
+      }
+      if (ops.empty() && (c.ref || c.plus || c.minus))
+        throw usage_error(prefix + "--ref, --plus and --minus need an AXIS, e.g. 'x4ctl limits 1 --ref 3'");
       break;
     case subcommand::help:
       need_operands(r, 0, 1, prefix);
@@ -567,9 +786,18 @@ std::string help_text(subcommand c) {
              "  timing               show or set the step signal timing (pulse, space, ...)\n"
              "  mode [MODE]          show or set the output mode: clock-dir, or smc-phase and\n"
              "                       smc-hold for SMC800/SMC1500 boards\n"
+             "\n"
+             "Positioning: coordinates, independent axes, homing, limit switches:\n"
+             "  profile AXIS         show or set the ramp of an axis' own moves\n"
+             "  goto AXIS=POS...     move axes on their own to coordinates\n"
+             "  home AXIS            reference run: find the reference switch, zero there\n"
+             "  zero AXIS...         stop the axes and set their coordinates (stop and zero)\n"
+             "  limits               show or set the reference and limit switch inputs\n"
+             "  halt AXIS...         brake (or stop) the moves of some axes\n"
+             "\n"
              "  help [COMMAND]       show the help of a command\n"
              "\n"
-             "Run 'x4ctl COMMAND --help' for the options of a command.\n"
+             "Run 'x4ctl COMMAND --help' for the options of a command. Axes are 1 to 4.\n"
              "\n"
              "Exit status: 0 success; 1 the port refused, or a move did not reach its\n"
              "target; 2 bad usage (checked before the port is opened: nothing moved).\n";
@@ -640,7 +868,10 @@ std::string help_text(subcommand c) {
              "\n"
              "Show the state of the port, read-only (also while another program moves the\n"
              "motors): running, loaded, controlled, the steps of the last move, inputs,\n"
-             "outputs, the key that braked the last move, the number of moves ended.\n"
+             "outputs, the key that braked the last move, the number of moves ended; and\n"
+             "per axis its coordinate, whether it is synchronized (referenced by 'home' or\n"
+             "'zero'), its state and its errors (a limit switch hit, reference travel\n"
+             "exceeded). 'x4ctl limits' shows the switches.\n"
              "\n"
              "Options:\n"
              "  -j, --json           one JSON object instead of text\n" +
@@ -756,6 +987,129 @@ std::string help_text(subcommand c) {
              "\n"
              "Exit status: 0 done; 1 the port refused, or another program holds it;\n"
              "2 bad usage.\n";
+    case subcommand::profile:
+      return "Usage: x4ctl profile [OPTIONS] AXIS\n"
+             "\n"
+             "Show the ramp of the axis' own moves ('goto'), or change the values given (the\n"
+             "others stay) and show the result (ProStep4 section 2.5). The axis starts at\n"
+             "v0, speeds up with a0 to vm, slows down with ae to ve and stops there; a move\n"
+             "too short for vm turns where the ramps meet. The module keeps the profile\n"
+             "after x4ctl exits.\n"
+             "\n"
+             "Options:\n"
+             "      --v0=V           start velocity, 0..45000 steps/s (default 0)\n"
+             "      --ve=V           stop velocity, 0..45000 steps/s (default 0)\n"
+             "      --vm=V           maximum velocity, 1..45000 steps/s (default 1000)\n"
+             "      --a0=A           acceleration, 0..1000000 steps/s^2 (default 1000);\n"
+             "                       0: no ramp, the axis jumps to vm\n"
+             "      --ae=A           deceleration, 0..1000000 steps/s^2 (default 1000)\n" +
+             std::string(port_help) +
+             "\n"
+             "v0 and ve must not exceed vm, and a ramp from rest to vm must last at most\n"
+             "3600 s (vm / a0 and vm / ae).\n"
+             "\n"
+             "Exit status: 0 done; 1 the port refused (the axis moves), or another program\n"
+             "holds it; 2 bad usage (nothing changed).\n"
+             "Example: x4ctl profile 1 --v0 200 --vm 8000 --a0 40000 --ae 20000\n";
+    case subcommand::go_to:
+      return "Usage: x4ctl goto [OPTIONS] AXIS=POSITION [AXIS=POSITION...]\n"
+             "\n"
+             "Move each axis named on its own, with its profile ('x4ctl profile'), to the\n"
+             "machine coordinate POSITION (-2147483648..2147483647); all start at once, each\n"
+             "ends at its own time. Waits until they end and shows the coordinates of the\n"
+             "four axes. An axis moving toward an active limit switch is stopped there by\n"
+             "the module. ESC or Ctrl-C brakes, a second Ctrl-C stops.\n"
+             "\n"
+             "Options:\n"
+             "      --relative       the numbers are distances from where the axes are\n"
+             "      --no-wait        return once the axes run: a background x4ctl holds the\n"
+             "                       port until they end (the module brakes the moves of a\n"
+             "                       program that exits); 'x4ctl halt' or 'x4ctl brake'\n"
+             "                       ends them early\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 every axis reached its target (without waiting: they run);\n"
+             "1 the port refused, or an axis was halted or stopped at a limit switch;\n"
+             "2 bad usage (nothing moved).\n"
+             "Examples: x4ctl goto 1=12000 2=-500\n"
+             "          x4ctl goto 3=100 --relative\n";
+    case subcommand::home:
+      return "Usage: x4ctl home [OPTIONS] AXIS\n"
+             "\n"
+             "Reference run of AXIS (ProStep4 section 3), without ramps: phase 1 runs at\n"
+             "vref1 until the reference switch becomes active, phase 2 at vref2 until it\n"
+             "changes again; there the coordinate becomes 0 and the axis synchronized. Each\n"
+             "phase travels at most sref steps. Needs the axis' reference switch input\n"
+             "('x4ctl limits AXIS --ref INPUT'). Waits until the run ends; ESC or Ctrl-C\n"
+             "brakes it.\n"
+             "\n"
+             "Options:\n"
+             "      --vref1=V        phase 1 speed, signed: -45000..-1 or 1..45000 steps/s,\n"
+             "                       the sign is the direction (default -1000)\n"
+             "      --vref2=V        phase 2 speed, the same way (default 100)\n"
+             "      --sref=N         the longest travel of a phase, 1..2147483647 steps\n"
+             "                       (default 100000)\n"
+             "      --phase=1|2      only this phase (semi-automatic); default both\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 done (both phases or phase 2: the axis is synchronized);\n"
+             "1 the port refused, no reference switch, sref exceeded, a limit switch hit,\n"
+             "or the run was halted; 2 bad usage.\n"
+             "Example: x4ctl home 1 --vref1 -2000 --vref2 200 --sref 50000\n";
+    case subcommand::zero:
+      return "Usage: x4ctl zero [OPTIONS] AXIS...\n"
+             "\n"
+             "Stop and zero (ProStep4 command bit 5): stop the axes at once if they move\n"
+             "(with the axes moving interpolated with them), set their coordinates to 0, or\n"
+             "to --at, and mark them synchronized.\n"
+             "\n"
+             "Options:\n"
+             "      --at=POSITION    the coordinate to set, -2147483648..2147483647\n"
+             "                       (default 0)\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 done; 1 the port refused, or another program holds it;\n"
+             "2 bad usage.\n";
+    case subcommand::limits:
+      return "Usage: x4ctl limits [OPTIONS] [AXIS]\n"
+             "\n"
+             "Show which inputs are the reference and limit switches of each axis, and\n"
+             "the state of the five inputs; or name the switch inputs of AXIS, or the\n"
+             "normally closed inputs, and show the result. Inputs 1..5 are pins 15, 13,\n"
+             "12, 10 and 11 (X4GetIn bits 0..4); 0 or 'none': no switch. An input may\n"
+             "serve several axes and both directions (switches in parallel, as on the\n"
+             "SMC1500): a hit is then given to the axis that moved toward it, and flagged\n"
+             "ambiguous if more than one did. An axis moving toward an active limit is\n"
+             "stopped by the module on that very step; moving away from it is allowed.\n"
+             "The module keeps the settings after x4ctl exits. Only while nothing moves.\n"
+             "\n"
+             "Options:\n"
+             "      --ref=INPUT      reference switch of AXIS (for 'home')\n"
+             "      --plus=INPUT     limit switch E+ of AXIS (end of the positive travel)\n"
+             "      --minus=INPUT    limit switch E- of AXIS\n"
+             "      --nc=INPUTS      the normally closed inputs (active while LOW): a list\n"
+             "                       like 1,3, a mask like 0x05, or none; the others are\n"
+             "                       normally open (active while HIGH)\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 done; 1 the port refused (a move runs), or another program\n"
+             "holds it; 2 bad usage.\n"
+             "Example: x4ctl limits 1 --ref 3 --plus 1 --minus 2 --nc 1,2\n";
+    case subcommand::halt:
+      return "Usage: x4ctl halt [OPTIONS] AXIS...\n"
+             "\n"
+             "Brake the moves of the axes along their ramps, or with --stop stop them at\n"
+             "once (they lose their synchronization); the axes moving interpolated with\n"
+             "them halt too, other axes go on. The moves belong to the x4ctl that started\n"
+             "them ('goto --no-wait', 'move' in the background, ...): it is asked to halt\n"
+             "them, and this command waits until they stand and shows their coordinates.\n"
+             "\n"
+             "Options:\n"
+             "  -s, --stop           stop at once rather than brake\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 done; 1 none of the axes moves, or another program holds the\n"
+             "port; 2 bad usage.\n";
   }
   return "";
 }

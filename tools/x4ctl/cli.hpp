@@ -4,6 +4,7 @@
 #ifndef X4CTL_CLI_HPP
 #define X4CTL_CLI_HPP
 
+#include <array>
 #include <chrono>
 #include <optional>
 #include <stdexcept>
@@ -41,6 +42,12 @@ enum class subcommand {
   run,
   timing,
   mode,
+  profile,
+  go_to,  ///< goto
+  home,
+  zero,
+  limits,
+  halt,
   help
 };
 
@@ -76,6 +83,19 @@ struct config {
   /// timing: the times to change (read, modify, write); none given: only show.
   std::optional<std::chrono::nanoseconds> pulse, space, dir_setup, dir_hold;
   std::optional<x4step::output_mode> mode;  ///< mode: the one to set; none: only show
+
+  // Positioning. c.axis is the axis of profile and home.
+  unsigned axis_mask = 0;                    ///< goto, zero, halt, limits: the axes named (bit i: axis i+1)
+  std::array<long, x4step::axes> targets{};  ///< goto: coordinates (or distances) of the axes named
+  bool relative = false;                     ///< goto: targets are distances
+  bool no_wait = false;                      ///< goto: leave the moves to a background x4ctl
+  /// profile: the values to change; none given: only show.
+  std::optional<unsigned> v0, ve, vm, a0, ae;
+  x4step::homing homing;                ///< home
+  long at = 0;                          ///< zero: the coordinate to set
+  std::optional<int> ref, plus, minus;  ///< limits AXIS: the inputs to name (0: none)
+  std::optional<unsigned> nc;           ///< limits: normally closed inputs (bit k: input k+1)
+  bool halt_stop = false;               ///< halt: stop at once rather than brake
 };
 
 /// Parses and checks the whole command line (values too, without a device).

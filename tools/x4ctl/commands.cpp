@@ -16,6 +16,7 @@
 #include "cli.hpp"
 #include "holder.hpp"
 #include "lang.hpp"
+#include "position.hpp"
 #include "term.hpp"
 
 namespace x4ctl {
@@ -135,28 +136,56 @@ int cmd_jog(const config &c) {
   return 0;
 }
 
-// brake and stop: the move belongs to the process that holds the port.
-int cmd_halt(const config &c, bool stop) {
-  const std::string dev = device_of(c);
-  const x4step::monitor mon = open_monitor(dev);
-  if (!mon.get_status().active) throw failure(message(x4step::errc::not_active));
+// brake, stop and halt: the moves belong to the process that holds the
+// port; when that is an x4ctl, ask it to brake or stop the axes in mask.
+void ask_holder(const std::string &dev, bool stop, unsigned axis_mask) {
   const auto h = find_controller(dev);
   if (!h) throw failure(dev + ": a move runs, but its program is not visible here (another user's?)");
   if (!h->is_x4ctl())
     throw failure(dev + " is controlled by PID " + std::to_string(h->pid) + " (" + h->name +
                   "), not by x4ctl: brake it there, or press ESC on the console keyboard");
-  if (::kill(h->pid, stop ? SIGUSR2 : SIGUSR1) != 0)
+  if (!send_request(h->pid, stop, axis_mask))
     throw failure("cannot signal PID " + std::to_string(h->pid) + ": " + std::strerror(errno));
+}
+
+int cmd_halt(const config &c, bool stop) {
+  const std::string dev = device_of(c);
+  const x4step::monitor mon = open_monitor(dev);
+  if (!mon.get_status().active) throw failure(message(x4step::errc::not_active));  // any move
+  ask_holder(dev, stop, all_axes);
   // A brake takes at most the longest ramp, 1 s.
   if (!mon.wait(milliseconds(5000))) throw failure("the move still runs 5 s later");
   std::cout << (stop ? "stopped: " : "braked: ") << steps_text(mon.get_status().steps) << "\n";
   return 0;
 }
 
+int cmd_halt_axes(const config &c) {
+  const std::string dev = device_of(c);
+  const x4step::monitor mon = open_monitor(dev);
+  const x4step::axes_status a = mon.get_axes();
+  unsigned running = 0;
+  std::string named;
+  for (int i = 0; i < x4step::axes; i++) {
+    if (a.axis[i].running) running |= 1u << i;
+    if (c.axis_mask >> i & 1u) named += (named.empty() ? "" : ", ") + std::to_string(i + 1);
+  }
+  if (!(c.axis_mask & running))
+    throw failure((named.size() == 1 ? "axis " + named + " is" : "axes " + named + " are") + " not moving");
+  ask_holder(dev, c.halt_stop, c.axis_mask);
+  // An axis' own ramp may be long: wait for it, until Ctrl-C.
+  while (!mon.wait_axes(c.axis_mask, tick))
+    if (quit_requested()) throw failure("gave up waiting: the axes still move");
+  std::cout << (c.halt_stop ? "stopped: " : "braked: ") << positions_text(mon.get_axes(), c.axis_mask)
+            << "\n";
+  return 0;
+}
+
 int cmd_status(const config &c) {
   const std::string dev = device_of(c);
-  const x4step::status s = open_monitor(dev).get_status();
-  std::cout << (c.json ? status_json(s, dev) + "\n" : status_text(s, dev));
+  const x4step::monitor mon = open_monitor(dev);
+  const x4step::status s = mon.get_status();
+  const x4step::axes_status a = mon.get_axes();
+  std::cout << (c.json ? status_json(s, a, dev) + "\n" : status_text(s, a, dev));
   return 0;
 }
 
@@ -253,15 +282,29 @@ int cmd_monitor(const config &c) {
   return 0;
 }
 
-int cmd_timing(const config &c) {
+// timing, mode, profile, limits, zero: settings of an open port.
+int with_port(const config &c, void (*command)(port &, const config &, std::ostream &)) {
   controller_port p(open_controller(device_of(c)));
-  timing_command(p, c, std::cout);
+  command(p, c, std::cout);
   return 0;
 }
 
-int cmd_mode(const config &c) {
+int cmd_goto(const config &c) {
   controller_port p(open_controller(device_of(c)));
-  mode_command(p, c, std::cout);
+  std_console con(!c.no_wait);
+  const coordinates want = start_goto_command(p, c, std::cout);
+  if (c.no_wait) {
+    hold_in_background(p, [&](console &bg) { follow_axes(p, bg, c.axis_mask); });
+    return 0;  // the background process, after the moves
+  }
+  finish_goto_command(p, con, c, want, std::cout);
+  return 0;
+}
+
+int cmd_home(const config &c) {
+  controller_port p(open_controller(device_of(c)));
+  std_console con(true);
+  home_command(p, con, c, std::cout);
   return 0;
 }
 
@@ -380,9 +423,21 @@ int dispatch(const config &c) {
     case subcommand::run:
       return cmd_run(c);
     case subcommand::timing:
-      return cmd_timing(c);
+      return with_port(c, timing_command);
     case subcommand::mode:
-      return cmd_mode(c);
+      return with_port(c, mode_command);
+    case subcommand::profile:
+      return with_port(c, profile_command);
+    case subcommand::go_to:
+      return cmd_goto(c);
+    case subcommand::home:
+      return cmd_home(c);
+    case subcommand::zero:
+      return with_port(c, zero_command);
+    case subcommand::limits:
+      return with_port(c, limits_command);
+    case subcommand::halt:
+      return cmd_halt_axes(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

@@ -5,6 +5,7 @@
 #ifndef X4CTL_IO_HPP
 #define X4CTL_IO_HPP
 
+#include <array>
 #include <chrono>
 #include <ostream>
 #include <utility>
@@ -35,6 +36,18 @@ class port {
   virtual x4step::config get_config() const = 0;
   virtual void set_step_timing(const x4step::step_timing &t) = 0;
   virtual x4step::step_timing get_step_timing() const = 0;
+  // Positioning.
+  virtual void set_profile(int axis, const x4step::profile &p) = 0;
+  virtual x4step::profile get_profile(int axis) const = 0;
+  virtual void move_to(unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative) = 0;
+  virtual void home(int axis, const x4step::homing &h) = 0;
+  virtual void halt(unsigned axis_mask, x4step::halt_mode how) = 0;
+  virtual void set_position(int axis, long position) = 0;
+  virtual void set_switches(const x4step::switches &s) = 0;
+  virtual x4step::switches get_switches() const = 0;
+  virtual x4step::axes_status get_axes() const = 0;
+  /// True once none of the axes runs; false after timeout.
+  virtual bool wait_axes(unsigned axis_mask, milliseconds timeout) const = 0;
 };
 
 /// A port that is a real x4step::controller.
@@ -56,6 +69,20 @@ class controller_port : public port {
   x4step::config get_config() const override { return c_.get_config(); }
   void set_step_timing(const x4step::step_timing &t) override { c_.set_step_timing(t); }
   x4step::step_timing get_step_timing() const override { return c_.get_step_timing(); }
+  void set_profile(int axis, const x4step::profile &p) override { c_.set_profile(axis, p); }
+  x4step::profile get_profile(int axis) const override { return c_.get_profile(axis); }
+  void move_to(unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative) override {
+    c_.move_to(axis_mask, targets, relative);
+  }
+  void home(int axis, const x4step::homing &h) override { c_.home(axis, h); }
+  void halt(unsigned axis_mask, x4step::halt_mode how) override { c_.halt(axis_mask, how); }
+  void set_position(int axis, long position) override { c_.set_position(axis, position); }
+  void set_switches(const x4step::switches &s) override { c_.set_switches(s); }
+  x4step::switches get_switches() const override { return c_.get_switches(); }
+  x4step::axes_status get_axes() const override { return c_.get_axes(); }
+  bool wait_axes(unsigned axis_mask, milliseconds timeout) const override {
+    return c_.wait_axes(axis_mask, timeout);
+  }
 
  private:
   x4step::controller c_;
@@ -68,10 +95,13 @@ enum class key {
   left,
   right,
   other,          ///< any other key
-  brake_request,  ///< SIGTERM, SIGHUP, SIGUSR1 (`x4ctl brake`)
+  brake_request,  ///< SIGTERM, SIGHUP, SIGUSR1 (`x4ctl brake`, `x4ctl halt`)
   interrupt,      ///< Ctrl-C: brakes; a second one stops
-  stop_request,   ///< SIGUSR2 (`x4ctl stop`)
+  stop_request,   ///< SIGUSR2 (`x4ctl stop`, `x4ctl halt --stop`)
 };
+
+/// Every axis, as an axis mask (bit i: axis i + 1).
+constexpr unsigned all_axes = (1u << x4step::axes) - 1;
 
 /// The user's side: output, and keys while a move runs.
 class console {
@@ -88,6 +118,9 @@ class console {
   /// The next key, waiting up to timeout; key::none on timeout.
   /// Signals (brake/stop requests) are reported even without a keyboard.
   virtual key read_key(milliseconds timeout) = 0;
+  /// The axes (mask) the brake or stop request read last asks to halt:
+  /// `x4ctl halt AXIS...` names some, everything else means all.
+  virtual unsigned requested_axes() const { return all_axes; }
 };
 
 /// keys_on() for as long as it lives.

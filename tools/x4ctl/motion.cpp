@@ -3,6 +3,7 @@
 #include "motion.hpp"
 
 #include <cstdlib>
+#include <optional>
 #include <string>
 
 #include "cli.hpp"
@@ -30,20 +31,90 @@ void check_axis4(const port &p) {
                   "clock and direction signals)");
 }
 
-// Why the port refused a move of the axes (bits 0..3) at freq_hz with
-// e, if its settings are the reason; rethrows e otherwise. Only called
-// while e is being handled.
-[[noreturn]] void explain(const port &p, const x4step::error &e, unsigned axes, int freq_hz) {
+// Why the port refused a move of the axes (bits 0..3) with e, if its
+// settings are the reason; rethrows e otherwise. freq_hz: the frequency of
+// an X4Step move; none for the axes' own moves (the profile's speeds).
+// Only called while e is being handled.
+[[noreturn]] void explain(const port &p, const x4step::error &e, unsigned axes, std::optional<int> freq_hz) {
   if (e.code() == x4step::errc::param_fail && (axes & 8u)) check_axis4(p);
-  if (e.code() == x4step::errc::freq_too_high && freq_hz <= x4step::freq_max_hz) {
+  if (e.code() == x4step::errc::freq_too_high && freq_hz.value_or(0) <= x4step::freq_max_hz) {
     const x4step::output_mode m = p.get_config().mode;
     const x4step::step_timing t = p.get_step_timing();
-    if (const int max = max_freq_hz(t, m); freq_hz > max)
-      throw failure("frequency too high for the step timing: " + std::to_string(freq_hz) + " Hz, but pulse " +
-                    std::to_string(t.pulse.count()) + " ns and space " + std::to_string(t.space.count()) +
-                    " ns allow at most " + std::to_string(max) + " Hz ('x4ctl timing' changes them)");
+    const std::string timing = "pulse " + std::to_string(t.pulse.count()) + " ns and space " +
+                               std::to_string(t.space.count()) + " ns allow at most ";
+    if (!freq_hz)
+      throw failure("too fast for the step timing: " + timing +
+                    std::to_string(max_freq_hz(t, m, static_cast<int>(x4step::vel_max))) +
+                    " steps/s ('x4ctl profile' lowers vm, 'x4ctl timing' changes the times)");
+    if (const int max = max_freq_hz(t, m); *freq_hz > max)
+      throw failure("frequency too high for the step timing: " + std::to_string(*freq_hz) + " Hz, but " +
+                    timing + std::to_string(max) + " Hz ('x4ctl timing' changes them)");
   }
   throw;  // e, as it was
+}
+
+// What follow_until does to what runs, and shows meanwhile.
+struct follow_ops {
+  unsigned axes;                                   // the axes followed
+  std::function<bool()> ended;                     // waits up to a tick: true once it ended
+  std::function<void(unsigned axes)> brake, stop;  // of some of the axes
+  std::function<std::string(bool braking)> live;   // the live line
+};
+
+// Follows until ops.ended(): ESC, Ctrl-C, a brake request or the deadline
+// brake, a second Ctrl-C or a stop request stop; requests only the axes
+// they name. Returns why something was halted, empty if nothing was.
+std::string follow_until(console &con, const follow_ops &ops, deadline until) {
+  keys_guard keys(con);
+  std::string why;
+  unsigned halted = 0;  // the axes braked or stopped
+  auto brake_for = [&](const char *w, unsigned axes) {
+    axes &= ops.axes & ~halted;
+    if (!axes) return;
+    halted |= axes;
+    if (why.empty()) why = w;
+    ops.brake(axes);
+  };
+  auto stop_for = [&](const char *w, unsigned axes) {
+    axes &= ops.axes;
+    if (!axes) return;
+    halted |= axes;
+    why = w;
+    ops.stop(axes);
+  };
+  while (!ops.ended()) {
+    switch (con.read_key(milliseconds(0))) {
+      case key::esc:
+        brake_for("ESC", all_axes);
+        break;
+      case key::brake_request:
+        brake_for("brake request", con.requested_axes());
+        break;
+      case key::interrupt:
+        if (!halted)
+          brake_for("Ctrl-C", all_axes);
+        else  // a second Ctrl-C: no patience for the ramp
+          stop_for("Ctrl-C, stopped", all_axes);
+        break;
+      case key::stop_request:
+        stop_for("stop request", con.requested_axes());
+        break;
+      default:
+        break;
+    }
+    if (until && steady::now() >= *until) brake_for("time up", all_axes);
+    if (con.live()) draw_live(con, ops.live(halted != 0));
+  }
+  return why;
+}
+
+// ", braking" while braking, else what brakes.
+std::string live_hint(const console &con, bool braking) {
+  return braking ? "  braking" : con.has_keyboard() ? "  (ESC brakes)" : "";
+}
+
+void halt_quietly(port &p, unsigned axes, x4step::halt_mode how) {
+  halt([&] { p.halt(axes, how); });
 }
 
 // Loads m while the move before it runs. Should the port refuse, that move
@@ -79,6 +150,25 @@ void start_endless(port &p, int axis, x4step::direction dir, int freq_hz, millis
   }
 }
 
+void start_goto(port &p, unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative) {
+  try {
+    p.move_to(axis_mask, targets, relative);
+  } catch (const x4step::error &e) {
+    explain(p, e, axis_mask, std::nullopt);
+  }
+}
+
+void start_home(port &p, int axis, const x4step::homing &h) {
+  if (!p.get_switches().ref.at(axis - 1))
+    throw failure("axis " + std::to_string(axis) + " has no reference switch: 'x4ctl limits " +
+                  std::to_string(axis) + " --ref INPUT' names its input (1..5)");
+  try {
+    p.home(axis, h);
+  } catch (const x4step::error &e) {
+    explain(p, e, 1u << (axis - 1), std::nullopt);
+  }
+}
+
 void brake_quietly(port &p) {
   halt([&] { p.brake(); });
 }
@@ -103,53 +193,16 @@ int leader_index(const step_counts &steps) {
 }
 
 outcome follow(port &p, console &con, const std::optional<step_counts> &target, deadline until) {
-  keys_guard keys(con);
-  outcome o;
-  bool braking = false;
   const int lead = target ? leader_index(*target) : 0;
-  auto brake_for = [&](const char *why) {
-    if (braking) return;
-    braking = true;
-    o.halted_by = why;
-    brake_quietly(p);
-  };
-  for (;;) {
-    if (p.wait(tick)) break;
-    switch (con.read_key(milliseconds(0))) {
-      case key::esc:
-        brake_for("ESC");
-        break;
-      case key::brake_request:
-        brake_for("brake request");
-        break;
-      case key::interrupt:
-        if (!braking) {
-          brake_for("Ctrl-C");
-        } else {  // a second Ctrl-C: no patience for the ramp
-          o.halted_by = "Ctrl-C, stopped";
-          stop_quietly(p);
-        }
-        break;
-      case key::stop_request:
-        braking = true;
-        o.halted_by = "stop request";
-        stop_quietly(p);
-        break;
-      default:
-        break;
-    }
-    if (until && steady::now() >= *until) brake_for("time up");
-    if (con.live()) {
-      const auto s = p.get_status();
-      if (target)
-        draw_live(con, progress_line(s.steps, s.steps[lead], (*target)[lead]));
-      else
-        draw_live(con, "steps " + steps_text(s.steps) +
-                           (braking              ? "  braking"
-                            : con.has_keyboard() ? "  (ESC brakes)"
-                                                 : ""));
-    }
-  }
+  const follow_ops ops{all_axes, [&] { return p.wait(tick); }, [&](unsigned) { brake_quietly(p); },
+                       [&](unsigned) { stop_quietly(p); },
+                       [&](bool braking) {
+                         const auto s = p.get_status();
+                         if (target) return progress_line(s.steps, s.steps[lead], (*target)[lead]);
+                         return "steps " + steps_text(s.steps) + live_hint(con, braking);
+                       }};
+  outcome o;
+  o.halted_by = follow_until(con, ops, until);
   // First the outcome: the next move of a sequence starts on it.
   o.end = p.get_status();
   o.completed = target && o.end.steps == *target;
@@ -159,6 +212,19 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
   } else if (o.halted_by.empty()) {
     o.halted_by = o.end.last_brake_code ? key_name(o.end.last_brake_code) : "braked elsewhere";
   }
+  if (con.live()) draw_live(con, "");
+  return o;
+}
+
+axes_outcome follow_axes(port &p, console &con, unsigned axis_mask, deadline until) {
+  const follow_ops ops{
+      axis_mask, [&] { return p.wait_axes(axis_mask, tick); },
+      [&](unsigned axes) { halt_quietly(p, axes, x4step::halt_mode::brake); },
+      [&](unsigned axes) { halt_quietly(p, axes, x4step::halt_mode::stop); },
+      [&](bool braking) { return positions_text(p.get_axes(), axis_mask) + live_hint(con, braking); }};
+  axes_outcome o;
+  o.halted_by = follow_until(con, ops, until);
+  o.end = p.get_axes();
   if (con.live()) draw_live(con, "");
   return o;
 }

@@ -51,7 +51,97 @@ std::string key_name(int code) {
   return "key code " + std::to_string(code);
 }
 
-std::string status_text(const x4step::status &s, const std::string &device) {
+std::string errors_text(unsigned error) {
+  std::string s;
+  auto add = [&](unsigned bit, const char *text) {
+    if (error & bit) s += (s.empty() ? "" : ", ") + std::string(text);
+  };
+  add(x4step::axis_error::ref_travel, "reference travel exceeded");
+  add(x4step::axis_error::limit_pos, "stopped at E+");
+  add(x4step::axis_error::limit_neg, "stopped at E-");
+  add(x4step::axis_error::ambiguous, "ambiguous: the input serves other limits too");
+  return s;
+}
+
+std::string axis_text(const x4step::axis_status &a) {
+  std::string s = std::to_string(a.position) + (a.synced ? ", synchronized" : ", not synchronized");
+  if (a.running) {
+    s += ", running " + std::to_string(a.velocity) + " steps/s";
+    if (a.ref1) s += ", reference phase 1";
+    if (a.ref2) s += ", reference phase 2";
+    if (a.accelerating) s += ", accelerating";
+    if (a.cruising) s += ", cruising";
+    if (a.decelerating) s += ", decelerating";
+  } else {
+    s += ", idle";
+  }
+  if (a.error) s += ", error: " + errors_text(a.error);
+  return s;
+}
+
+std::string positions_text(const x4step::axes_status &a, unsigned axis_mask) {
+  std::string s;
+  for (int i = 0; i < x4step::axes; i++)
+    if (axis_mask >> i & 1u)
+      s += (s.empty() ? "" : " ") + std::to_string(i + 1) + "=" + std::to_string(a.axis[i].position);
+  return s;
+}
+
+std::string coordinates_text(const x4step::axes_status &a) {
+  step_counts c{};
+  for (int i = 0; i < x4step::axes; i++) c[i] = a.axis[i].position;
+  return steps_text(c);
+}
+
+std::string input_name(int input) {
+  if (input < 1 || input > 5) return "none";
+  return "input " + std::to_string(input) + " (pin " + std::to_string(input_pins[input - 1]) + ")";
+}
+
+std::string profile_text(int axis, const x4step::profile &p) {
+  // A ramp's length in seconds, to the millisecond.
+  auto ramp = [](unsigned from, unsigned to, unsigned a) {
+    if (a == 0) return std::string("no ramp: jumps to ") + std::to_string(to) + " steps/s";
+    char t[40];
+    std::snprintf(t, sizeof t, "%.3f", (to > from ? to - from : from - to) / static_cast<double>(a));
+    return std::string("ramp ") + t + " s";
+  };
+  std::ostringstream o;
+  o << "axis         " << axis << "\n"
+    << "v0           " << p.v0 << " steps/s (start)\n"
+    << "ve           " << p.ve << " steps/s (stop)\n"
+    << "vm           " << p.vm << " steps/s (maximum)\n"
+    << "a0           " << p.a0 << " steps/s^2 (" << ramp(p.v0, p.vm, p.a0) << ")\n"
+    << "ae           " << p.ae << " steps/s^2 (" << ramp(p.vm, p.ve, p.ae) << ")\n";
+  return o.str();
+}
+
+std::string limits_text(const x4step::switches &s, const x4step::axes_status &a) {
+  std::ostringstream o;
+  for (int i = 0; i < x4step::axes; i++)
+    o << "axis " << i + 1 << "       ref " << input_name(s.ref[i]) << ", E+ " << input_name(s.plus[i])
+      << ", E- " << input_name(s.minus[i]) << "\n";
+  for (int k = 1; k <= 5; k++) {
+    std::string uses;
+    for (int i = 0; i < x4step::axes; i++) {
+      const std::string axis = " " + std::to_string(i + 1);
+      if (s.ref[i] == k) uses += ", ref" + axis;
+      if (s.plus[i] == k) uses += ", E+" + axis;
+      if (s.minus[i] == k) uses += ", E-" + axis;
+    }
+    const bool nc = s.nc >> (k - 1) & 1u;
+    o << "input " << k << "      pin " << input_pins[k - 1] << (bit(a.inputs, k - 1) ? " HIGH" : " LOW");
+    if (uses.empty())
+      o << ", free (X4GetIn only)";
+    else
+      o << ", normally " << (nc ? "closed" : "open") << ", "
+        << (bit(a.switches_active, k - 1) ? "active" : "idle") << uses;
+    o << "\n";
+  }
+  return o.str();
+}
+
+std::string status_text(const x4step::status &s, const x4step::axes_status &a, const std::string &device) {
   std::ostringstream o;
   o << "device       " << device << "\n"
     << "state        " << (s.active ? "running" : "idle") << (s.loaded ? ", a move is loaded" : "")
@@ -62,6 +152,7 @@ std::string status_text(const x4step::status &s, const std::string &device) {
     << " pin16(BOOST)=" << bit(s.outputs, 2) << " pin17(AKTIV)=" << bit(s.outputs, 3) << "\n"
     << "braked by    " << (s.last_brake_code ? key_name(s.last_brake_code) : "no key") << "\n"
     << "moves ended  " << s.moves_ended << "\n";
+  for (int i = 0; i < x4step::axes; i++) o << "axis " << i + 1 << "       " << axis_text(a.axis[i]) << "\n";
   return o.str();
 }
 
@@ -82,7 +173,7 @@ std::string json_string(const std::string &s) {
   return r + "\"";
 }
 
-std::string status_json(const x4step::status &s, const std::string &device) {
+std::string status_json(const x4step::status &s, const x4step::axes_status &a, const std::string &device) {
   auto boolean = [](bool b) { return b ? "true" : "false"; };
   std::ostringstream o;
   o << "{\"device\":" << json_string(device) << ",\"active\":" << boolean(s.active)
@@ -93,7 +184,27 @@ std::string status_json(const x4step::status &s, const std::string &device) {
   o << "},\"outputs\":" << s.outputs << ",\"signal1\":" << bit(s.outputs, 0)
     << ",\"signal2\":" << bit(s.outputs, 1) << ",\"boost\":" << bit(s.outputs, 2)
     << ",\"aktiv\":" << bit(s.outputs, 3) << ",\"last_brake_code\":" << s.last_brake_code
-    << ",\"moves_ended\":" << s.moves_ended << "}";
+    << ",\"moves_ended\":" << s.moves_ended << ",\"axes\":[";
+  for (int i = 0; i < x4step::axes; i++) {
+    const x4step::axis_status &x = a.axis[i];
+    const char *ramp = x.accelerating ? "accel" : x.cruising ? "cruise" : x.decelerating ? "decel" : "none";
+    o << (i ? "," : "") << "{\"axis\":" << i + 1 << ",\"position\":" << x.position
+      << ",\"velocity\":" << x.velocity << ",\"running\":" << boolean(x.running)
+      << ",\"synced\":" << boolean(x.synced) << ",\"homing\":"
+      << (x.ref1   ? 1
+          : x.ref2 ? 2
+                   : 0)
+      << ",\"ramp\":\"" << ramp << "\",\"error\":" << x.error << ",\"errors\":[";
+    const char *names[] = {"ref_travel", "limit_pos", "limit_neg", "ambiguous"};
+    bool first = true;
+    for (int b = 0; b < 4; b++)
+      if (x.error >> b & 1u) {
+        o << (first ? "" : ",") << "\"" << names[b] << "\"";
+        first = false;
+      }
+    o << "]}";
+  }
+  o << "],\"switches_active\":" << a.switches_active << "}";
   return o.str();
 }
 
@@ -121,12 +232,12 @@ std::string mode_text(x4step::output_mode m) {
   return "mode " + std::to_string(static_cast<int>(m)) + ": unknown to this x4ctl";
 }
 
-int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m) {
+int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m, int cap) {
   // The module's check: pulse + space within the period, or with the
   // symmetric clock the space within half of it (integer nanoseconds).
   const long long need = t.pulse.count() ? t.pulse.count() + t.space.count() : 2 * t.space.count();
-  if (m != x4step::output_mode::clock_dir || need <= 0) return x4step::freq_max_hz;
-  return static_cast<int>(std::min<long long>(x4step::freq_max_hz, 1000000000LL / need));
+  if (m != x4step::output_mode::clock_dir || need <= 0) return cap;
+  return static_cast<int>(std::min<long long>(cap, 1000000000LL / need));
 }
 
 std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, const std::string &device) {

@@ -23,9 +23,24 @@ std::string inputs_text(unsigned inputs);
 /// "ESC" for 1, else "key code N" (release codes say so).
 std::string key_name(int code);
 /// Multi-line text of `x4ctl status`.
-std::string status_text(const x4step::status &s, const std::string &device);
+std::string status_text(const x4step::status &s, const x4step::axes_status &a, const std::string &device);
 /// One line of JSON for `x4ctl status --json`.
-std::string status_json(const x4step::status &s, const std::string &device);
+std::string status_json(const x4step::status &s, const x4step::axes_status &a, const std::string &device);
+
+/// "1200, synchronized, running 850 steps/s accelerating, error: stopped at E+"
+std::string axis_text(const x4step::axis_status &a);
+/// "stopped at E+, ambiguous: ..." for x4step::axis_error bits; "" for 0.
+std::string errors_text(unsigned error);
+/// "1=1200 2=-5" for the axes in axis_mask.
+std::string positions_text(const x4step::axes_status &a, unsigned axis_mask);
+/// "1000 -500 0 0": every coordinate.
+std::string coordinates_text(const x4step::axes_status &a);
+/// Multi-line text of `x4ctl profile`.
+std::string profile_text(int axis, const x4step::profile &p);
+/// Multi-line text of `x4ctl limits`: each axis' switches, each input.
+std::string limits_text(const x4step::switches &s, const x4step::axes_status &a);
+/// "input 3 (pin 12)"; "none" for 0.
+std::string input_name(int input);
 /// A JSON string literal.
 std::string json_string(const std::string &s);
 
@@ -36,9 +51,9 @@ constexpr x4step::output_mode output_modes[] = {
 const char *mode_name(x4step::output_mode m);
 /// One line of `x4ctl mode`: "smc-phase: SMC800/SMC1500 half-step phase drive, ...".
 std::string mode_text(x4step::output_mode m);
-/// The highest frequency whose period fits the timing (at most 20000 Hz);
-/// the phase modes have no pulse, so no limit but that.
-int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m);
+/// The highest frequency whose period fits the timing (at most cap, the
+/// X4Step moves' 20000 Hz); the phase modes have no pulse, so no limit but cap.
+int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m, int cap = x4step::freq_max_hz);
 /// Multi-line text of `x4ctl timing`.
 std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, const std::string &device);
 /// One line of JSON for `x4ctl timing --json`.

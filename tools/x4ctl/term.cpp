@@ -5,6 +5,7 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 
@@ -12,12 +13,17 @@ namespace x4ctl {
 namespace {
 
 volatile sig_atomic_t g_interrupts = 0;  // SIGINTs so far; take_signal counts what it took
-volatile sig_atomic_t g_brake = 0;
-volatile sig_atomic_t g_stop = 0;
 volatile sig_atomic_t g_quit = 0;
 sig_atomic_t g_interrupts_taken = 0;
+// The axes that brake and stop requests ask for, until taken.
+std::atomic<unsigned> g_brake{0};
+std::atomic<unsigned> g_stop{0};
+static_assert(std::atomic<unsigned>::is_always_lock_free, "used in a signal handler");
+unsigned g_taken = all_axes;
 
-void on_signal(int sig) {
+void on_signal(int sig, siginfo_t *info, void *) {
+  // sigqueue() from `x4ctl halt` names the axes; anything else means all.
+  const unsigned axes = info && info->si_code == SI_QUEUE ? info->si_value.sival_int & all_axes : all_axes;
   switch (sig) {
     case SIGINT:
       g_interrupts = g_interrupts + 1;
@@ -25,14 +31,14 @@ void on_signal(int sig) {
       break;
     case SIGTERM:
     case SIGHUP:
-      g_brake = 1;
+      g_brake |= all_axes;
       g_quit = 1;
       break;
     case SIGUSR1:
-      g_brake = 1;
+      g_brake |= axes;
       break;
     case SIGUSR2:
-      g_stop = 1;
+      g_stop |= axes;
       break;
     default:
       break;
@@ -47,29 +53,38 @@ constexpr milliseconds sequence_gap{40};
 
 void install_signal_handlers() {
   struct sigaction sa {};
-  sa.sa_handler = on_signal;
+  sa.sa_sigaction = on_signal;
+  sa.sa_flags = SA_SIGINFO;
   sigemptyset(&sa.sa_mask);
   // SIGINT, SIGTERM and SIGHUP end a blocking read (the prompt) ...
   for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &sa, nullptr);
   // ... `x4ctl brake` and `x4ctl stop` must not.
-  sa.sa_flags = SA_RESTART;
+  sa.sa_flags = SA_SIGINFO | SA_RESTART;
   for (int sig : {SIGUSR1, SIGUSR2}) sigaction(sig, &sa, nullptr);
 }
 
 key take_signal() {
-  if (g_stop) {
-    g_stop = 0;
+  if (const unsigned axes = g_stop.exchange(0)) {
+    g_taken = axes;
     return key::stop_request;
   }
   if (g_interrupts != g_interrupts_taken) {
     g_interrupts_taken = g_interrupts_taken + 1;
     return key::interrupt;
   }
-  if (g_brake) {
-    g_brake = 0;
+  if (const unsigned axes = g_brake.exchange(0)) {
+    g_taken = axes;
     return key::brake_request;
   }
   return key::none;
+}
+
+unsigned taken_axes() { return g_taken; }
+
+bool send_request(pid_t pid, bool stop, unsigned axis_mask) {
+  sigval v{};
+  v.sival_int = static_cast<int>(axis_mask);
+  return ::sigqueue(pid, stop ? SIGUSR2 : SIGUSR1, v) == 0;
 }
 
 bool quit_requested() { return g_quit != 0; }

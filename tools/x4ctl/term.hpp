@@ -3,6 +3,7 @@
 #ifndef X4CTL_TERM_HPP
 #define X4CTL_TERM_HPP
 
+#include <sys/types.h>
 #include <termios.h>
 
 #include <iostream>
@@ -17,10 +18,16 @@ namespace x4ctl {
 /// Signals become requests that the consoles report as keys:
 /// SIGINT: interrupt (brake, a second one stops) and quit;
 /// SIGTERM, SIGHUP: brake and quit; SIGUSR1: brake (`x4ctl brake`);
-/// SIGUSR2: stop (`x4ctl stop`).
+/// SIGUSR2: stop (`x4ctl stop`). A SIGUSR1 or SIGUSR2 sent by sigqueue()
+/// carries an axis mask: the axes to halt (`x4ctl halt`); else all.
 void install_signal_handlers();
 /// The oldest pending request, each signal once; key::none if there is none.
 key take_signal();
+/// The axes of the brake or stop request take_signal returned last.
+unsigned taken_axes();
+/// Asks the x4ctl pid to brake (SIGUSR1) or stop (SIGUSR2) the axes in mask.
+/// False with errno set if it cannot be signalled.
+bool send_request(pid_t pid, bool stop, unsigned axis_mask);
 /// SIGINT, SIGTERM or SIGHUP came: end after the current move.
 bool quit_requested();
 
@@ -67,6 +74,7 @@ class std_console : public console {
   void keys_on() override;
   void keys_off() override;
   key read_key(milliseconds timeout) override;
+  unsigned requested_axes() const override { return taken_axes(); }
 
  private:
   bool live_;

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: the positioning subcommands.
+#include "position.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "motion.hpp"
+#include "show.hpp"
+
+namespace x4ctl {
+namespace {
+
+std::string axis_name(int axis) { return "axis " + std::to_string(axis); }
+
+// The coordinate pos + d: signed 32 bits, wrapping as the module's do.
+long wrapped(long pos, long d) {
+  return static_cast<int32_t>(static_cast<uint32_t>(pos + d));  // both are 32-bit values
+}
+
+// What went wrong with an axis' own move, "" if nothing did.
+std::string axis_problem(int axis, const x4step::axis_status &a, std::optional<long> target,
+                         const std::string &halted_by) {
+  const std::string at =
+      " at " + std::to_string(a.position) + (target ? " (target " + std::to_string(*target) + ")" : "");
+  if (a.error) return axis_name(axis) + ": " + errors_text(a.error) + at;
+  if (target && a.position != *target)
+    return axis_name(axis) + " halted (" + (halted_by.empty() ? "braked elsewhere" : halted_by) + ")" + at;
+  return "";
+}
+
+}  // namespace
+
+void profile_command(port &p, const config &c, std::ostream &out) {
+  x4step::profile pr = p.get_profile(c.axis);
+  if (c.v0 || c.ve || c.vm || c.a0 || c.ae) {
+    pr.v0 = c.v0.value_or(pr.v0);
+    pr.ve = c.ve.value_or(pr.ve);
+    pr.vm = c.vm.value_or(pr.vm);
+    pr.a0 = c.a0.value_or(pr.a0);
+    pr.ae = c.ae.value_or(pr.ae);
+    if (x4step::check(pr) != x4step::errc::ok)
+      throw usage_error("profile: v0 " + std::to_string(pr.v0) + ", ve " + std::to_string(pr.ve) + ", vm " +
+                        std::to_string(pr.vm) + ", a0 " + std::to_string(pr.a0) + ", ae " +
+                        std::to_string(pr.ae) +
+                        " do not fit together: v0 and ve must not exceed vm, and a ramp from rest to vm "
+                        "must last at most 3600 s (vm / a0 and vm / ae)");
+    p.set_profile(c.axis, pr);
+    pr = p.get_profile(c.axis);  // what the port took
+  }
+  out << profile_text(c.axis, pr);
+}
+
+void limits_command(port &p, const config &c, std::ostream &out) {
+  x4step::switches s = p.get_switches();
+  if (c.ref || c.plus || c.minus || c.nc) {
+    const int i = c.axis - 1;  // --ref, --plus and --minus come with an axis
+    if (c.ref) s.ref.at(i) = *c.ref;
+    if (c.plus) s.plus.at(i) = *c.plus;
+    if (c.minus) s.minus.at(i) = *c.minus;
+    if (c.nc) s.nc = *c.nc;
+    p.set_switches(s);
+    s = p.get_switches();
+  }
+  out << limits_text(s, p.get_axes());
+}
+
+void zero_command(port &p, const config &c, std::ostream &out) {
+  for (int i = 0; i < x4step::axes; i++)
+    if (c.axis_mask >> i & 1u) p.set_position(i + 1, c.at);
+  const x4step::axes_status a = p.get_axes();
+  for (int i = 0; i < x4step::axes; i++)
+    if (c.axis_mask >> i & 1u)
+      out << axis_name(i + 1) << " at " << a.axis[i].position
+          << (a.axis[i].synced ? ", synchronized" : ", not synchronized") << "\n";
+}
+
+coordinates start_goto_command(port &p, const config &c, std::ostream &out) {
+  const x4step::axes_status now = p.get_axes();
+  coordinates want{};
+  std::string what;
+  for (int i = 0; i < x4step::axes; i++) {
+    if (!(c.axis_mask >> i & 1u)) continue;
+    want[i] = c.relative ? wrapped(now.axis[i].position, c.targets[i]) : c.targets[i];
+    what += (what.empty() ? "" : ", ") + std::to_string(i + 1) +
+            (c.relative ? " by " + std::to_string(c.targets[i]) : "") + " to " + std::to_string(want[i]);
+  }
+  out << "goto: " << what << "\n" << std::flush;
+  start_goto(p, c.axis_mask, c.targets, c.relative);
+  return want;
+}
+
+void finish_goto_command(port &p, console &con, const config &c, const coordinates &want, std::ostream &out) {
+  const axes_outcome o = follow_axes(p, con, c.axis_mask);
+  std::string problems;
+  for (int i = 0; i < x4step::axes; i++) {
+    if (!(c.axis_mask >> i & 1u)) continue;
+    const std::string why = axis_problem(i + 1, o.end.axis[i], want[i], o.halted_by);
+    if (!why.empty()) problems += (problems.empty() ? "" : "; ") + why;
+  }
+  if (!problems.empty()) throw failure(problems + "; coordinates " + coordinates_text(o.end));
+  out << "done: " << coordinates_text(o.end) << "\n";
+}
+
+void home_command(port &p, console &con, const config &c, std::ostream &out) {
+  const x4step::homing &h = c.homing;
+  const std::string name = axis_name(c.axis);
+  start_home(p, c.axis, h);
+  out << "home: " << name;
+  if (h.phase1) out << ", phase 1 at " << h.vref1 << " steps/s";
+  if (h.phase2) out << ", phase 2 at " << h.vref2 << " steps/s";
+  out << ", at most " << h.sref << " steps each\n" << std::flush;
+  const axes_outcome o = follow_axes(p, con, 1u << (c.axis - 1));
+  const x4step::axis_status &a = o.end.axis[c.axis - 1];
+  const std::string at = " at " + std::to_string(a.position);
+  if (a.error & x4step::axis_error::ref_travel)
+    throw failure(name + ": reference travel exceeded" + at + ": the reference switch did not " +
+                  (!h.phase2  ? "become active"
+                   : h.phase1 ? "become active (phase 1) or change again (phase 2)"
+                              : "change") +
+                  " within " + std::to_string(h.sref) +
+                  " steps (sref); check its input ('x4ctl limits') and the direction (sign) of the speed");
+  if (a.error) throw failure(axis_problem(c.axis, a, std::nullopt, o.halted_by) + "; not referenced");
+  const int ref = p.get_switches().ref.at(c.axis - 1);
+  const bool done = h.phase2 ? a.synced : ref && (o.end.switches_active >> (ref - 1) & 1u);
+  if (!done)
+    throw failure(name + " halted (" + (o.halted_by.empty() ? "braked elsewhere" : o.halted_by) + ")" + at +
+                  ": not referenced");
+  if (h.phase2)
+    out << "done: " << name << at << ", synchronized\n";
+  else
+    out << "done: " << name << at << ", reference switch active (phase 1; 'x4ctl home " << c.axis
+        << " --phase 2' completes it)\n";
+}
+
+}  // namespace x4ctl
