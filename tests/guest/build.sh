@@ -24,6 +24,7 @@ $cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod" -o "$out/timing_ben
 $cxx -I"$stage/include" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$lib"
 $cxx -I"$stage/include" -o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$lib"
 $cxx -I"$stage/include" -o "$out/phase_test" "$top/tests/guest/phase_test.cpp" "$lib"
+$cxx -I"$stage/include" -o "$out/positioning_test" "$top/tests/guest/positioning_test.cpp" "$lib"
 gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/kmod/x4vctl.c"
 for f in "$top"/tests/guest/manual/*.c; do
 	gcc -std=c99 -static -O2 -Wall -Wextra -Werror -I"$stage/include" \

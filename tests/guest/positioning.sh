@@ -1,0 +1,9 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+# Guest script: positioning (issue 8) on the virtual port, a machine with
+# positions and switches (tests/kmod/x4vport.c), then a few moves on QEMU's
+# parport for tests/qemu/check-positioning.sh. Run with --icount.
+mount -t debugfs none /sys/kernel/debug 2>/dev/null
+insmod "$X4MOD/x4step.ko" || exit 1
+insmod "$X4MOD/x4vport.ko" || exit 1
+exec /bin/positioning_test
