@@ -6,42 +6,50 @@
 //              [--threads N] [--verbose]
 //
 // Phases (time split of --seconds):
-//   0  probes: valid MOVE_ENDLESS and LOAD arguments in read-only memory (the
-//      call must fail with EFAULT and then must not have started or loaded
-//      anything);
+//   0  probes: valid MOVE_ENDLESS, GOTO, HOME and LOAD arguments in read-only
+//      memory (the call must fail with EFAULT and then must not have started or
+//      loaded anything);
 //   a  random command numbers: every _IOC_NR 0..255 of our magic with every
 //      direction and several sizes, then random ones, exact commands with random
 //      payloads and other magics; bad pointers (NULL, 1, kernel and non-canonical
 //      addresses, PROT_NONE, the end of a page before a guard page, read-only
 //      memory);
 //   b  structurally valid commands with boundary and random field values
-//      (including config output modes and step timings);
+//      (including config output modes, step timings, profiles, switches, goto
+//      targets at the 32-bit limits, reference runs, halts);
 //   c  several threads on the one controller descriptor with random valid and
-//      invalid sequences, read-only monitors (GET_STATUS, poll), a thread opening
-//      and closing read-only and read-write descriptors (read-write: EBUSY);
+//      invalid sequences, read-only monitors (GET_STATUS, GET_AXES, poll), a
+//      thread opening and closing read-only and read-write descriptors
+//      (read-write: EBUSY);
 //   c2 the controller closes; threads race to become the next one (at most one
 //      at a time; closing brakes moves with ramps of at most 20 ms: no close may
 //      take seconds);
 //   d  everything closed: a fresh controller opens, the engine is idle; the
-//      config and step timing found at the start are restored.
+//      config, step timing, switches and profiles found at the start are
+//      restored.
 // With --invalid-only only the probes and phases a and b run and no call that could be valid is
 // made (state-changing commands only with invalid arguments, START only when
-// nothing is loaded, BRAKE/STOP only when nothing runs): the port trace of such
-// a run must show no clock edge (tests/fuzz/check-no-edges.sh).
+// nothing is loaded, BRAKE/STOP/HALT only when none of their axes runs): the
+// port trace of such a run must show no clock edge (tests/fuzz/check-no-edges.sh).
 //
 // Invariants checked here (each violation is printed and fails the run):
 //  - unknown commands (our magic or another) fail with ENOTTY;
 //  - state-changing commands on a read-only descriptor fail with EBADF;
 //  - bad pointers fail with EFAULT; flags/reserved fields non-zero, bad
-//    signals, brake codes, config masks fail with EINVAL; X4STEP_LOAD's
-//    out-of-range arguments fail with EINVAL and the documented X4Step code
-//    (frequency, then ramp, then paths) in `result`;
+//    signals, brake codes, config masks, profiles, switches, axis masks fail
+//    with EINVAL; LOAD's, MOVE_ENDLESS's, GOTO's and HOME's out-of-range
+//    arguments fail with EINVAL and the documented X4Step code in `result`
+//    (single-threaded: the exact code), and `result` always matches the errno;
 //  - errors of valid calls are the documented state errors only;
 //  - a call that fails changes nothing (single-threaded phases: ACTIVE and
-//    LOADED do not appear, outputs, config and step timing stay);
-//  - GET_STATUS, GET_INFO, GET_CONFIG, GET_STEP_TIMING and GET_TIMING report
-//    only sane values (known flag bits, step counters within 2 * 16777216,
-//    reserved fields zero, histogram adding up, clock pins low at rest);
+//    LOADED do not appear, outputs, config, step timing, switches and profiles
+//    stay, an axis that did not run does not start, move or change state);
+//    successful SET_PROFILE/SET_SWITCHES/SET_POSITION/HALT (stop) read back;
+//  - GET_STATUS, GET_INFO, GET_CONFIG, GET_STEP_TIMING, GET_TIMING, GET_AXES,
+//    GET_SWITCHES and GET_PROFILE report only sane values (known flag, state
+//    and error bits, step counters within 2 * 16777216, speeds within
+//    X4STEP_VEL_MAX, switch inputs 0..5, valid profiles, reserved fields zero,
+//    histogram adding up, clock pins low at rest);
 //  - poll() never reports an error; at most one controller at a time.
 // The controller descriptor is always closed at the end (the module brakes on
 // close): no motor keeps running after the fuzzer.
@@ -60,6 +68,7 @@
 #include <chrono>
 #include <climits>
 #include <cstdarg>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -74,6 +83,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int64_t kStepsMax = 16777216;
+constexpr unsigned kInputs = 5;             // switch inputs 1..5
+constexpr uint32_t kRampSecondsMax = 3600;  // a profile ramp's longest time
+// GET_AXES' speeds: at most X4STEP_VEL_MAX, give or take the rounding.
+constexpr uint32_t kVelSlack = X4STEP_VEL_MAX + X4STEP_VEL_MAX / 100;
 constexpr unsigned kMagic = X4STEP_IOC_MAGIC;
 constexpr size_t kPage = 4096;
 
@@ -172,16 +185,17 @@ struct Cmd {
   unsigned long nr;
   const char *name;
   size_t size;
-  bool state;  // changes state: controller only
+  bool state;            // changes state: controller only
+  long result_off = -1;  // offset of the s32 X4Step `result` written back, if any
 };
 
 const Cmd kCmds[] = {
     {X4STEP_GET_INFO, "GET_INFO", sizeof(x4step_info), false},
-    {X4STEP_LOAD, "LOAD", sizeof(x4step_move), true},
+    {X4STEP_LOAD, "LOAD", sizeof(x4step_move), true, offsetof(x4step_move, result)},
     {X4STEP_START, "START", 0, true},
     {X4STEP_BRAKE, "BRAKE", 0, true},
     {X4STEP_STOP, "STOP", 0, true},
-    {X4STEP_MOVE_ENDLESS, "MOVE_ENDLESS", sizeof(x4step_endless), true},
+    {X4STEP_MOVE_ENDLESS, "MOVE_ENDLESS", sizeof(x4step_endless), true, offsetof(x4step_endless, result)},
     {X4STEP_GET_STATUS, "GET_STATUS", sizeof(x4step_status), false},
     {X4STEP_SET_OUTPUT, "SET_OUTPUT", sizeof(x4step_output), true},
     {X4STEP_SET_BRAKE_CODES, "SET_BRAKE_CODES", sizeof(x4step_brake_codes), true},
@@ -190,6 +204,15 @@ const Cmd kCmds[] = {
     {X4STEP_GET_TIMING, "GET_TIMING", sizeof(x4step_timing), false},
     {X4STEP_SET_STEP_TIMING, "SET_STEP_TIMING", sizeof(x4step_step_timing), true},
     {X4STEP_GET_STEP_TIMING, "GET_STEP_TIMING", sizeof(x4step_step_timing), false},
+    {X4STEP_SET_PROFILE, "SET_PROFILE", sizeof(x4step_profile), true},
+    {X4STEP_GET_PROFILE, "GET_PROFILE", sizeof(x4step_profile), false},
+    {X4STEP_GOTO, "GOTO", sizeof(x4step_goto), true, offsetof(x4step_goto, result)},
+    {X4STEP_HOME, "HOME", sizeof(x4step_home), true, offsetof(x4step_home, result)},
+    {X4STEP_HALT, "HALT", sizeof(x4step_halt), true},
+    {X4STEP_SET_POSITION, "SET_POSITION", sizeof(x4step_position), true},
+    {X4STEP_SET_SWITCHES, "SET_SWITCHES", sizeof(x4step_switches), true},
+    {X4STEP_GET_SWITCHES, "GET_SWITCHES", sizeof(x4step_switches), false},
+    {X4STEP_GET_AXES, "GET_AXES", sizeof(x4step_axes), false},
 };
 constexpr int kNumCmds = sizeof(kCmds) / sizeof(kCmds[0]);
 constexpr int kUnknownOurs = kNumCmds;  // stats slot: our magic, unknown number
@@ -419,9 +442,31 @@ enum {
   XR_FREQ_LOW = 3,
   XR_RAMP_HIGH = 4,
   XR_RAMP_FREQ = 5,
+  XR_NOT_ACTIVE = 7,
   XR_PARAM = 8,
+  XR_IS_ACTIVE = 10,
+  XR_NOT_LOADED = 11,
+  XR_IS_LOADED = 12,
   XR_STEPS_HIGH = 13
 };
+
+// The errno that goes with an X4Step code in `result` (x4step.h), -1 for none.
+int code_errno(int32_t code) {
+  switch (code) {
+    case XR_OK:
+      return 0;
+    case XR_NOT_ACTIVE:
+      return ESRCH;
+    case XR_IS_ACTIVE:
+      return EBUSY;
+    case XR_NOT_LOADED:
+      return ENODATA;
+    case XR_IS_LOADED:
+      return EEXIST;
+    default:
+      return code >= XR_NO_STEPS && code <= XR_STEPS_HIGH ? EINVAL : -1;
+  }
+}
 
 int ramp_code(int32_t freq, int32_t ramp) {
   if (freq > 20000) return XR_FREQ_HIGH;
@@ -443,23 +488,77 @@ int load_code(const x4step_move &m) {
   return any ? XR_OK : XR_NO_STEPS;
 }
 
+// The profile rules of x4step.h (reserved fields aside).
+bool profile_ok(const x4step_profile &p) {
+  auto ramp_ok = [&](uint32_t a) {
+    return a <= X4STEP_ACC_MAX && (!a || p.vm <= uint64_t{kRampSecondsMax} * a);
+  };
+  return p.vm >= 1 && p.vm <= X4STEP_VEL_MAX && p.v0 <= p.vm && p.ve <= p.vm && ramp_ok(p.a0) &&
+         ramp_ok(p.ae);
+}
+
+// Switch inputs 0..5, nc 5 bits, reserved bytes zero.
+bool switches_ok(const x4step_switches &s) {
+  for (uint8_t b : s.reserved)
+    if (b) return false;
+  for (int i = 0; i < X4STEP_AXES; i++)
+    if (s.ref[i] > kInputs || s.plus[i] > kInputs || s.minus[i] > kInputs) return false;
+  return s.nc < 1u << kInputs;
+}
+
+// A reference run speed: signed, non-zero, at most X4STEP_VEL_MAX.
+bool vref_ok(int32_t v) { return v && v <= X4STEP_VEL_MAX && v >= -X4STEP_VEL_MAX; }
+
 // What a call may return: success (valid) and/or the errnos in `errs`.
 struct Expect {
   bool may_succeed = false;
   uint64_t errs = 0;
-  int result_code = -1;  // LOAD/MOVE_ENDLESS: the X4Step code expected in `result` (EINVAL)
-  bool changes = false;  // a successful call may change ACTIVE/LOADED/outputs/config
+  int result_code = -1;  // the X4Step code expected in `result` with EINVAL (-1: any)
   const char *why = "";  // why it is invalid
+};
+
+// What the device showed just before a call (read back just after, too).
+struct Snapshot {
+  x4step_status st;
+  x4step_config cfg;
+  x4step_step_timing tim;
+  x4step_axes axes;
+  x4step_switches sw;
+  x4step_profile prof[X4STEP_AXES];
+  uint32_t running() const {  // the axes with X4STEP_AX_RUN
+    uint32_t m = 0;
+    for (int i = 0; i < X4STEP_AXES; i++)
+      if (axes.axis[i].state & X4STEP_AX_RUN) m |= 1u << i;
+    return m;
+  }
 };
 
 // What the fuzzer knows about the device when it makes the call.
 struct Known {
   bool controller = false;   // the descriptor is the controller
   bool idle = false;         // single-threaded and GET_STATUS said: nothing runs, nothing loaded
-  bool state_known = false;  // single-threaded: mode and timing below are the device's
+  bool active = true;        // a move may run (single-threaded: GET_STATUS said so)
+  uint32_t run = 0xf;        // the axes that may be moving (single-threaded: GET_AXES said so)
+  bool state_known = false;  // single-threaded: mode, timing, switches and profiles are the device's
   uint32_t mode = 0;         // x4step_config.output_mode
   x4step_step_timing timing{};
+  x4step_switches sw{};
+  x4step_profile prof[X4STEP_AXES]{};
+  // Single-threaded: moves may end meanwhile, none can start.
+  void learn(const Snapshot &s) {
+    idle = !(s.st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED));
+    active = s.st.flags & X4STEP_ST_ACTIVE;
+    run = s.running();
+    state_known = true;
+    mode = s.cfg.output_mode;
+    timing = s.tim;
+    sw = s.sw;
+    std::memcpy(prof, s.prof, sizeof prof);
+  }
 };
+
+// The axes the output mode drives: the SMC boards 3 (all 4 if unknown).
+uint32_t mode_axes(const Known &k) { return k.mode != X4STEP_MODE_CLOCK_DIR ? 0x7 : 0xf; }
 
 // Whether steps at freq fit the port's step timing (x4step.h): X4ErrFreqTooHigh if not.
 int fit_code(const Known &k, int32_t freq) {
@@ -482,45 +581,42 @@ std::atomic<bool> g_phase_mode_possible{false};
 
 Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
   Expect e;
-  int i = cmd_index(cmd);
-  if (i >= kNumCmds) {
-    e.errs = bit(ENOTTY);
-    e.why = "unknown command";
-    return e;
-  }
-  const Cmd &c = kCmds[i];
-  if (!c.state) {
-    if (p.writable >= c.size) {
-      e.may_succeed = true;
-      if (cmd == X4STEP_GET_TIMING) e.errs = bit(ENOMEM);
-    } else {
-      e.errs = bit(EFAULT);
-      if (cmd == X4STEP_GET_TIMING) e.errs |= bit(ENOMEM);
-      e.why = "bad pointer";
-    }
-    return e;
-  }
-  if (!k.controller) {
-    e.errs = bit(EBADF);
-    e.why = "read-only descriptor";
-    return e;
-  }
-  if (c.size && p.readable < c.size) {
-    e.errs = bit(EFAULT);
-    e.why = "bad pointer";
-    return e;
-  }
   auto invalid = [&](const char *why, uint64_t errs = bit(EINVAL)) {
     e.errs = errs;
     e.why = why;
     return e;
   };
+  auto bad_arg = [&](int code, const char *why) {  // EINVAL with `code` in `result`
+    e.result_code = code;
+    return invalid(why);
+  };
   auto valid = [&](uint64_t errs) {
     e.may_succeed = true;
-    e.changes = true;
     e.errs = errs;
     return e;
   };
+  int i = cmd_index(cmd);
+  if (i >= kNumCmds) return invalid("unknown command", bit(ENOTTY));
+  const Cmd &c = kCmds[i];
+  if (!c.state) {
+    uint64_t nomem = cmd == X4STEP_GET_TIMING ? bit(ENOMEM) : 0;
+    // GET_PROFILE reads the axis first, then writes the whole profile.
+    uint32_t axis;
+    if (cmd == X4STEP_GET_PROFILE && p.readable >= sizeof axis) {
+      std::memcpy(&axis, p.bytes, sizeof axis);
+      if (axis < 1 || axis > X4STEP_AXES) return invalid("axis not 1..4");
+    }
+    return p.writable >= c.size ? valid(nomem) : invalid("bad pointer", bit(EFAULT) | nomem);
+  }
+  if (!k.controller) return invalid("read-only descriptor", bit(EBADF));
+  if (c.size && p.readable < c.size) return invalid("bad pointer", bit(EFAULT));
+  // The ioctls with a `result` make sure it is writable before they look at
+  // the arguments.
+  if (c.result_off >= 0 && p.writable < c.size) return invalid("result not writable", bit(EFAULT));
+  // Mode, step timing, switches or profiles unknown (threads): maybe refused.
+  const uint64_t unknown = k.state_known ? 0 : bit(EINVAL);
+  // The module checks the arguments before the state: EBUSY only if valid.
+  const uint64_t busy = k.active ? bit(EBUSY) : 0;
   switch (cmd) {
     case X4STEP_START:
       return k.idle ? invalid("nothing loaded", bit(ENODATA)) : valid(bit(ENODATA) | bit(EBUSY));
@@ -530,44 +626,25 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
     case X4STEP_LOAD: {
       x4step_move m;
       std::memcpy(&m, p.bytes, sizeof m);
-      // `result` not writable: EFAULT is as good as any error.
-      if (m.flags) return invalid("flags != 0", bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0));
+      if (m.flags) return bad_arg(XR_PARAM, "flags != 0");
+      // Frequency, then ramp, then paths; then the port's timing and mode.
       int code = load_code(m);
       if (!code && k.state_known) code = fit_code(k, m.freq_hz);
-      if (!code && k.state_known && k.mode != X4STEP_MODE_CLOCK_DIR && m.steps[3]) code = XR_PARAM;
-      // Out of range: EINVAL and the code in `result`, or EFAULT if
-      // `result` cannot be written.
-      uint64_t inval = bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0);
-      if (code) {
-        e.result_code = code;
-        return invalid("argument out of range", inval);
-      }
-      // A valid move whose result cannot be written back: the call fails.
-      // Unknown mode and step timing (threads): they may refuse it.
-      uint64_t maybe = k.state_known ? 0 : bit(EINVAL);
-      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT) | maybe);
-      return valid(bit(EEXIST) | maybe);
+      if (!code && k.state_known && !(mode_axes(k) & 8) && m.steps[3]) code = XR_PARAM;
+      if (code) return bad_arg(code, "argument out of range");
+      return valid((k.idle ? 0 : bit(EEXIST)) | unknown);
     }
     case X4STEP_MOVE_ENDLESS: {
       x4step_endless m;
       std::memcpy(&m, p.bytes, sizeof m);
-      if (m.flags || m.reserved[0] || m.reserved[1])
-        return invalid("flags/reserved != 0", bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0));
-      uint64_t inval = bit(EINVAL) | (p.writable < sizeof m ? bit(EFAULT) : 0);
-      if (m.direction != 1 && m.direction != -1) {
-        e.result_code = XR_PARAM;
-        return invalid("direction not +-1", inval);
-      }
-      // The module checks "a move runs" before the arguments: EBUSY is fine.
-      int max_axis = k.state_known && k.mode != X4STEP_MODE_CLOCK_DIR ? 3 : X4STEP_AXES;
-      if (m.axis < 1 || m.axis > max_axis) return invalid("axis", inval | bit(EBUSY));
-      if (ramp_code(m.freq_hz, m.ramp_ms)) return invalid("freq/ramp", inval | bit(EBUSY));
-      if (k.state_known && fit_code(k, m.freq_hz)) return invalid("freq vs step timing", inval | bit(EBUSY));
-      // Refused while a move runs (EBUSY) or is loaded (EEXIST); with unknown
-      // mode and step timing (threads) maybe for the axis or frequency.
-      uint64_t maybe = bit(EBUSY) | bit(EEXIST) | (k.state_known ? 0 : bit(EINVAL));
-      if (p.writable < sizeof m) return invalid("result not writable", bit(EFAULT) | maybe);
-      return valid(maybe);
+      if (m.flags || m.reserved[0] || m.reserved[1]) return bad_arg(XR_PARAM, "flags/reserved != 0");
+      if (m.direction != 1 && m.direction != -1) return bad_arg(XR_PARAM, "direction not +-1");
+      if (m.axis < 1 || m.axis > X4STEP_AXES || !(mode_axes(k) & (1u << (m.axis - 1))))
+        return bad_arg(XR_PARAM, "axis");
+      if (int code = ramp_code(m.freq_hz, m.ramp_ms)) return bad_arg(code, "freq/ramp");
+      if (k.state_known && fit_code(k, m.freq_hz)) return bad_arg(XR_FREQ_HIGH, "freq vs step timing");
+      // Then refused if a move is loaded (EEXIST), or runs on the axis (EBUSY).
+      return valid((k.idle ? 0 : bit(EEXIST)) | ((k.run & (1u << (m.axis - 1))) ? bit(EBUSY) : 0) | unknown);
     }
     case X4STEP_SET_OUTPUT: {
       x4step_output o;
@@ -593,7 +670,7 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW))
         return invalid("mask out of range");
       if (cf.output_mode > X4STEP_MODE_SMC_PHASE_HOLD) return invalid("output_mode > 2");
-      return valid(bit(EBUSY));
+      return valid(busy);
     }
     case X4STEP_SET_STEP_TIMING: {
       x4step_step_timing t;
@@ -601,7 +678,62 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       for (uint32_t r : t.reserved)
         if (r) return invalid("reserved != 0");
       if (!timing_in_range(t)) return invalid("timing out of range");
-      return valid(bit(EBUSY));
+      return valid(busy);
+    }
+    case X4STEP_SET_PROFILE: {
+      x4step_profile pr;
+      std::memcpy(&pr, p.bytes, sizeof pr);
+      if (pr.reserved[0] || pr.reserved[1]) return invalid("reserved != 0");
+      if (pr.axis < 1 || pr.axis > X4STEP_AXES) return invalid("axis not 1..4");
+      if (!profile_ok(pr)) return invalid("profile out of range");
+      return valid(0);  // for the axis' next move: also while it runs
+    }
+    case X4STEP_GOTO: {
+      x4step_goto g;
+      std::memcpy(&g, p.bytes, sizeof g);
+      if ((g.flags & ~X4STEP_GOTO_RELATIVE) || g.reserved[0] || g.reserved[1] || g.reserved[2])
+        return bad_arg(XR_PARAM, "flags/reserved != 0");
+      if (!g.axes || (g.axes & ~mode_axes(k))) return bad_arg(XR_PARAM, "axes");
+      // Each axis' profile speed must fit the step timing; then the axes
+      // must be idle.
+      for (int a = 0; a < X4STEP_AXES && k.state_known; a++)
+        if ((g.axes & (1u << a)) && fit_code(k, static_cast<int32_t>(k.prof[a].vm)))
+          return bad_arg(XR_FREQ_HIGH, "profile speed vs step timing");
+      return valid(((g.axes & k.run) ? bit(EBUSY) : 0) | unknown);
+    }
+    case X4STEP_HOME: {
+      x4step_home h;
+      std::memcpy(&h, p.bytes, sizeof h);
+      if (h.reserved[0] || h.reserved[1]) return bad_arg(XR_PARAM, "reserved != 0");
+      if (!h.phases || h.phases > X4STEP_HOME_AUTO) return bad_arg(XR_PARAM, "phases");
+      if (h.axis < 1 || h.axis > X4STEP_AXES || !(mode_axes(k) & (1u << (h.axis - 1))))
+        return bad_arg(XR_PARAM, "axis");
+      bool p1 = h.phases & X4STEP_HOME_PHASE1, p2 = h.phases & X4STEP_HOME_PHASE2;
+      if ((p1 && !vref_ok(h.vref1)) || (p2 && !vref_ok(h.vref2))) return bad_arg(XR_PARAM, "vref");
+      if (!h.sref || h.sref > INT32_MAX) return bad_arg(XR_PARAM, "sref not 1..2^31-1");
+      if (k.state_known && !k.sw.ref[h.axis - 1]) return bad_arg(XR_PARAM, "no reference switch");
+      if (k.state_known && ((p1 && fit_code(k, std::abs(h.vref1))) || (p2 && fit_code(k, std::abs(h.vref2)))))
+        return bad_arg(XR_FREQ_HIGH, "vref vs step timing");
+      return valid(((k.run & (1u << (h.axis - 1))) ? bit(EBUSY) : 0) | unknown);
+    }
+    case X4STEP_HALT: {
+      x4step_halt h;
+      std::memcpy(&h, p.bytes, sizeof h);
+      if (!h.axes || h.axes > 0xf || h.how > X4STEP_HALT_STOP || h.reserved[0] || h.reserved[1])
+        return invalid("axes/how/reserved");
+      return (h.axes & k.run) ? valid(bit(ESRCH)) : invalid("none of the axes runs", bit(ESRCH));
+    }
+    case X4STEP_SET_POSITION: {
+      x4step_position sp;
+      std::memcpy(&sp, p.bytes, sizeof sp);
+      if (!sp.axes || sp.axes > 0xf || sp.reserved) return invalid("axes/reserved");
+      return valid(0);  // stops the axes' moves first
+    }
+    case X4STEP_SET_SWITCHES: {
+      x4step_switches sw;
+      std::memcpy(&sw, p.bytes, sizeof sw);
+      if (!switches_ok(sw)) return invalid("input > 5, nc > 0x1f or reserved != 0");
+      return valid(busy);
     }
     default:
       break;
@@ -645,22 +777,73 @@ bool status_sane(const x4step_status &st, std::string &why) {
   return false;
 }
 
-void check_read_result(unsigned long cmd, const Payload &p) {
+bool axes_sane(const x4step_axes &ax, std::string &why) {
+  const uint32_t known = X4STEP_AX_RUN | X4STEP_AX_SYNC | X4STEP_AX_ERROR | X4STEP_AX_REF1 | X4STEP_AX_REF2 |
+                         X4STEP_AX_ACCEL | X4STEP_AX_CRUISE | X4STEP_AX_DECEL;
+  const uint32_t moving =
+      X4STEP_AX_REF1 | X4STEP_AX_REF2 | X4STEP_AX_ACCEL | X4STEP_AX_CRUISE | X4STEP_AX_DECEL;
+  const uint32_t errors =
+      X4STEP_AXERR_REF_TRAVEL | X4STEP_AXERR_LIMIT_POS | X4STEP_AXERR_LIMIT_NEG | X4STEP_AXERR_AMBIGUOUS;
+  char buf[200];
+  if ((ax.inputs | ax.switches) >> kInputs)
+    why = "inputs/switches beyond 5 bits";
+  else if (ax.reserved[0] || ax.reserved[1])
+    why = "reserved != 0";
+  for (int i = 0; why.empty() && i < X4STEP_AXES; i++) {
+    const x4step_axis &a = ax.axis[i];
+    int ramp = !!(a.state & X4STEP_AX_ACCEL) + !!(a.state & X4STEP_AX_CRUISE) + !!(a.state & X4STEP_AX_DECEL);
+    if (a.state & ~known)
+      why = "unknown state bits";
+    else if (a.error & ~errors)
+      why = "unknown error bits";
+    else if (!(a.state & X4STEP_AX_ERROR) != !a.error)
+      why = "AX_ERROR and the error bits disagree";
+    else if (!(a.state & X4STEP_AX_RUN) && ((a.state & moving) || a.velocity))
+      why = "an axis that does not run has a motion state or speed";
+    else if (ramp > 1 || ((a.state & X4STEP_AX_REF1) && (a.state & X4STEP_AX_REF2)))
+      why = "two motion states at once";
+    else if (a.velocity > kVelSlack)
+      why = "speed beyond X4STEP_VEL_MAX";
+    else
+      continue;
+    std::snprintf(buf, sizeof buf, " (axis %d: position %d state 0x%x error 0x%x velocity %u)", i + 1,
+                  a.position, a.state, a.error, a.velocity);
+    why += buf;
+  }
+  if (why.empty()) return true;
+  std::snprintf(buf, sizeof buf, " (inputs 0x%x switches 0x%x)", ax.inputs, ax.switches);
+  why += buf;
+  return false;
+}
+
+std::string hex(const void *p, size_t n) {
+  std::string s;
+  char b[4];
+  for (size_t i = 0; i < n; i++) {
+    std::snprintf(b, sizeof b, "%02x", static_cast<const uint8_t *>(p)[i]);
+    s += b;
+  }
+  return s;
+}
+
+// Check what a successful read wrote to `out`; `req` is the u32 the argument
+// began with before the call (GET_PROFILE: the axis asked for).
+void check_read_result(unsigned long cmd, const uint8_t *out, uint32_t req) {
   std::string why;
   if (cmd == X4STEP_GET_STATUS) {
     x4step_status st;
-    std::memcpy(&st, p.bytes, sizeof st);
+    std::memcpy(&st, out, sizeof st);
     if (!status_sane(st, why)) violation("GET_STATUS: %s", why.c_str());
   } else if (cmd == X4STEP_GET_INFO) {
     x4step_info in;
-    std::memcpy(&in, p.bytes, sizeof in);
+    std::memcpy(&in, out, sizeof in);
     bool res = false;
     for (uint32_t r : in.reserved) res |= r != 0;
     if (in.abi_version != X4STEP_ABI_VERSION || in.axes != X4STEP_AXES || in.port > 15 || res)
       violation("GET_INFO: abi %u axes %u port %u reserved %d", in.abi_version, in.axes, in.port, res);
   } else if (cmd == X4STEP_GET_CONFIG) {
     x4step_config cf;
-    std::memcpy(&cf, p.bytes, sizeof cf);
+    std::memcpy(&cf, out, sizeof cf);
     bool res = false;
     for (uint32_t r : cf.reserved) res |= r != 0;
     if (cf.clock_invert > 0xf || cf.dir_invert > 0xf || (cf.flags & ~X4STEP_CFG_KEYS_SWALLOW) ||
@@ -669,7 +852,7 @@ void check_read_result(unsigned long cmd, const Payload &p) {
                 cf.dir_invert, cf.flags, cf.output_mode, res);
   } else if (cmd == X4STEP_GET_STEP_TIMING) {
     x4step_step_timing t;
-    std::memcpy(&t, p.bytes, sizeof t);
+    std::memcpy(&t, out, sizeof t);
     bool res = false;
     for (uint32_t r : t.reserved) res |= r != 0;
     if (!timing_in_range(t) || res)
@@ -677,7 +860,7 @@ void check_read_result(unsigned long cmd, const Payload &p) {
                 t.dir_setup_ns, t.dir_hold_ns, res);
   } else if (cmd == X4STEP_GET_TIMING) {
     // Big: read it in place.
-    const auto *t = reinterpret_cast<const x4step_timing *>(p.bytes);
+    const auto *t = reinterpret_cast<const x4step_timing *>(out);
     uint64_t sum = t->beyond;
     for (uint32_t h : t->hist) sum += h;
     if (sum != t->events || t->reserved || (t->events == 0 && t->late_max_ns))
@@ -685,38 +868,121 @@ void check_read_result(unsigned long cmd, const Payload &p) {
                 static_cast<unsigned long long>(t->events), static_cast<unsigned long long>(sum),
                 static_cast<unsigned long long>(t->late_max_ns),
                 static_cast<unsigned long long>(t->reserved));
+  } else if (cmd == X4STEP_GET_PROFILE) {
+    x4step_profile pr;
+    std::memcpy(&pr, out, sizeof pr);
+    if (pr.axis != req || pr.reserved[0] || pr.reserved[1] || !profile_ok(pr))
+      violation("GET_PROFILE of axis %u: axis %u v0 %u ve %u vm %u a0 %u ae %u reserved %u %u", req, pr.axis,
+                pr.v0, pr.ve, pr.vm, pr.a0, pr.ae, pr.reserved[0], pr.reserved[1]);
+  } else if (cmd == X4STEP_GET_SWITCHES) {
+    x4step_switches sw;
+    std::memcpy(&sw, out, sizeof sw);
+    if (!switches_ok(sw))
+      violation("GET_SWITCHES: input > 5, nc > 0x1f or reserved != 0: %s", hex(&sw, sizeof sw).c_str());
+  } else if (cmd == X4STEP_GET_AXES) {
+    x4step_axes ax;
+    std::memcpy(&ax, out, sizeof ax);
+    if (!axes_sane(ax, why)) violation("GET_AXES: %s", why.c_str());
   }
 }
 
 // ------------------------------------------------------------------ one call
 
-bool get_status(int fd, x4step_status &st) {
-  std::memset(&st, 0, sizeof st);
-  if (ioctl(fd, X4STEP_GET_STATUS, &st)) {
-    violation("GET_STATUS failed: %s", std::strerror(errno));
+// Read into v and check what came back; v holds the request (GET_PROFILE:
+// the axis `req`), the rest zero.
+template <class T>
+bool read_dev(int fd, unsigned long cmd, T &v, uint32_t req = 0) {
+  std::memset(&v, 0, sizeof v);
+  std::memcpy(&v, &req, sizeof req);
+  if (ioctl(fd, cmd, &v)) {
+    violation("%s failed: %s", slot_name(cmd_index(cmd)), std::strerror(errno));
     return false;
   }
-  std::string why;
-  if (!status_sane(st, why)) violation("GET_STATUS: %s", why.c_str());
+  check_read_result(cmd, reinterpret_cast<const uint8_t *>(&v), req);
   return true;
 }
 
-bool get_config(int fd, x4step_config &cf) {
-  std::memset(&cf, 0, sizeof cf);
-  if (ioctl(fd, X4STEP_GET_CONFIG, &cf)) {
-    violation("GET_CONFIG failed: %s", std::strerror(errno));
-    return false;
-  }
-  return true;
+bool snapshot(int fd, Snapshot &s) {
+  bool ok = read_dev(fd, X4STEP_GET_STATUS, s.st) && read_dev(fd, X4STEP_GET_CONFIG, s.cfg) &&
+            read_dev(fd, X4STEP_GET_STEP_TIMING, s.tim) && read_dev(fd, X4STEP_GET_AXES, s.axes) &&
+            read_dev(fd, X4STEP_GET_SWITCHES, s.sw);
+  for (uint32_t a = 1; ok && a <= X4STEP_AXES; a++) ok = read_dev(fd, X4STEP_GET_PROFILE, s.prof[a - 1], a);
+  return ok;
 }
 
-bool get_step_timing(int fd, x4step_step_timing &t) {
-  std::memset(&t, 0, sizeof t);
-  if (ioctl(fd, X4STEP_GET_STEP_TIMING, &t)) {
-    violation("GET_STEP_TIMING failed: %s", std::strerror(errno));
-    return false;
+// A call that must work (setup and restore).
+void must(int fd, unsigned long cmd, const void *arg, const char *what) {
+  if (ioctl(fd, cmd, arg))
+    violation("%s: %s failed: %s", what, slot_name(cmd_index(cmd)), std::strerror(errno));
+}
+
+// A failed call changed nothing. Single-threaded: the moves that ran before
+// it may have gone on or ended, nothing else changed meanwhile.
+void check_unchanged(const char *name, int err, const char *why, const Snapshot &b, const Snapshot &a) {
+  const char *es = std::strerror(err);
+  const uint32_t sig = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
+  if (!(b.st.flags & X4STEP_ST_ACTIVE) && (a.st.flags & X4STEP_ST_ACTIVE))
+    violation("%s failed (%s, %s) but a move started", name, es, why);
+  if (!(b.st.flags & X4STEP_ST_LOADED) && (a.st.flags & X4STEP_ST_LOADED))
+    violation("%s failed (%s, %s) but a move got loaded", name, es, why);
+  if ((b.st.outputs & sig) != (a.st.outputs & sig))
+    violation("%s failed (%s) but the signal outputs changed 0x%x -> 0x%x", name, es, b.st.outputs,
+              a.st.outputs);
+  if (std::memcmp(&b.cfg, &a.cfg, sizeof a.cfg)) violation("%s failed (%s) but the config changed", name, es);
+  if (std::memcmp(&b.tim, &a.tim, sizeof a.tim))
+    violation("%s failed (%s) but the step timing changed", name, es);
+  if (std::memcmp(&b.sw, &a.sw, sizeof a.sw)) violation("%s failed (%s) but the switches changed", name, es);
+  if (std::memcmp(b.prof, a.prof, sizeof a.prof)) violation("%s failed (%s) but a profile changed", name, es);
+  for (int i = 0; i < X4STEP_AXES; i++) {
+    const x4step_axis &x = b.axes.axis[i], &y = a.axes.axis[i];
+    if (!(x.state & X4STEP_AX_RUN) && std::memcmp(&x, &y, sizeof x))
+      violation(
+          "%s failed (%s, %s) but axis %d, idle, changed: position %d -> %d, state 0x%x -> 0x%x, error 0x%x "
+          "-> "
+          "0x%x",
+          name, es, why, i + 1, x.position, y.position, x.state, y.state, x.error, y.error);
   }
-  return true;
+}
+
+// What a successful call must have done (single-threaded): read back.
+void check_effect(unsigned long cmd, const Payload &p, const Snapshot &a) {
+  if (cmd == X4STEP_SET_OUTPUT) {
+    x4step_output o;
+    std::memcpy(&o, p.bytes, sizeof o);
+    if (!!(a.st.outputs & o.signal) != !!o.level)
+      violation("SET_OUTPUT signal %u level %u: outputs 0x%x", o.signal, o.level, a.st.outputs);
+  } else if (cmd == X4STEP_SET_PROFILE) {
+    x4step_profile pr;
+    std::memcpy(&pr, p.bytes, sizeof pr);
+    const x4step_profile &g = a.prof[pr.axis - 1];
+    if (std::memcmp(&g, &pr, sizeof pr))
+      violation("SET_PROFILE axis %u v0 %u ve %u vm %u a0 %u ae %u: reads back v0 %u ve %u vm %u a0 %u ae %u",
+                pr.axis, pr.v0, pr.ve, pr.vm, pr.a0, pr.ae, g.v0, g.ve, g.vm, g.a0, g.ae);
+  } else if (cmd == X4STEP_SET_SWITCHES) {
+    if (std::memcmp(&a.sw, p.bytes, sizeof a.sw))
+      violation("SET_SWITCHES %s: reads back %s", hex(p.bytes, sizeof a.sw).c_str(),
+                hex(&a.sw, sizeof a.sw).c_str());
+  } else if (cmd == X4STEP_SET_POSITION || cmd == X4STEP_HALT) {
+    // Stopped at once; SET_POSITION: at the new coordinate, synchronized.
+    bool set = cmd == X4STEP_SET_POSITION;
+    x4step_position sp{};
+    x4step_halt h{};
+    if (set) {
+      std::memcpy(&sp, p.bytes, sizeof sp);
+    } else {
+      std::memcpy(&h, p.bytes, sizeof h);
+      if (h.how != X4STEP_HALT_STOP) return;
+      sp.axes = h.axes;
+    }
+    for (int i = 0; i < X4STEP_AXES; i++) {
+      const x4step_axis &y = a.axes.axis[i];
+      if ((sp.axes & (1u << i)) &&
+          ((y.state & X4STEP_AX_RUN) ||
+           (set && (y.position != sp.position[i] || !(y.state & X4STEP_AX_SYNC) || y.error))))
+        violation("%s axes 0x%x: axis %d at %d (set %d), state 0x%x, error 0x%x", slot_name(cmd_index(cmd)),
+                  sp.axes, i + 1, y.position, set ? sp.position[i] : 0, y.state, y.error);
+    }
+  }
 }
 
 struct Ctx {
@@ -728,20 +994,11 @@ struct Ctx {
 // Make one call and check it. Returns ioctl's result (-1 with errno, or 0).
 int call(Ctx &cx, unsigned long cmd, const Payload &p) {
   Known k = cx.known;
-  x4step_status before{};
-  x4step_config cfg_before{};
-  x4step_step_timing tim_before{};
-  bool have_before = false;
+  Snapshot before;
   int idx = cmd_index(cmd);
   bool state_cmd = idx < kNumCmds && kCmds[idx].state;
-  if (cx.single && k.controller && state_cmd) {
-    have_before =
-        get_status(cx.fd, before) && get_config(cx.fd, cfg_before) && get_step_timing(cx.fd, tim_before);
-    k.idle = have_before && !(before.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED));
-    k.state_known = have_before;
-    k.mode = cfg_before.output_mode;
-    k.timing = tim_before;
-  }
+  bool have_before = cx.single && k.controller && state_cmd && snapshot(cx.fd, before);
+  if (have_before) k.learn(before);
   if (cmd == X4STEP_SET_CONFIG && p.readable >= sizeof(x4step_config)) {
     x4step_config cf;
     std::memcpy(&cf, p.bytes, sizeof cf);
@@ -752,6 +1009,8 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
     g_stats.skipped++;
     return -2;
   }
+  uint32_t req = 0;  // GET_PROFILE: the axis asked for
+  if (p.readable >= sizeof req) std::memcpy(&req, p.bytes, sizeof req);
   errno = 0;
   int ret = ioctl(cx.fd, cmd, p.arg);
   int err = ret ? errno : 0;
@@ -771,42 +1030,26 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
               kPtrNames[p.kind], std::strerror(err), e.may_succeed ? "success or " : "",
               errset(e.errs).c_str(), e.may_succeed ? "" : (std::string(": ") + e.why).c_str());
   }
-  // X4STEP_LOAD writes the X4Step code back on argument errors.
-  if (ret != 0 && err == EINVAL && e.result_code >= 0 && p.writable >= kCmds[idx].size) {
+  // LOAD, MOVE_ENDLESS, GOTO and HOME write the X4Step code back once they
+  // got the argument: it goes with the errno, and is the predicted one.
+  if (idx < kNumCmds && kCmds[idx].result_off >= 0 && p.writable >= kCmds[idx].size &&
+      (ret == 0 || (err != EBADF && err != EFAULT && err != ENODEV))) {
     int32_t got;
-    size_t off = cmd == X4STEP_LOAD ? offsetof(x4step_move, result) : offsetof(x4step_endless, result);
-    std::memcpy(&got, p.bytes + off, sizeof got);
-    if (got != e.result_code)
+    std::memcpy(&got, p.bytes + kCmds[idx].result_off, sizeof got);
+    if (code_errno(got) != err)
+      violation("%s: result %d with %s", slot_name(idx), got, ret ? std::strerror(err) : "success");
+    else if (err == EINVAL && e.result_code >= 0 && got != e.result_code)
       violation("%s: result %d, expected X4Step code %d (%s)", slot_name(idx), got, e.result_code, e.why);
   }
-  if (ret == 0 && idx < kNumCmds && !kCmds[idx].state) check_read_result(cmd, p);
+  if (ret == 0 && idx < kNumCmds && !kCmds[idx].state) check_read_result(cmd, p.bytes, req);
 
-  if (have_before) {
-    x4step_status after;
-    x4step_config cfg_after;
-    x4step_step_timing tim_after;
-    if (get_status(cx.fd, after) && get_config(cx.fd, cfg_after) && get_step_timing(cx.fd, tim_after)) {
-      if (cfg_after.output_mode == X4STEP_MODE_CLOCK_DIR) g_phase_mode_possible = false;
-      const uint32_t sig = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
-      if (ret != 0) {
-        if (!(before.flags & X4STEP_ST_ACTIVE) && (after.flags & X4STEP_ST_ACTIVE))
-          violation("%s failed (%s, %s) but a move started", slot_name(idx), std::strerror(err), e.why);
-        if (!(before.flags & X4STEP_ST_LOADED) && (after.flags & X4STEP_ST_LOADED))
-          violation("%s failed (%s, %s) but a move got loaded", slot_name(idx), std::strerror(err), e.why);
-        if ((before.outputs & sig) != (after.outputs & sig))
-          violation("%s failed (%s) but the signal outputs changed 0x%x -> 0x%x", slot_name(idx),
-                    std::strerror(err), before.outputs, after.outputs);
-        if (std::memcmp(&cfg_before, &cfg_after, sizeof cfg_after))
-          violation("%s failed (%s) but the config changed", slot_name(idx), std::strerror(err));
-        if (std::memcmp(&tim_before, &tim_after, sizeof tim_after))
-          violation("%s failed (%s) but the step timing changed", slot_name(idx), std::strerror(err));
-      } else if (cmd == X4STEP_SET_OUTPUT) {
-        x4step_output o;
-        std::memcpy(&o, p.bytes, sizeof o);
-        if (!!(after.outputs & o.signal) != !!o.level)
-          violation("SET_OUTPUT signal %u level %u: outputs 0x%x", o.signal, o.level, after.outputs);
-      }
-    }
+  Snapshot after;
+  if (have_before && snapshot(cx.fd, after)) {
+    if (after.cfg.output_mode == X4STEP_MODE_CLOCK_DIR) g_phase_mode_possible = false;
+    if (ret != 0)
+      check_unchanged(slot_name(idx), err, e.why, before, after);
+    else
+      check_effect(cmd, p, after);
   }
   return ret ? -1 : 0;
 }
@@ -852,10 +1095,155 @@ uint32_t maybe_nonzero(Rng &r, unsigned pct) {
   }
 }
 
+const int32_t kTargetVals[] = {0,       1,       -1,          2,           -2,      1000,      -1000,
+                               INT_MAX, INT_MIN, INT_MAX - 1, INT_MIN + 1, 1 << 30, -(1 << 30)};
+const uint32_t kVelVals[] = {0, 1, 2, 999, 1000, 44999, 45000, 45001, 0x80000000u, 0xffffffffu};
+const uint32_t kAccVals[] = {0, 1, 2, 13, 1000, 999999, 1000000, 1000001, 0x80000000u, 0xffffffffu};
+const int32_t kVrefVals[] = {0,     1,      -1,    1000,   -1000,   44999,  -44999,
+                             45000, -45000, 45001, -45001, INT_MAX, INT_MIN};
+const uint32_t kSrefVals[] = {0, 1, 2, 1000, 0x7ffffffeu, 0x7fffffffu, 0x80000000u, 0xffffffffu};
+
+uint32_t axis_val(Rng &r) { return r.chance(90) ? r.range(0, 5) : static_cast<uint32_t>(r.next()); }
+uint32_t mask_val(Rng &r) {
+  unsigned x = r.below(100);
+  return x < 90 ? r.range(0, 0x10) : x < 95 ? r.range(0x11, 0xff) : static_cast<uint32_t>(r.next());
+}
+uint32_t speed_val(Rng &r, uint32_t vm) {  // v0, ve: around vm
+  switch (r.below(5)) {
+    case 0:
+      return 0;
+    case 1:
+      return vm;
+    case 2:
+      return vm + 1;
+    case 3:
+      return r.below(vm + 1);
+    default:
+      return r.pick(kVelVals);
+  }
+}
+uint32_t acc_val(Rng &r, uint32_t vm) {  // a0, ae: limits, and ramps around 3600 s long
+  uint32_t longest = static_cast<uint32_t>((uint64_t{vm} + kRampSecondsMax - 1) / kRampSecondsMax);
+  switch (r.below(5)) {
+    case 0:
+      return r.pick(kAccVals);
+    case 1:
+      return longest;
+    case 2:
+      return longest - 1;
+    default:
+      return r.range(0, X4STEP_ACC_MAX);
+  }
+}
+
+// `small`: ramps of at most 20 ms (or none), so that a close brakes quickly.
+x4step_profile profile_val(Rng &r, bool small) {
+  x4step_profile pr{};
+  if (small) {
+    pr.vm = r.range(100, 20000);
+    pr.v0 = r.below(pr.vm + 1);
+    pr.ve = r.below(pr.vm + 1);
+    pr.a0 = r.chance(20) ? 0 : r.range(50 * pr.vm, X4STEP_ACC_MAX);
+    pr.ae = r.chance(20) ? 0 : r.range(50 * pr.vm, X4STEP_ACC_MAX);
+    return pr;
+  }
+  unsigned x = r.below(10);
+  pr.vm = x < 5 ? r.pick(kVelVals) : x < 9 ? r.range(1, X4STEP_VEL_MAX) : static_cast<uint32_t>(r.next());
+  pr.v0 = speed_val(r, pr.vm);
+  pr.ve = speed_val(r, pr.vm);
+  pr.a0 = acc_val(r, pr.vm);
+  pr.ae = acc_val(r, pr.vm);
+  return pr;
+}
+
+// The positioning commands, structurally valid, with boundary values.
+unsigned long gen_positioning(Rng &r, uint8_t *c, bool small) {
+  unsigned x = r.below(100);
+  if (x < 16) {
+    x4step_profile pr = profile_val(r, small);
+    pr.axis = axis_val(r);
+    for (auto &res : pr.reserved) res = maybe_nonzero(r, 4);
+    std::memcpy(c, &pr, sizeof pr);
+    return X4STEP_SET_PROFILE;
+  }
+  if (x < 38) {
+    // Targets at the 32-bit limits, relative and absolute; `small`: short.
+    x4step_goto g{};
+    g.axes = mask_val(r);
+    g.flags = (r.chance(50) ? X4STEP_GOTO_RELATIVE : 0) | (maybe_nonzero(r, 5) & ~1u);
+    if (small) g.flags = r.chance(80) ? X4STEP_GOTO_RELATIVE : 0;
+    for (auto &t : g.target) {
+      unsigned y = r.below(10);
+      t = small && g.flags ? r.range(-200, 200)
+          : y < 5          ? r.pick(kTargetVals)
+          : y < 8          ? r.range(-2000, 2000)
+                           : r.s32();
+    }
+    for (auto &res : g.reserved) res = maybe_nonzero(r, 4);
+    g.result = r.s32();
+    std::memcpy(c, &g, sizeof g);
+    return X4STEP_GOTO;
+  }
+  if (x < 50) {
+    x4step_home h{};
+    h.axis = axis_val(r);
+    h.phases = r.chance(90) ? r.range(0, 4) : static_cast<uint32_t>(r.next());
+    for (int32_t *v : {&h.vref1, &h.vref2}) {
+      unsigned y = r.below(10);
+      *v = y < 5 ? r.pick(kVrefVals) : y < 9 ? r.range(-X4STEP_VEL_MAX, X4STEP_VEL_MAX) : r.s32();
+    }
+    unsigned y = r.below(10);
+    h.sref = small ? r.range(1, 200) : y < 6 ? r.pick(kSrefVals) : y < 9 ? r.range(1, 100000) : r.next();
+    for (auto &res : h.reserved) res = maybe_nonzero(r, 5);
+    h.result = r.s32();
+    std::memcpy(c, &h, sizeof h);
+    return X4STEP_HOME;
+  }
+  if (x < 64) {
+    x4step_halt h{};
+    h.axes = mask_val(r);
+    h.how = r.chance(90) ? r.range(0, 2) : static_cast<uint32_t>(r.next());
+    for (auto &res : h.reserved) res = maybe_nonzero(r, 5);
+    std::memcpy(c, &h, sizeof h);
+    return X4STEP_HALT;
+  }
+  if (x < 72) {
+    x4step_position sp{};
+    sp.axes = mask_val(r);
+    sp.reserved = maybe_nonzero(r, 5);
+    for (auto &pos : sp.position) pos = r.chance(50) ? r.pick(kTargetVals) : r.s32();
+    std::memcpy(c, &sp, sizeof sp);
+    return X4STEP_SET_POSITION;
+  }
+  if (x < 84) {
+    // Inputs 0..5 mostly; limits rarer than references (they stop moves).
+    x4step_switches sw{};
+    auto input = [&](unsigned pct) {
+      return static_cast<uint8_t>(!r.chance(pct) ? 0 : r.chance(95) ? r.range(1, kInputs) : r.range(6, 255));
+    };
+    for (int i = 0; i < X4STEP_AXES; i++) {
+      sw.ref[i] = input(60);
+      sw.plus[i] = input(15);
+      sw.minus[i] = input(15);
+    }
+    sw.nc = static_cast<uint8_t>(r.chance(90) ? r.range(0, 0x1f) : r.range(0x20, 0xff));
+    if (r.chance(5)) sw.reserved[r.below(sizeof sw.reserved)] = static_cast<uint8_t>(r.range(1, 255));
+    std::memcpy(c, &sw, sizeof sw);
+    return X4STEP_SET_SWITCHES;
+  }
+  if (x < 92) {
+    uint32_t axis = axis_val(r);
+    std::memcpy(c, &axis, sizeof axis);
+    return X4STEP_GET_PROFILE;
+  }
+  return x < 96 ? X4STEP_GET_SWITCHES : X4STEP_GET_AXES;
+}
+
 // A structurally valid command with boundary and random field values (phase b).
 // `small`: short, slow-ramped moves only (quick to brake).
 unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
   std::memset(c, 0, kMaxPayload);
+  if (r.chance(40)) return gen_positioning(r, c, small);
   unsigned x = r.below(100);
   if (x < 22) {
     x4step_move m{};
@@ -929,7 +1317,7 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
   return r.pick(reads);
 }
 
-const uint32_t kSizes[] = {0, 1, 4, 8, 16, 24, 32, 40, 56, 64, 72, 2080, 2079, 2081, 4096, 16383};
+const uint32_t kSizes[] = {0, 1, 4, 8, 16, 20, 24, 32, 40, 56, 64, 72, 80, 2080, 2079, 2081, 4096, 16383};
 
 unsigned long random_cmd(Rng &r) {
   unsigned x = r.below(100);
@@ -980,7 +1368,7 @@ long phase_a(int ctl, int ro, Rng &r, Arena &ar, double secs) {
   uint8_t content[kMaxPayload];
   long n = 0;
   // The sweep: every number of our magic, every direction, a few sizes.
-  static const uint32_t sweep_sizes[] = {0, 8, 32, 40, 64, 72, 2080};
+  static const uint32_t sweep_sizes[] = {0, 8, 16, 20, 24, 32, 40, 64, 72, 80, 2080};
   for (unsigned nr = 0; nr < 256 && time_left(end); nr++)
     for (unsigned dir = 0; dir < 4; dir++)
       for (uint32_t size : sweep_sizes) {
@@ -1001,28 +1389,54 @@ long phase_a(int ctl, int ro, Rng &r, Arena &ar, double secs) {
   return n;
 }
 
-// Probes first: valid MOVE_ENDLESS and LOAD arguments in read-only memory,
-// so that `result` cannot be written back. The call fails (EFAULT) and must
-// then have started or loaded nothing. If a motor runs anyway it is stopped
-// (the violation is recorded); a loaded move is dropped by reopening.
-void probes(int &ctl, Rng &r, Arena &ar) {
+// What the device had at the start: restored at the end.
+Snapshot g_initial;
+
+// Probes first: valid MOVE_ENDLESS, GOTO, HOME and LOAD arguments in
+// read-only memory, so that `result` cannot be written back. The call fails
+// (EFAULT) and must then have started or loaded nothing. If a motor runs
+// anyway it is stopped (the violation is recorded); a loaded move is dropped
+// by reopening.
+template <class T>
+void probe(int ctl, Rng &r, Arena &ar, unsigned long cmd, const T &arg) {
   Ctx cx{ctl, {true, false}, true};
   uint8_t content[kMaxPayload] = {};
+  std::memcpy(content, &arg, sizeof arg);
+  call(cx, cmd, place(ar, r, P_RO, content, sizeof arg));
+  x4step_status st;
+  if (read_dev(ctl, X4STEP_GET_STATUS, st) && (st.flags & X4STEP_ST_ACTIVE)) ioctl(ctl, X4STEP_STOP);
+}
+
+void probes(int &ctl, Rng &r, Arena &ar) {
   x4step_endless e{};
   e.axis = 1;
   e.direction = 1;
   e.freq_hz = 1000;
-  std::memcpy(content, &e, sizeof e);
-  call(cx, X4STEP_MOVE_ENDLESS, place(ar, r, P_RO, content, sizeof e));
-  x4step_status st;
-  if (get_status(ctl, st) && (st.flags & X4STEP_ST_ACTIVE)) ioctl(ctl, X4STEP_STOP);
+  probe(ctl, r, ar, X4STEP_MOVE_ENDLESS, e);
+  x4step_goto g{};
+  g.axes = 1;
+  g.flags = X4STEP_GOTO_RELATIVE;
+  g.target[0] = 100;
+  probe(ctl, r, ar, X4STEP_GOTO, g);
+  // A reference run needs a reference switch: set up for the full run only
+  // (with --invalid-only no call may succeed).
+  x4step_switches sw = g_initial.sw;
+  sw.ref[0] = 1;
+  if (!opt.invalid_only) must(ctl, X4STEP_SET_SWITCHES, &sw, "probes");
+  x4step_home h{};
+  h.axis = 1;
+  h.phases = X4STEP_HOME_AUTO;
+  h.vref1 = -1000;
+  h.vref2 = 100;
+  h.sref = 1000;
+  probe(ctl, r, ar, X4STEP_HOME, h);
+  if (!opt.invalid_only) must(ctl, X4STEP_SET_SWITCHES, &g_initial.sw, "probes (restore)");
   x4step_move m{};
   m.steps[0] = 100;
   m.freq_hz = 1000;
-  std::memset(content, 0, sizeof content);
-  std::memcpy(content, &m, sizeof m);
-  call(cx, X4STEP_LOAD, place(ar, r, P_RO, content, sizeof m));
-  if (get_status(ctl, st) && (st.flags & X4STEP_ST_LOADED)) {
+  probe(ctl, r, ar, X4STEP_LOAD, m);
+  x4step_status st;
+  if (read_dev(ctl, X4STEP_GET_STATUS, st) && (st.flags & X4STEP_ST_LOADED)) {
     close(ctl);  // the module forgets the loaded move
     ctl = open_dev(O_RDWR);
     if (ctl < 0) die("reopen the controller");
@@ -1097,7 +1511,9 @@ void monitor(uint64_t seed, Shared &sh) {
   uint8_t content[kMaxPayload];
   while (!sh.stop) {
     x4step_status st;
-    if (get_status(fd, st)) {
+    x4step_axes ax;
+    read_dev(fd, X4STEP_GET_AXES, ax);  // sane while moves run, too
+    if (read_dev(fd, X4STEP_GET_STATUS, st)) {
       if (st.moves_ended < ended)
         violation("moves_ended went back: %llu -> %llu", static_cast<unsigned long long>(ended),
                   static_cast<unsigned long long>(st.moves_ended));
@@ -1144,7 +1560,7 @@ void opener(uint64_t seed, Shared &sh) {
     if (fd >= 0) {
       if (r.chance(50)) {
         x4step_status st;
-        get_status(fd, st);
+        read_dev(fd, X4STEP_GET_STATUS, st);
       }
       if (r.chance(30)) {
         pollfd pfd{fd, POLLIN, 0};
@@ -1192,9 +1608,6 @@ void racer(uint64_t seed, Shared &sh) {
   }
 }
 
-x4step_config g_initial_config;
-x4step_step_timing g_initial_timing;
-
 // Phase d: all closed; a fresh controller opens and finds the engine idle.
 void phase_d() {
   int fd = open_dev(O_RDWR);
@@ -1202,27 +1615,31 @@ void phase_d() {
     violation("phase d: the controller does not open again: %s", std::strerror(errno));
     return;
   }
-  x4step_status st;
-  if (get_status(fd, st)) {
-    if (st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED))
-      violation("phase d: a fresh controller finds flags 0x%x (expected idle, nothing loaded)", st.flags);
-    if (!(st.flags & X4STEP_ST_CONTROLLED)) violation("phase d: CONTROLLED not set with a controller open");
+  Snapshot now;
+  if (snapshot(fd, now)) {
+    if (now.st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_LOADED) || now.running())
+      violation(
+          "phase d: a fresh controller finds flags 0x%x, axes 0x%x running (expected idle, nothing loaded)",
+          now.st.flags, now.running());
+    if (!(now.st.flags & X4STEP_ST_CONTROLLED))
+      violation("phase d: CONTROLLED not set with a controller open");
   }
-  // Back to the wiring and step timing found at the start, no brake codes.
-  if (ioctl(fd, X4STEP_SET_CONFIG, &g_initial_config))
-    violation("phase d: SET_CONFIG (restore): %s", std::strerror(errno));
-  if (ioctl(fd, X4STEP_SET_STEP_TIMING, &g_initial_timing))
-    violation("phase d: SET_STEP_TIMING (restore): %s", std::strerror(errno));
+  // Back to the wiring, step timing, switches and profiles found at the
+  // start, no brake codes.
+  must(fd, X4STEP_SET_CONFIG, &g_initial.cfg, "phase d (restore)");
+  must(fd, X4STEP_SET_STEP_TIMING, &g_initial.tim, "phase d (restore)");
+  must(fd, X4STEP_SET_SWITCHES, &g_initial.sw, "phase d (restore)");
+  for (const x4step_profile &pr : g_initial.prof) must(fd, X4STEP_SET_PROFILE, &pr, "phase d (restore)");
   x4step_brake_codes bc{};
-  if (ioctl(fd, X4STEP_SET_BRAKE_CODES, &bc))
-    violation("phase d: SET_BRAKE_CODES 0: %s", std::strerror(errno));
+  must(fd, X4STEP_SET_BRAKE_CODES, &bc, "phase d");
   close(fd);
   fd = open_dev(O_RDONLY);
   if (fd < 0) {
     violation("phase d: read-only open: %s", std::strerror(errno));
     return;
   }
-  if (get_status(fd, st) && (st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_CONTROLLED)))
+  x4step_status st;
+  if (read_dev(fd, X4STEP_GET_STATUS, st) && (st.flags & (X4STEP_ST_ACTIVE | X4STEP_ST_CONTROLLED)))
     violation("phase d: after close flags 0x%x (expected no move, no controller)", st.flags);
   pollfd pfd{fd, POLLIN, 0};
   if (poll(&pfd, 1, 100) != 1 || !(pfd.revents & POLLIN))
@@ -1271,9 +1688,8 @@ int main(int argc, char **argv) {
   if (ctl < 0) die(("open " + opt.device + " read-write").c_str());
   int ro = open_dev(O_RDONLY);
   if (ro < 0) die(("open " + opt.device + " read-only").c_str());
-  if (!get_config(ctl, g_initial_config) || !get_step_timing(ctl, g_initial_timing))
-    die("read the configuration");
-  g_phase_mode_possible = g_initial_config.output_mode != X4STEP_MODE_CLOCK_DIR;
+  if (!snapshot(ctl, g_initial)) die("read the configuration");
+  g_phase_mode_possible = g_initial.cfg.output_mode != X4STEP_MODE_CLOCK_DIR;
   Rng rng(opt.seed);
   long total = 0;
   {
@@ -1308,8 +1724,13 @@ int main(int argc, char **argv) {
     g_stats.reset();
     total += sh.iterations;
 
-    // c2: the controller goes; threads race to become the next one.
+    // c2: the controller goes; threads race to become the next one. Their
+    // moves brake within 20 ms: no slower profile of phase c stays.
     ioctl(ctl, X4STEP_STOP);
+    for (uint32_t a = 1; a <= X4STEP_AXES; a++) {
+      x4step_profile quick{a, 0, 0, 20000, X4STEP_ACC_MAX, X4STEP_ACC_MAX, {}};
+      must(ctl, X4STEP_SET_PROFILE, &quick, "before c2");
+    }
     sh.controller_open = false;
     close(ctl);
     ctl = -1;
