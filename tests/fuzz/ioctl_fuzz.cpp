@@ -87,6 +87,10 @@ constexpr unsigned kInputs = 5;             // switch inputs 1..5
 constexpr uint32_t kRampSecondsMax = 3600;  // a profile ramp's longest time
 // GET_AXES' speeds: at most X4STEP_VEL_MAX, give or take the rounding.
 constexpr uint32_t kVelSlack = X4STEP_VEL_MAX + X4STEP_VEL_MAX / 100;
+// Positioning moves faster than kLongHz travel at most kShortSteps: in QEMU
+// (TCG) one axis at 45000 steps/s leaves the guest no time for user space.
+constexpr int32_t kLongHz = 2000;
+constexpr int32_t kShortSteps = 2000;
 constexpr unsigned kMagic = X4STEP_IOC_MAGIC;
 constexpr size_t kPage = 4096;
 
@@ -579,6 +583,19 @@ bool timing_in_range(const x4step_step_timing &t) {
 // holds phase patterns, not clock and direction bits.
 std::atomic<bool> g_phase_mode_possible{false};
 
+// The axes whose profile may be faster than kLongHz (known exactly after each
+// single-threaded call), and whether valid profiles may be (not while threads
+// run: one thread's fast profile could meet another's long move).
+std::atomic<uint32_t> g_fast_axes{0xf};
+std::atomic<bool> g_fast_profiles{true};
+
+uint32_t fast_axes(const Snapshot &s) {
+  uint32_t m = 0;
+  for (int i = 0; i < X4STEP_AXES; i++)
+    if (s.prof[i].vm > kLongHz) m |= 1u << i;
+  return m;
+}
+
 Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
   Expect e;
   auto invalid = [&](const char *why, uint64_t errs = bit(EINVAL)) {
@@ -615,7 +632,7 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
   if (c.result_off >= 0 && p.writable < c.size) return invalid("result not writable", bit(EFAULT));
   // Mode, step timing, switches or profiles unknown (threads): maybe refused.
   const uint64_t unknown = k.state_known ? 0 : bit(EINVAL);
-  // The module checks the arguments before the state: EBUSY only if valid.
+  // EBUSY only if a move may run (and the arguments are valid: checked first).
   const uint64_t busy = k.active ? bit(EBUSY) : 0;
   switch (cmd) {
     case X4STEP_START:
@@ -641,7 +658,9 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       if (m.direction != 1 && m.direction != -1) return bad_arg(XR_PARAM, "direction not +-1");
       if (m.axis < 1 || m.axis > X4STEP_AXES || !(mode_axes(k) & (1u << (m.axis - 1))))
         return bad_arg(XR_PARAM, "axis");
-      if (int code = ramp_code(m.freq_hz, m.ramp_ms)) return bad_arg(code, "freq/ramp");
+      // Axis 4 in an unknown mode (threads): maybe refused for the axis first.
+      if (int code = ramp_code(m.freq_hz, m.ramp_ms))
+        return bad_arg(k.state_known || m.axis < X4STEP_AXES ? code : -1, "freq/ramp");
       if (k.state_known && fit_code(k, m.freq_hz)) return bad_arg(XR_FREQ_HIGH, "freq vs step timing");
       // Then refused if a move is loaded (EEXIST), or runs on the axis (EBUSY).
       return valid((k.idle ? 0 : bit(EEXIST)) | ((k.run & (1u << (m.axis - 1))) ? bit(EBUSY) : 0) | unknown);
@@ -937,9 +956,7 @@ void check_unchanged(const char *name, int err, const char *why, const Snapshot 
     const x4step_axis &x = b.axes.axis[i], &y = a.axes.axis[i];
     if (!(x.state & X4STEP_AX_RUN) && std::memcmp(&x, &y, sizeof x))
       violation(
-          "%s failed (%s, %s) but axis %d, idle, changed: position %d -> %d, state 0x%x -> 0x%x, error 0x%x "
-          "-> "
-          "0x%x",
+          "%s failed (%s, %s) but idle axis %d changed: at %d -> %d, state 0x%x -> 0x%x, error 0x%x -> 0x%x",
           name, es, why, i + 1, x.position, y.position, x.state, y.state, x.error, y.error);
   }
 }
@@ -1046,6 +1063,7 @@ int call(Ctx &cx, unsigned long cmd, const Payload &p) {
   Snapshot after;
   if (have_before && snapshot(cx.fd, after)) {
     if (after.cfg.output_mode == X4STEP_MODE_CLOCK_DIR) g_phase_mode_possible = false;
+    g_fast_axes = fast_axes(after);
     if (ret != 0)
       check_unchanged(slot_name(idx), err, e.why, before, after);
     else
@@ -1140,7 +1158,7 @@ uint32_t acc_val(Rng &r, uint32_t vm) {  // a0, ae: limits, and ramps around 360
 x4step_profile profile_val(Rng &r, bool small) {
   x4step_profile pr{};
   if (small) {
-    pr.vm = r.range(100, 20000);
+    pr.vm = r.range(100, kLongHz);
     pr.v0 = r.below(pr.vm + 1);
     pr.ve = r.below(pr.vm + 1);
     pr.a0 = r.chance(20) ? 0 : r.range(50 * pr.vm, X4STEP_ACC_MAX);
@@ -1153,6 +1171,11 @@ x4step_profile profile_val(Rng &r, bool small) {
   pr.ve = speed_val(r, pr.vm);
   pr.a0 = acc_val(r, pr.vm);
   pr.ae = acc_val(r, pr.vm);
+  if (!g_fast_profiles && profile_ok(pr) && pr.vm > kLongHz) {
+    pr.vm = kLongHz;
+    pr.v0 = std::min<uint32_t>(pr.v0, kLongHz);
+    pr.ve = std::min<uint32_t>(pr.ve, kLongHz);
+  }
   return pr;
 }
 
@@ -1168,16 +1191,20 @@ unsigned long gen_positioning(Rng &r, uint8_t *c, bool small) {
   }
   if (x < 38) {
     // Targets at the 32-bit limits, relative and absolute; `small`: short.
+    // Axes with a fast profile go a short way (relative).
     x4step_goto g{};
+    uint32_t fast = g_fast_axes;
     g.axes = mask_val(r);
     g.flags = (r.chance(50) ? X4STEP_GOTO_RELATIVE : 0) | (maybe_nonzero(r, 5) & ~1u);
     if (small) g.flags = r.chance(80) ? X4STEP_GOTO_RELATIVE : 0;
-    for (auto &t : g.target) {
+    if (g.axes & fast) g.flags |= X4STEP_GOTO_RELATIVE;
+    for (int a = 0; a < X4STEP_AXES; a++) {
       unsigned y = r.below(10);
-      t = small && g.flags ? r.range(-200, 200)
-          : y < 5          ? r.pick(kTargetVals)
-          : y < 8          ? r.range(-2000, 2000)
-                           : r.s32();
+      g.target[a] = fast & (1u << a)   ? r.range(-kShortSteps, kShortSteps)
+                    : small && g.flags ? r.range(-200, 200)
+                    : y < 5            ? r.pick(kTargetVals)
+                    : y < 8            ? r.range(-2000, 2000)
+                                       : r.s32();
     }
     for (auto &res : g.reserved) res = maybe_nonzero(r, 4);
     g.result = r.s32();
@@ -1193,7 +1220,12 @@ unsigned long gen_positioning(Rng &r, uint8_t *c, bool small) {
       *v = y < 5 ? r.pick(kVrefVals) : y < 9 ? r.range(-X4STEP_VEL_MAX, X4STEP_VEL_MAX) : r.s32();
     }
     unsigned y = r.below(10);
-    h.sref = small ? r.range(1, 200) : y < 6 ? r.pick(kSrefVals) : y < 9 ? r.range(1, 100000) : r.next();
+    h.sref = small   ? r.range(1, 200)
+             : y < 6 ? r.pick(kSrefVals)
+             : y < 9 ? r.range(1, 100000)
+                     : static_cast<uint32_t>(r.next());
+    auto fast = [](int32_t v) { return vref_ok(v) && std::abs(v) > kLongHz; };
+    if ((fast(h.vref1) || fast(h.vref2)) && h.sref > kShortSteps) h.sref = r.range(1, kShortSteps);
     for (auto &res : h.reserved) res = maybe_nonzero(r, 5);
     h.result = r.s32();
     std::memcpy(c, &h, sizeof h);
@@ -1690,6 +1722,7 @@ int main(int argc, char **argv) {
   if (ro < 0) die(("open " + opt.device + " read-only").c_str());
   if (!snapshot(ctl, g_initial)) die("read the configuration");
   g_phase_mode_possible = g_initial.cfg.output_mode != X4STEP_MODE_CLOCK_DIR;
+  g_fast_axes = fast_axes(g_initial);
   Rng rng(opt.seed);
   long total = 0;
   {
@@ -1708,6 +1741,7 @@ int main(int argc, char **argv) {
   if (!opt.invalid_only) {
     Shared sh;
     std::vector<std::thread> th;
+    g_fast_profiles = false;
     for (int i = 0; i < opt.threads; i++)
       th.emplace_back(hammer, ctl, opt.seed * 1000 + 10 + i, std::ref(sh));
     for (int i = 0; i < 2; i++) th.emplace_back(monitor, opt.seed * 1000 + 20 + i, std::ref(sh));
@@ -1728,9 +1762,10 @@ int main(int argc, char **argv) {
     // moves brake within 20 ms: no slower profile of phase c stays.
     ioctl(ctl, X4STEP_STOP);
     for (uint32_t a = 1; a <= X4STEP_AXES; a++) {
-      x4step_profile quick{a, 0, 0, 20000, X4STEP_ACC_MAX, X4STEP_ACC_MAX, {}};
+      x4step_profile quick{a, 0, 0, kLongHz, X4STEP_ACC_MAX, X4STEP_ACC_MAX, {}};
       must(ctl, X4STEP_SET_PROFILE, &quick, "before c2");
     }
+    g_fast_axes = 0;
     sh.controller_open = false;
     close(ctl);
     ctl = -1;
