@@ -153,7 +153,7 @@ static void x4_arm_locked(struct x4_port *x4)
 }
 
 /* Wake pollers when moves ended since the last look. Caller holds slock. */
-void x4_note_ends_locked(struct x4_port *x4)
+static void x4_note_ends_locked(struct x4_port *x4)
 {
 	if (x4->moves_ended != x4->eng.ends) {
 		x4->moves_ended = x4->eng.ends;

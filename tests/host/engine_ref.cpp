@@ -37,6 +37,17 @@ double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n) {
   return x / v;
 }
 
+x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int freq, int ramp) {
+  x4_move m{};
+  m.steps[0] = s1;
+  m.steps[1] = s2;
+  m.steps[2] = s3;
+  m.steps[3] = s4;
+  m.freq_hz = freq;
+  m.ramp_ms = ramp;
+  return m;
+}
+
 x4_event fire(x4_engine &e, uint64_t now_ns) {
   const uint64_t due = x4_engine_due(&e);
   x4_engine_fire(&e, now_ns ? now_ns : due);

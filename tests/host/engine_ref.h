@@ -34,6 +34,9 @@ struct Recording {
   int dir_changes = 0;
 };
 
+// An interpolated move of the given paths at freq Hz with ramp ms ramps.
+x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int freq, int ramp);
+
 // Fire the pending event at now_ns (0: when due); what it output.
 x4_event fire(x4_engine &e, uint64_t now_ns = 0);
 

@@ -15,17 +15,6 @@ namespace {
 
 constexpr uint64_t kStart = 1000;  // engine time of X4Start in the tests
 
-x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int freq, int ramp) {
-  x4_move m{};
-  m.steps[0] = s1;
-  m.steps[1] = s2;
-  m.steps[2] = s3;
-  m.steps[3] = s4;
-  m.freq_hz = freq;
-  m.ramp_ms = ramp;
-  return m;
-}
-
 struct Engine {
   x4_engine e;
   Engine() { x4_engine_init(&e); }

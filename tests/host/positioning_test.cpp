@@ -242,17 +242,6 @@ class Rig {
   uint8_t data_;
 };
 
-x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int freq, int ramp) {
-  x4_move m{};
-  m.steps[0] = s1;
-  m.steps[1] = s2;
-  m.steps[2] = s3;
-  m.steps[3] = s4;
-  m.freq_hz = freq;
-  m.ramp_ms = ramp;
-  return m;
-}
-
 x4_switches NoSwitches() {
   x4_switches sw;
   std::memset(&sw, 0, sizeof sw);
