@@ -175,7 +175,7 @@ static void plan_prof(struct x4_plan *p, u64 steps, const struct x4_profile *f)
 	u64 up2 = vm * vm - v0 * v0, down2 = vm * vm - ve * ve;
 	u64 sa = a0 ? x4_div(up2 + 2 * a0 - 1, 2 * a0) : 0;
 	u64 sd = ae ? x4_div(down2 + 2 * ae - 1, 2 * ae) : 0;
-	u64 vp2;
+	u64 v1, vp2;
 
 	p->endless = false;
 	p->last = d;
@@ -192,8 +192,8 @@ static void plan_prof(struct x4_plan *p, u64 steps, const struct x4_profile *f)
 	p->c_den = 2 * vm;
 	p->c_base = ramp_lag(vm, v0, a0, vm);
 	/* A single step: at v0, or what the ramp reaches in half a step. */
-	vp2 = v0 ? v0 : x4_isqrt(a0);
-	p->single_half_ns = x4_div(NSEC_PER_SEC_U64, 2 * (vp2 < vm ? vp2 : vm));
+	v1 = v0 ? v0 : x4_isqrt(a0);
+	p->single_half_ns = x4_div(NSEC_PER_SEC_U64, 2 * (v1 < vm ? v1 : vm));
 	if (d >= sa + sd) {
 		p->n_cruise = v0 < vm ? x4_div(up2, 2 * a0) + 1 : 0;
 		p->n_decel = ve < vm ? d - x4_div(down2, 2 * ae) : d + 1;
