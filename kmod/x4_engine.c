@@ -1266,6 +1266,20 @@ void x4_engine_sense(struct x4_engine *e, u8 levels)
 	}
 }
 
+/* The step interval channel c runs at, between its RISE and FALL events. */
+static u64 step_interval(const struct x4_chan *c)
+{
+	const struct x4_plan *p = &c->run;
+
+	if (c->phase == X4_FALL && c->n < p->last)
+		return c->t_next - c->t_cur;
+	if (c->phase == X4_FALL || c->n)
+		return 2 * c->half_ns;
+	/* Before the first step: the interval the move starts with. */
+	return p->last ? x4_plan_time(p, 1) - x4_plan_time(p, 0) :
+			 2 * p->single_half_ns;
+}
+
 void x4_engine_axis(const struct x4_engine *e, int axis,
 		    struct x4_axis_state *st)
 {
@@ -1296,10 +1310,7 @@ void x4_engine_axis(const struct x4_engine *e, int axis,
 			st->state |= X4_AX_ACCEL;
 		else
 			st->state |= X4_AX_CRUISE;
-		if (c->phase == X4_FALL && c->n < p->last)
-			interval = c->t_next - c->t_cur;
-		else
-			interval = c->phase == X4_FALL || c->n ? 2 * c->half_ns : 0;
+		interval = step_interval(c);
 		if (interval)
 			st->velocity = (u32)x4_div(NSEC_PER_SEC_U64 *
 						   p->abs_steps[axis],

@@ -294,8 +294,9 @@ const ProfileCase kProfileCases[] = {
 
 struct ProfileRun {
   Recording rec;
-  std::vector<x4_axis_state> after_rise;  // the axis' state after each rising edge
-  std::vector<x4_axis_state> after_fall;  // ... and after each falling edge
+  std::vector<x4_axis_state> after_rise;    // the axis' state after each rising edge
+  std::vector<x4_axis_state> after_fall;    // ... and after each falling edge
+  std::vector<x4_axis_state> before_first;  // after each event before the first step, in a ramp phase
 };
 
 // A goto of `steps` steps on `axis` with profile p, from coordinate 0.
@@ -308,6 +309,9 @@ ProfileRun RunProfile(const x4_profile &p, uint32_t steps, int axis = 0) {
   out.rec = rig.Run(SIZE_MAX, [&] {
     const uint8_t clk = rig.e.data & X4_CLK_BIT(axis);
     if (clk != (prev & X4_CLK_BIT(axis))) (clk ? out.after_rise : out.after_fall).push_back(rig.Axis(axis));
+    const x4_axis_state st = rig.Axis(axis);
+    if (out.after_rise.empty() && (st.state & (X4_AX_ACCEL | X4_AX_CRUISE | X4_AX_DECEL)))
+      out.before_first.push_back(st);
     prev = rig.e.data;
   });
   EXPECT_EQ(rig.Axis(axis).position, int32_t(steps));
@@ -477,6 +481,22 @@ TEST(ProfileTiming, VelocityWhileTheClockIsLow) {
   }
   EXPECT_EQ(zero, 0) << "of 3999 falls, after which the running axis reported velocity 0";
   EXPECT_EQ(wrong, 0);
+}
+
+TEST(ProfileTiming, VelocityBeforeTheFirstStep) {
+  // From the end of the direction setup to the first step the axis is in
+  // its first interval already: the speed it starts with, not 0.
+  for (const auto &c : kProfileCases) {
+    if (c.steps < 2 || c.steps > 20000) continue;
+    const ProfileRef ref(c.p, c.steps);
+    const ProfileRun run = RunProfile(c.p, c.steps);
+    ASSERT_FALSE(run.before_first.empty()) << c.name << ": no event between the setup and the first step";
+    const double want = ref.IntervalSpeed(0);
+    for (const x4_axis_state &st : run.before_first) {
+      ASSERT_TRUE(st.velocity >= want * 0.99 - 1 && st.velocity <= want * 1.01 + 1)
+          << c.name << ": " << st.velocity << " before the first step, want " << want;
+    }
+  }
 }
 
 TEST(ProfileTiming, NoDecelerationRampShortMoveFromV0) {
