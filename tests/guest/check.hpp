@@ -20,6 +20,16 @@ inline void Check(bool ok, const std::string &what) {
   if (!ok) failures++;
 }
 
+// Checks of edge timing to microseconds. A debug kernel (lockdep, KASAN)
+// fires timers about 16 us late with as much jitter: there such a check is
+// printed as SKIP, with its outcome, and does not count.
+inline bool timing_checks = true;
+
+inline void CheckTiming(bool ok, const std::string &what) {
+  if (timing_checks) return Check(ok, what);
+  std::printf("SKIP %s [%s; not checked on a debug kernel]\n", what.c_str(), ok ? "held" : "did not hold");
+}
+
 // Print the closing line; the program's exit status.
 inline int Finish(const char *program) {
   std::printf("%s: %d failed\n", program, failures);

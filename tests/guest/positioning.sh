@@ -6,4 +6,8 @@
 mount -t debugfs none /sys/kernel/debug 2>/dev/null
 insmod "$X4MOD/x4step.ko" || exit 1
 insmod "$X4MOD/x4vport.ko" || exit 1
-exec /bin/positioning_test
+# A debug kernel's timers are too late for the microsecond checks.
+case $(uname -r) in
+*-x4debug) exec /bin/positioning_test --no-timing ;;
+*) exec /bin/positioning_test ;;
+esac
