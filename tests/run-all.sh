@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
 # `make check`: host unit tests, static checks, then the QEMU suite on
-# the Debian kernels. Ends with one line `N passed, M failed` counting
+# the Debian kernels and the debug kernel. Ends with one line `N passed, M failed` counting
 # every test case of all three parts.
 set -u
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -38,7 +38,21 @@ grep -E '^(PASS|FAIL)' "$log/style.log"
 grep -q '^FAIL' "$log/style.log" && cat "$log/style.log"
 count "$log/style.log"
 
-echo "== QEMU: the module on Debian's kernels"
+echo "== debug kernel: build or reuse (tests/debugkernel)"
+# Lockdep, KASAN, UBSAN, atomic-sleep and debugobjects: the QEMU suite runs
+# on it too. Built once per config and source version (about 7 min), cached.
+release=$(tests/debugkernel/build.sh "$build/debugkernel" 2>"$log/debugkernel.log" | tail -n1)
+if [ -n "$release" ] && [ -r "/boot/vmlinuz-$release" ]; then
+	cat "$log/debugkernel.log"
+	export X4_DEBUGKERNEL=1
+else
+	tail -n 5 "$log/debugkernel.log"
+	echo "FAIL debug kernel: not built or not installed (run make check as root), see $log/debugkernel.log" |
+		tee "$log/debugkernel.results"
+	count "$log/debugkernel.results"
+fi
+
+echo "== QEMU: the module on Debian's kernels and the debug kernel"
 tests/qemu/run-suite.sh | tee "$log/qemu.log"
 grep -qE '^(PASS|FAIL)' "$log/qemu.log" || echo "FAIL qemu suite ran nothing" >>"$log/qemu.log"
 count "$log/qemu.log"
