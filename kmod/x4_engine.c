@@ -326,6 +326,7 @@ void x4_engine_init(struct x4_engine *e)
 	int i;
 
 	memset(e, 0, sizeof(*e));
+	e->cur = e->ch;
 	e->timing.dir_setup_ns = X4_DIR_SETUP_NS;
 	for (i = 0; i < X4_AXES; i++)
 		e->prof[i] = prof;
@@ -433,7 +434,7 @@ static void schedule_all(struct x4_engine *e)
 		ctl |= c->ctl;
 		if (c->t_pending < due) {
 			due = c->t_pending;
-			e->cur = (u8)i;
+			e->cur = &e->ch[i];
 		}
 	}
 	e->busy = busy;
@@ -766,26 +767,32 @@ void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high)
 		e->ctl &= (u8)~signal_bit;
 }
 
+/*
+ * Rounded Bresenham for axis i: never more than 1/2 step off the line.
+ * The leader and the axes that do not move add 0 and never step.
+ */
+static inline u8 minor_step(struct x4_engine *e, struct x4_chan *c, int i)
+{
+	const struct x4_plan *p = &c->run;
+
+	c->bres[i] += p->bres_inc[i];
+	if (c->bres[i] < p->bres_2l)
+		return 0;
+	c->bres[i] -= p->bres_2l;
+	e->steps[i] += p->sign[i];
+	return X4_CLK_BIT(i);
+}
+
 /* Clock bits of leader step n: the leader and the minors due now. */
 static u8 step_axes(struct x4_engine *e, struct x4_chan *c)
 {
 	const struct x4_plan *p = &c->run;
-	u8 clk = X4_CLK_BIT(p->leader);
-	int i;
 
 	e->steps[p->leader] += p->sign[p->leader];
-	/* Rounded Bresenham: never more than 1/2 step off the line. */
-	for (i = 0; i < X4_AXES; i++) {
-		if (!p->bres_inc[i])
-			continue; /* the leader, or an axis that does not move */
-		c->bres[i] += p->bres_inc[i];
-		if (c->bres[i] >= p->bres_2l) {
-			c->bres[i] -= p->bres_2l;
-			e->steps[i] += p->sign[i];
-			clk |= X4_CLK_BIT(i);
-		}
-	}
-	return clk;
+	/* Unrolled: this runs at every step. */
+	_Static_assert(X4_AXES == 4, "four minor_step() calls");
+	return X4_CLK_BIT(p->leader) | minor_step(e, c, 0) |
+	       minor_step(e, c, 1) | minor_step(e, c, 2) | minor_step(e, c, 3);
 }
 
 /*
@@ -976,17 +983,22 @@ static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 		       (phase_mode(e) ? 2 * c->half_ns : 0);
 }
 
-/* After step n's clock fell (or its pattern went out): what comes next. */
-static inline void step_done(struct x4_engine *e, struct x4_chan *c, u64 t)
+/* Step n + 1 rises next. */
+static inline void next_step(struct x4_chan *c)
 {
-	if (c->n >= c->run.last) {
-		last_step_done(e, c, t);
-		return;
-	}
 	c->n++;
 	c->t_cur = c->t_next;
 	c->phase = X4_RISE;
 	c->t_pending = c->origin + c->t_cur;
+}
+
+/* After step n's clock fell (or its pattern went out): what comes next. */
+static inline void step_done(struct x4_engine *e, struct x4_chan *c, u64 t)
+{
+	if (c->n >= c->run.last)
+		last_step_done(e, c, t);
+	else
+		next_step(c);
 }
 
 /* Phase mode: walk the table of each motor that steps, write them. */
@@ -1097,7 +1109,7 @@ static noinline void halted(struct x4_engine *e, struct x4_chan *c)
 	cut(c);
 }
 
-static noinline void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	const struct x4_plan *p = &c->run;
 	u64 t_step = c->origin + c->t_cur;
@@ -1106,9 +1118,12 @@ static noinline void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		halted(e, c);
 		return;
 	}
-	if (c->home && c->n >= c->sref) {
-		/* sref travelled without finding the reference switch */
-		e->err[c->run.leader] |= X4_AXERR_REF_TRAVEL;
+	if (c->n >= p->last && c->home) {
+		/*
+		 * A reference run plans sref + 1 steps: sref travelled
+		 * without finding the switch.
+		 */
+		e->err[p->leader] |= X4_AXERR_REF_TRAVEL;
 		cut(c);
 		return;
 	}
@@ -1134,37 +1149,65 @@ static noinline void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		t_step + c->half_ns;
 }
 
+/* Step n's clock falls and step n + 1 follows (the hot path, with rise()). */
+static inline void fall(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+{
+	e->data &= (u8)~c->stepping;
+	next_step(c);
+	/* A configured space is a minimum too: from the real edge. */
+	if (e->timing.space_ns && now_ns + e->timing.space_ns > c->t_pending)
+		c->t_pending = now_ns + e->timing.space_ns;
+}
+
+/* Every event but fall(), and what runs next. */
+static noinline void fire_event(struct x4_engine *e, struct x4_chan *c,
+				u64 now_ns)
+{
+	switch (c->phase) {
+	case X4_RISE:
+		rise(e, c, now_ns);
+		break;
+	case X4_FALL: /* of the last step */
+		e->data &= (u8)~c->stepping;
+		last_step_done(e, c, c->t_pending);
+		break;
+	case X4_SETUP:
+		begin_setup(e, c, now_ns);
+		break;
+	case X4_END:
+		end(e, c);
+		break;
+	case X4_QUEUED: /* more writes of the same instant (phase mode) */
+		e->data = c->queue[c->qhead++];
+		if (c->qhead == c->queued) {
+			c->phase = c->phase_after;
+			c->t_pending = c->t_after;
+		}
+		break;
+	case X4_IDLE:
+		break;
+	}
+	schedule(e, c);
+}
+
 /*
  * Apply the pending event (due at x4_engine_due(), fired at now_ns) and
  * plan the next.
  */
 void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 {
-	struct x4_chan *c = &e->ch[e->cur];
+	struct x4_chan *c = e->cur;
 
-	/* The two hot cases first: a clock edge falls, a step rises. */
-	if (c->phase == X4_FALL) {
-		e->data &= (u8)~c->stepping;
-		step_done(e, c, c->t_pending);
-		/* A configured space is a minimum too: from the real edge. */
-		if (e->timing.space_ns && c->phase == X4_RISE &&
-		    now_ns + e->timing.space_ns > c->t_pending)
-			c->t_pending = now_ns + e->timing.space_ns;
-	} else if (c->phase == X4_RISE) {
-		rise(e, c, now_ns);
-	} else if (c->phase == X4_SETUP) {
-		begin_setup(e, c, now_ns);
-	} else if (c->phase == X4_END) {
-		end(e, c);
-	} else if (c->phase == X4_QUEUED) {
-		/* More writes of the same instant (phase mode). */
-		e->data = c->queue[c->qhead++];
-		if (c->qhead == c->queued) {
-			c->phase = c->phase_after;
-			c->t_pending = c->t_after;
-		}
+	if (c->phase != X4_FALL || c->n >= c->run.last) {
+		fire_event(e, c, now_ns);
+		return;
 	}
-	schedule(e, c);
+	fall(e, c, now_ns);
+	/* A lone move's next step: its ramp state (ctl) is unchanged. */
+	if (e->solo)
+		e->due = c->t_pending;
+	else
+		schedule_all(e);
 }
 
 /*

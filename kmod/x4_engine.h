@@ -252,7 +252,8 @@ struct x4_engine {
 	bool loaded;
 	u8 busy; /* bit i: channel i runs */
 	bool solo; /* only one channel runs */
-	u8 cur; /* the channel whose event is due first */
+	/* The channel whose event is due first (copies must not run). */
+	struct x4_chan *cur;
 	u64 due; /* its time */
 	u64 ends; /* counts moves that came to an end */
 
