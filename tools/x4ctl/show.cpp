@@ -156,23 +156,6 @@ std::string status_text(const x4step::status &s, const x4step::axes_status &a, c
   return o.str();
 }
 
-std::string json_string(const std::string &s) {
-  std::string r = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\') {
-      r += '\\';
-      r += static_cast<char>(c);
-    } else if (c < 0x20) {
-      char esc[8];
-      std::snprintf(esc, sizeof esc, "\\u%04x", c);
-      r += esc;
-    } else {
-      r += static_cast<char>(c);
-    }
-  }
-  return r + "\"";
-}
-
 std::string status_json(const x4step::status &s, const x4step::axes_status &a, const std::string &device) {
   auto boolean = [](bool b) { return b ? "true" : "false"; };
   std::ostringstream o;

@@ -6,6 +6,7 @@
 #include <array>
 #include <string>
 
+#include "../json_string.hpp"
 #include "x4step.hpp"
 
 namespace x4ctl {
@@ -42,7 +43,7 @@ std::string limits_text(const x4step::switches &s, const x4step::axes_status &a)
 /// "input 3 (pin 12)"; "none" for 0.
 std::string input_name(int input);
 /// A JSON string literal.
-std::string json_string(const std::string &s);
+using x4tools::json_string;
 
 /// Every output mode, in the order the help lists them.
 constexpr x4step::output_mode output_modes[] = {

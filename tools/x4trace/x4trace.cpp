@@ -26,7 +26,11 @@
 #include <string>
 #include <vector>
 
+#include "../json_string.hpp"
+
 namespace {
+
+using x4tools::json_string;
 
 const char *const kUsage =
     "usage: x4trace edges TRACE\n"
@@ -392,38 +396,6 @@ void print_summary_text(const std::string &path, const Trace &tr, const Summary 
               << ", dir changes during move " << ax.dir_changes_during_move << ", min dir setup "
               << opt_us(ax.min_dir_setup, "-") << " us\n";
   }
-}
-
-std::string json_string(const std::string &s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  return out + "\"";
 }
 
 void print_summary_json(const std::string &path, const Trace &tr, const Summary &s) {
