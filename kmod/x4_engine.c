@@ -315,9 +315,9 @@ static void plan_axes(struct x4_plan *p, const s64 *steps)
 			p->leader = (u8)i;
 		}
 	}
-	p->bres_2l = 2 * longest;
+	p->bres_2l = 2ull * longest;
 	for (i = 0; i < X4_AXES; i++)
-		p->bres_inc[i] = i == p->leader ? 0 : 2 * p->abs_steps[i];
+		p->bres_inc[i] = i == p->leader ? 0 : 2ull * p->abs_steps[i];
 }
 
 void x4_engine_init(struct x4_engine *e)

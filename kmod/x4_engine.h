@@ -191,12 +191,12 @@ struct x4_plan {
 	u64 c_num;
 	u64 c_den;
 	u64 t_last;
-	u32 bres_2l; /* 2 * leader steps, for the interpolation */
+	u64 bres_2l; /* 2 * leader steps, for the interpolation (> 2^32) */
 	u64 single_half_ns; /* high time of a one-step move */
 	u32 brake_steps; /* X4Step: steps to stop from cruise along the ramp */
 	struct x4_profile prof; /* a profile move's ramp (vm 0: X4Step's) */
 	u32 abs_steps[X4_AXES];
-	u32 bres_inc[X4_AXES]; /* 2 * steps of a minor axis, else 0 */
+	u64 bres_inc[X4_AXES]; /* 2 * steps of a minor axis, else 0 */
 	u8 dirs; /* direction bits of the axes that move */
 	u8 leader;
 	u8 axes; /* axes with a non-zero path */
@@ -236,7 +236,7 @@ struct x4_chan {
 	u64 t_next; /* T(n + 1), when n < last */
 	u64 t_pending; /* engine time of the pending event */
 	u64 half_ns; /* high time of the current step */
-	u32 bres[X4_AXES]; /* Bresenham accumulators of the minor axes */
+	u64 bres[X4_AXES]; /* Bresenham accumulators of the minor axes */
 	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
 	u8 queued;
 	u8 qhead;

@@ -603,6 +603,25 @@ TEST(Coordinates, GotoAbsoluteAndRelative) {
   for (int a : {0, 2, 3}) EXPECT_EQ(rig.Axis(a).position, 0);
 }
 
+TEST(Coordinates, TheLongestGotosStepOnlyTheirAxis) {
+  // 2^31 and 2^32 - 1 steps: twice the step count does not fit 32 bits,
+  // and the other axes (not part of the move) must still never step.
+  for (const auto &c : {std::pair<int32_t, int32_t>{-(1 << 30), 1 << 30}, {INT32_MIN, INT32_MAX}}) {
+    Rig rig;
+    ASSERT_EQ(rig.SetProfile(1, Prof(0, 0, 45000, 0, 0)), X4_OK);
+    ASSERT_EQ(rig.SetPosition(0x2, {0, c.first}), X4_OK);
+    ASSERT_EQ(rig.GotoAxis(1, c.second), X4_OK);
+    uint8_t other_clocks = 0;
+    rig.Run(2000, [&] { other_clocks |= rig.e.data & X4_CLK_MASK & ~X4_CLK_BIT(1); });
+    EXPECT_EQ(other_clocks, 0) << c.first << " -> " << c.second;
+    EXPECT_EQ(rig.machine[0], 0);
+    EXPECT_EQ(rig.machine[2], 0);
+    EXPECT_EQ(rig.machine[3], 0);
+    EXPECT_EQ(rig.machine[1], 1000) << "1000 steps in 2000 events";
+    x4_engine_stop(&rig.e);
+  }
+}
+
 TEST(Coordinates, GotoTheCurrentPositionDoesNothing) {
   Rig rig;
   ASSERT_EQ(rig.SetPosition(0x3, {77, 5}), X4_OK);
