@@ -318,7 +318,9 @@ std::string level_str(int level, const char *none) {
 // steps are rising clock edges, positive when the direction pin is HIGH;
 // dirchanges counts direction edges after the move's first step; decel is
 // 1 when the leader's last step interval is over 3 times its median one
-// (the move ended on a ramp, not cut); signal1 is pin 1 at the move's end.
+// (the move ended on a ramp, not cut), a trailing burst of intervals under a
+// quarter of the median (QEMU catching up after a host stall) not counted;
+// signal1 is pin 1 at the move's end.
 void print_moves(const Trace &tr) {
   struct Move {
     long steps[kAxes] = {};
@@ -341,7 +343,13 @@ void print_moves(const Trace &tr) {
       for (size_t i = 1; i < r.size(); i++) iv.push_back(r[i] - r[i - 1]);
       std::vector<int64_t> sorted = iv;
       std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-      decel = iv.back() > 3 * sorted[sorted.size() / 2];
+      const int64_t median = sorted[sorted.size() / 2];
+      // The timestamps are host time: when QEMU was not scheduled for a
+      // while, the steps it owed come in a burst after a gap. A trailing
+      // burst is not the move's end: the interval before it is.
+      int64_t last = iv.back();
+      for (size_t i = iv.size(); i > 1 && iv[i - 1] < median / 4; i--) last = iv[i - 2];
+      decel = last > 3 * median;
     }
     std::cout << "MOVE " << ++n << " steps";
     for (long s : m.steps) std::cout << ' ' << s;
