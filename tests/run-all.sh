@@ -21,9 +21,15 @@ echo "== host: build and unit tests"
 if make -s userspace BUILD="$build" >"$log/build.log" 2>&1; then
 	(cd "$build" && ctest --output-on-failure -j2) >"$log/ctest.log" 2>&1
 	tail -n 3 "$log/ctest.log"
-	# One PASS/FAIL line per test case, from CTest's report.
-	sed -n 's/^ *[0-9]*\/[0-9]* Test *#[0-9]*: \([^ ]*\) [. ]*\(Passed\|\*\*\*Failed\|Failed\).*/\2 \1/p' \
-		"$log/ctest.log" | sed 's/^Passed/PASS/; s/^\*\*\*Failed/FAIL/; s/^Failed/FAIL/' >"$log/host.results"
+	# One PASS/FAIL line per test case, from CTest's report: anything but
+	# "Passed" (failed, not run, timeout) fails, and so does a count that
+	# does not match CTest's total.
+	awk '/^ *[0-9]+\/[0-9]+ +Test +#[0-9]+: / {
+		print ($0 ~ / Passed +[0-9.]+ sec$/ ? "PASS" : "FAIL"), $4; n++
+	}
+	/tests passed, .* tests failed out of / { total = $NF }
+	END { if (n != total) print "FAIL host: " n " results for " total " tests in ctest.log" }' \
+		"$log/ctest.log" >"$log/host.results"
 	count "$log/host.results"
 	grep '^FAIL' "$log/host.results"
 else
