@@ -191,7 +191,7 @@ struct x4_plan {
 	u64 c_num;
 	u64 c_den;
 	u64 t_last;
-	u64 bres_2l; /* 2 * leader steps, for the interpolation (> 2^32) */
+	u64 bres_2l; /* 2 * leader steps (a goto's can pass 2^32) */
 	u64 single_half_ns; /* high time of a one-step move */
 	u32 brake_steps; /* X4Step: steps to stop from cruise along the ramp */
 	struct x4_profile prof; /* a profile move's ramp (vm 0: X4Step's) */
