@@ -44,18 +44,23 @@ u64 x4_isqrt(u64 x)
 }
 
 /*
- * u(m) = sqrt(c + m k) of a ramp side, in ns. est: a value at or above
- * the root in the ramp's units (0: none).
+ * sqrt(x) of x in a ramp's units (4^sh ns^2), in ns. est: a value at or
+ * above the root in the ramp's units (0: none).
  */
-static u64 ramp_u(const struct x4_ramp *r, u64 m, u64 est)
+static u64 ramp_root(const struct x4_ramp *r, u64 x, u64 est)
 {
-	u64 x = r->c + m * r->k;
 	u64 q = est ? isqrt_from(x, est) : x4_isqrt(x);
 
 	if (!r->sh)
 		return q;
 	/* The fraction below one unit, from the remainder (to < 1 ns). */
 	return (q << r->sh) + x4_div((x - q * q) << r->sh, 2 * q + 1);
+}
+
+/* u(m) = sqrt(c + m k) of a ramp side, in ns; est as for ramp_root(). */
+static u64 ramp_u(const struct x4_ramp *r, u64 m, u64 est)
+{
+	return ramp_root(r, r->c + m * r->k, est);
 }
 
 static u64 cruise_time(const struct x4_plan *p, u64 n)
@@ -152,11 +157,8 @@ static u64 ramp_frac(const struct x4_ramp *r, u64 num, u64 den)
 	u64 m = x4_div(num, den), f = num - m * den;
 	u64 kq = x4_div(r->k, den), kr = r->k - kq * den;
 	u64 x = r->c + m * r->k + f * kq + x4_div(f * kr, den);
-	u64 q = x4_isqrt(x);
 
-	if (r->sh)
-		q = (q << r->sh) + x4_div((x - q * q) << r->sh, 2 * q + 1);
-	return q - r->s_ns;
+	return ramp_root(r, x, 0) - r->s_ns;
 }
 
 /*
