@@ -1089,10 +1089,9 @@ static noinline void limits_hit(struct x4_engine *e, u8 hit)
 	}
 }
 
-/* A switch that channel c watches is active at its step tick. */
-static noinline void halted(struct x4_engine *e, struct x4_chan *c)
+/* Switches that channel c watches (hit) are active at its step tick. */
+static noinline void halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 {
-	u8 hit = (e->inputs ^ c->halt_flip) & c->halt_mask;
 	int axis = c->run.leader;
 
 	if (!(hit & c->ref_bit) || !c->home) {
@@ -1115,9 +1114,10 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	const struct x4_plan *p = &c->run;
 	u64 t_step = c->origin + c->t_cur;
+	u8 hit = (e->inputs ^ c->halt_flip) & c->halt_mask;
 
-	if ((e->inputs ^ c->halt_flip) & c->halt_mask) {
-		halted(e, c);
+	if (hit) {
+		halted(e, c, hit);
 		return;
 	}
 	if (c->n >= p->last && c->home) {
