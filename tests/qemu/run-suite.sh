@@ -99,7 +99,7 @@ if ! "$top/tests/guest/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&
 	exit 1
 fi
 
-# Run the selected tests on one kernel kind, printing result lines.
+# Run the selected tests on one kernel, printing result lines.
 kernel_release() { # GLOB EXCLUDE: the newest /boot/vmlinuz-* release matching
 	local f
 	cd /boot && for f in $1; do
@@ -109,11 +109,10 @@ kernel_release() { # GLOB EXCLUDE: the newest /boot/vmlinuz-* release matching
 	done | sort -V | tail -n1
 }
 
-# Run the selected tests on one kernel kind, printing result lines.
-run_kernel() { # KIND
+# Run the selected tests on one kernel, printing result lines.
+run_kernel() { # KIND|RELEASE (empty: not installed)
 	local label glob exclude skip kver kdir kout why t name script bins flags check out args rc why2 b
-	IFS='|' read -r label glob exclude skip <<<"$1"
-	kver=$(kernel_release "$glob" "$exclude")
+	IFS='|' read -r label glob exclude skip kver <<<"$1"
 	if [ -z "$kver" ]; then
 		for t in "${tests[@]}"; do
 			name=${t%%|*}
@@ -201,7 +200,7 @@ for kind in "${kernel_kinds[@]}"; do
 	IFS='|' read -r label glob exclude _ <<<"$kind"
 	kver=$(kernel_release "$glob" "$exclude")
 	selected "${kver:-$label}" "${want_k[@]}" || continue
-	kinds+=("$kind")
+	kinds+=("$kind|$kver")
 done
 
 # Kernels run side by side, JOBS at a time (each guest is one TCG thread);
