@@ -60,11 +60,10 @@ struct x4_port {
 void x4_port_init(struct x4_port *x4);
 void x4_port_claimed(struct x4_port *x4);
 void x4_port_quiesce(struct x4_port *x4);
-/* Engine calls that start or halt moves, with the ioctl's arguments. */
+/* Engine calls that start moves, with the ioctl's arguments. */
 typedef int (*x4_starter)(struct x4_engine *e, const void *arg, u64 now_ns);
-typedef int (*x4_halter)(struct x4_engine *e, const void *arg);
 int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg);
-int x4_port_halt(struct x4_port *x4, x4_halter halt, const void *arg);
+void x4_port_halted_locked(struct x4_port *x4);
 void x4_port_write_locked(struct x4_port *x4);
 void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);
 void x4_port_write_rest_locked(struct x4_port *x4);

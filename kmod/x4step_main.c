@@ -279,28 +279,18 @@ static bool x4_bad_home(const void *karg)
 	return uh->reserved[0] || uh->reserved[1];
 }
 
-static int x4_halt_axes(struct x4_engine *e, const void *arg)
-{
-	const struct x4step_halt *h = arg;
-
-	return x4_engine_halt(e, (u8)h->axes, h->how == X4STEP_HALT_STOP);
-}
-
-static int x4_set_position(struct x4_engine *e, const void *arg)
-{
-	const struct x4step_position *up = arg;
-
-	return x4_engine_set_position(e, (u8)up->axes, up->position);
-}
-
 /* Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs. */
 static int x4_ioctl_halt(struct x4_port *x4, u32 axes, u32 how)
 {
-	struct x4step_halt h = { .axes = axes, .how = how };
-	int ret = x4_port_halt(x4, x4_halt_axes, &h);
+	unsigned long flags;
+	int ret;
 
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_engine_halt(&x4->eng, (u8)axes, how == X4STEP_HALT_STOP);
 	if (ret == X4_OK && how == X4STEP_HALT_BRAKE)
-		WRITE_ONCE(x4->brake_time_ns, ktime_get_ns());
+		x4->brake_time_ns = ktime_get_ns();
+	x4_port_halted_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return x4_errno(ret);
 }
 
@@ -321,12 +311,18 @@ static int x4_ioctl_set_position(struct x4_port *x4,
 				 struct x4step_position __user *arg)
 {
 	struct x4step_position up;
+	unsigned long flags;
+	int ret;
 
 	if (copy_from_user(&up, arg, sizeof(up)))
 		return -EFAULT;
 	if (!up.axes || up.axes > 0x0f || up.reserved)
 		return -EINVAL;
-	return x4_errno(x4_port_halt(x4, x4_set_position, &up));
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_engine_set_position(&x4->eng, (u8)up.axes, up.position);
+	x4_port_halted_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return x4_errno(ret);
 }
 
 static int x4_ioctl_set_profile(struct x4_port *x4,

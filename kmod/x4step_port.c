@@ -300,21 +300,14 @@ int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg)
 }
 
 /*
- * Brake or stop moves: `halt` is an engine call. A stop's writes go out
- * at once. Returns an X4Step result.
+ * After the engine braked or stopped moves (caller holds slock): a stop's
+ * writes go out at once, and pollers learn of the moves that ended.
  */
-int x4_port_halt(struct x4_port *x4, x4_halter halt, const void *arg)
+void x4_port_halted_locked(struct x4_port *x4)
 {
-	unsigned long flags;
-	int ret;
-
-	raw_spin_lock_irqsave(&x4->slock, flags);
-	ret = halt(&x4->eng, arg);
 	x4_port_write_locked(x4);
 	x4_port_drain_locked(x4, 0); /* a stop's rest patterns, due at 0 */
 	x4_note_ends_locked(x4);
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return ret;
 }
 
 /* A key event: brake if it is ESC or one of the brake codes. */
