@@ -206,8 +206,6 @@ static int x4_start_endless(struct x4_engine *e, const void *arg, u64 now)
 {
 	const struct x4step_endless *ue = arg;
 
-	if (ue->direction != 1 && ue->direction != -1)
-		return X4_ERR_PARAM_FAIL;
 	return x4_engine_endless(e, ue->axis, ue->direction < 0, ue->freq_hz,
 				 ue->ramp_ms, now);
 }
@@ -216,8 +214,6 @@ static int x4_start_goto(struct x4_engine *e, const void *arg, u64 now)
 {
 	const struct x4step_goto *ug = arg;
 
-	if (ug->axes > 0x0f)
-		return X4_ERR_PARAM_FAIL;
 	return x4_engine_goto(e, (u8)ug->axes, ug->target,
 			      ug->flags & X4STEP_GOTO_RELATIVE, now);
 }
@@ -226,8 +222,6 @@ static int x4_start_home(struct x4_engine *e, const void *arg, u64 now)
 {
 	const struct x4step_home *uh = arg;
 
-	if (uh->phases > X4STEP_HOME_AUTO)
-		return X4_ERR_PARAM_FAIL;
 	return x4_engine_home(e, uh->axis, (u8)uh->phases, uh->vref1,
 			      uh->vref2, uh->sref, now);
 }
@@ -235,8 +229,9 @@ static int x4_start_home(struct x4_engine *e, const void *arg, u64 now)
 /*
  * The ioctls that start moves and report an X4Step result: copy in the
  * argument (`size` bytes, its s32 result at `result_off`), make sure the
- * result is writable before anything moves, refuse non-zero reserved
- * words (`bad`), start, write the result.
+ * result is writable before anything moves, refuse what is wrong in
+ * the argument itself (`bad`: reserved words, values the engine's types
+ * would truncate), start, write the result.
  */
 static int x4_ioctl_run(struct x4_port *x4, void __user *uarg, void *karg,
 			size_t size, size_t result_off,
@@ -261,22 +256,24 @@ static bool x4_bad_endless(const void *karg)
 {
 	const struct x4step_endless *ue = karg;
 
-	return ue->flags || ue->reserved[0] || ue->reserved[1];
+	return (ue->direction != 1 && ue->direction != -1) || ue->flags ||
+	       ue->reserved[0] || ue->reserved[1];
 }
 
 static bool x4_bad_goto(const void *karg)
 {
 	const struct x4step_goto *ug = karg;
 
-	return ug->flags & ~X4STEP_GOTO_RELATIVE || ug->reserved[0] ||
-	       ug->reserved[1] || ug->reserved[2];
+	return ug->axes > 0x0f || ug->flags & ~X4STEP_GOTO_RELATIVE ||
+	       ug->reserved[0] || ug->reserved[1] || ug->reserved[2];
 }
 
 static bool x4_bad_home(const void *karg)
 {
 	const struct x4step_home *uh = karg;
 
-	return uh->reserved[0] || uh->reserved[1];
+	return uh->phases > X4STEP_HOME_AUTO || uh->reserved[0] ||
+	       uh->reserved[1];
 }
 
 /* Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs. */
