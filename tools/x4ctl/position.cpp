@@ -19,14 +19,18 @@ long wrapped(long pos, long d) {
   return static_cast<int32_t>(static_cast<uint32_t>(pos + d));  // both are 32-bit values
 }
 
+// " halted (by what)": who stopped an axis short of its target.
+std::string halted_text(const std::string &halted_by) {
+  return " halted (" + (halted_by.empty() ? "braked elsewhere" : halted_by) + ")";
+}
+
 // What went wrong with an axis' own move, "" if nothing did.
 std::string axis_problem(int axis, const x4step::axis_status &a, std::optional<long> target,
                          const std::string &halted_by) {
   const std::string at =
       " at " + std::to_string(a.position) + (target ? " (target " + std::to_string(*target) + ")" : "");
   if (a.error) return axis_name(axis) + ": " + errors_text(a.error) + at;
-  if (target && a.position != *target)
-    return axis_name(axis) + " halted (" + (halted_by.empty() ? "braked elsewhere" : halted_by) + ")" + at;
+  if (target && a.position != *target) return axis_name(axis) + halted_text(halted_by) + at;
   return "";
 }
 
@@ -124,9 +128,7 @@ void home_command(port &p, console &con, const config &c, std::ostream &out) {
   if (a.error) throw failure(axis_problem(c.axis, a, std::nullopt, o.halted_by) + "; not referenced");
   const int ref = p.get_switches().ref.at(c.axis - 1);
   const bool done = h.phase2 ? a.synced : ref && (o.end.switches_active >> (ref - 1) & 1u);
-  if (!done)
-    throw failure(name + " halted (" + (o.halted_by.empty() ? "braked elsewhere" : o.halted_by) + ")" + at +
-                  ": not referenced");
+  if (!done) throw failure(name + halted_text(o.halted_by) + at + ": not referenced");
   if (h.phase2)
     out << "done: " << name << at << ", synchronized\n";
   else
