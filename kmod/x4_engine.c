@@ -655,6 +655,16 @@ static bool vref_ok(s32 v)
 	return v && v <= X4_VEL_MAX && v >= -X4_VEL_MAX;
 }
 
+int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref)
+{
+	if (!phases || phases & ~(X4_HOME_PHASE1 | X4_HOME_PHASE2) ||
+	    (phases & X4_HOME_PHASE1 && !vref_ok(vref1)) ||
+	    (phases & X4_HOME_PHASE2 && !vref_ok(vref2)) || !sref ||
+	    sref > 0x7fffffff)
+		return X4_ERR_PARAM_FAIL;
+	return X4_OK;
+}
+
 int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns)
 {
@@ -662,11 +672,8 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	int ret;
 
 	if (axis < 1 || axis > X4_AXES ||
-	    !(mode_axes(e) & (1u << (axis - 1))) || !phases ||
-	    phases & ~(X4_HOME_PHASE1 | X4_HOME_PHASE2) ||
-	    (phases & X4_HOME_PHASE1 && !vref_ok(vref1)) ||
-	    (phases & X4_HOME_PHASE2 && !vref_ok(vref2)) || !sref ||
-	    sref > 0x7fffffff || !e->sw.ref[axis - 1])
+	    !(mode_axes(e) & (1u << (axis - 1))) ||
+	    x4_home_check(phases, vref1, vref2, sref) || !e->sw.ref[axis - 1])
 		return X4_ERR_PARAM_FAIL;
 	ret = timing_check(e, phases & X4_HOME_PHASE1 ?
 			   (vref1 < 0 ? -vref1 : vref1) : 1);

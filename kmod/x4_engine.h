@@ -288,6 +288,8 @@ void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
 void x4_engine_fire(struct x4_engine *e, u64 now_ns);
 
 int x4_profile_check(const struct x4_profile *p);
+/* A reference run's own arguments (not its axis, switch or output mode). */
+int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref);
 int x4_engine_set_profile(struct x4_engine *e, s32 axis,
 			  const struct x4_profile *p);
 int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,

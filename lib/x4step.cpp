@@ -294,12 +294,10 @@ errc check(const profile &p) noexcept {
 }
 
 errc check(const homing &h) noexcept {
-  const auto speed_ok = [](int v) {
-    return v != 0 && v >= -static_cast<int>(vel_max) && v <= static_cast<int>(vel_max);
-  };
-  if (!h.phase1 && !h.phase2) return errc::param_fail;
-  if ((h.phase1 && !speed_ok(h.vref1)) || (h.phase2 && !speed_ok(h.vref2))) return errc::param_fail;
-  return h.sref >= 1 && h.sref <= INT32_MAX ? errc::ok : errc::param_fail;
+  const uint8_t phases = (h.phase1 ? X4_HOME_PHASE1 : 0) | (h.phase2 ? X4_HOME_PHASE2 : 0);
+  // Above 32 bits sref is refused as 2^31 is.
+  const uint32_t sref = h.sref > INT32_MAX ? 0x80000000u : static_cast<uint32_t>(h.sref);
+  return static_cast<errc>(x4_home_check(phases, h.vref1, h.vref2, sref));
 }
 
 std::ostream &operator<<(std::ostream &os, const axes_status &s) {
