@@ -330,6 +330,7 @@ void x4_engine_init(struct x4_engine *e)
 	memset(e, 0, sizeof(*e));
 	e->cur = e->ch;
 	e->timing.dir_setup_ns = X4_DIR_SETUP_NS;
+	e->budget = X4_WRITE_BUDGET;
 	for (i = 0; i < X4_AXES; i++)
 		e->prof[i] = prof;
 }
@@ -388,6 +389,35 @@ static u8 busy_axes(const struct x4_engine *e)
 		if (e->busy & (1u << i))
 			axes |= e->ch[i].run.axes;
 	return axes;
+}
+
+/* Port writes of one leader step: clock up and down, or a phase pattern per motor. */
+static u32 writes_per_step(const struct x4_engine *e, u8 axes)
+{
+	return phase_mode(e) ? (u32)__builtin_popcount(axes) : 2;
+}
+
+/*
+ * Port writes per second of plan p at its top speed: the cruise interval
+ * (2 c_num / c_den ns) is the shortest of every shape.
+ */
+static u32 plan_rate(const struct x4_engine *e, const struct x4_plan *p)
+{
+	u64 steps = x4_div(p->c_den * NSEC_PER_SEC_U64 + 2 * p->c_num - 1,
+			   2 * p->c_num);
+
+	return (u32)(steps * writes_per_step(e, p->axes));
+}
+
+/* Whether moves needing `add` more writes per second fit the budget. */
+static int budget_check(const struct x4_engine *e, u64 add)
+{
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (e->busy & (1u << i))
+			add += e->ch[i].rate;
+	return e->budget && add > e->budget ? X4_ERR_RATE_BUDGET : X4_OK;
 }
 
 static s32 position(const struct x4_engine *e, int i)
@@ -506,6 +536,7 @@ static void begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	c->ctl = 0;
 	c->t_pending = now_ns;
 	c->origin = now_ns + e->timing.dir_setup_ns;
+	c->rate = plan_rate(e, &c->run);
 	for (i = 0; i < X4_AXES; i++)
 		c->bres[i] = c->run.bres_2l / 2;
 	arm_switches(e, c);
@@ -553,6 +584,8 @@ int x4_engine_start(struct x4_engine *e, u64 now_ns)
 		return X4_ERR_NOT_LOADED;
 	if (busy_axes(e) & e->next.axes)
 		return X4_ERR_IS_ACTIVE;
+	if (budget_check(e, plan_rate(e, &e->next)))
+		return X4_ERR_RATE_BUDGET;
 	c = chan_of(e, e->next.axes);
 	c->run = e->next;
 	c->home = 0;
@@ -580,6 +613,8 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 		return X4_ERR_IS_LOADED;
 	if (busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
+	if (budget_check(e, (u64)freq_hz * writes_per_step(e, 1)))
+		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
 	steps[axis - 1] = negative ? -1 : 1;
 	plan_axes(&c->run, steps);
@@ -603,6 +638,7 @@ int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 		   bool relative, u64 now_ns)
 {
 	s64 steps[X4_AXES];
+	u64 rate = 0;
 	int i, j, ret;
 
 	if (!axes || axes & ~mode_axes(e))
@@ -613,9 +649,13 @@ int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 		ret = timing_check(e, (s32)e->prof[i].vm);
 		if (ret)
 			return ret;
+		/* A profile move's top speed is at most vm. */
+		rate += (u64)e->prof[i].vm * writes_per_step(e, 1);
 	}
 	if (busy_axes(e) & axes)
 		return X4_ERR_IS_ACTIVE;
+	if (budget_check(e, rate))
+		return X4_ERR_RATE_BUDGET;
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 
@@ -650,6 +690,11 @@ static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 	begin(e, c, now_ns);
 }
 
+static u32 abs_s32(s32 v)
+{
+	return v < 0 ? (u32)-(s64)v : (u32)v;
+}
+
 static bool vref_ok(s32 v)
 {
 	return v && v <= X4_VEL_MAX && v >= -X4_VEL_MAX;
@@ -669,21 +714,25 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns)
 {
 	struct x4_chan *c;
+	u32 vmax;
 	int ret;
 
 	if (axis < 1 || axis > X4_AXES ||
 	    !(mode_axes(e) & (1u << (axis - 1))) ||
 	    x4_home_check(phases, vref1, vref2, sref) || !e->sw.ref[axis - 1])
 		return X4_ERR_PARAM_FAIL;
-	ret = timing_check(e, phases & X4_HOME_PHASE1 ?
-			   (vref1 < 0 ? -vref1 : vref1) : 1);
+	ret = timing_check(e, phases & X4_HOME_PHASE1 ? abs_s32(vref1) : 1);
 	if (!ret)
-		ret = timing_check(e, phases & X4_HOME_PHASE2 ?
-				   (vref2 < 0 ? -vref2 : vref2) : 1);
+		ret = timing_check(e, phases & X4_HOME_PHASE2 ? abs_s32(vref2) : 1);
 	if (ret)
 		return ret;
 	if (busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
+	vmax = phases & X4_HOME_PHASE1 ? abs_s32(vref1) : 0;
+	if (phases & X4_HOME_PHASE2 && abs_s32(vref2) > vmax)
+		vmax = abs_s32(vref2);
+	if (budget_check(e, (u64)vmax * writes_per_step(e, 1)))
+		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
 	c->sref = sref;
 	c->vref2 = vref2;
@@ -978,6 +1027,25 @@ static void end(struct x4_engine *e, struct x4_chan *c)
 	     c->t_pending);
 }
 
+/*
+ * Channel c's next step is due before `earliest`, the first instant that
+ * keeps its low time (or phase step) at the minimum: the event before was
+ * late. Move the rest of its schedule, rather than catch up with a burst
+ * of short pulses that a driver would lose.
+ */
+static void keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
+{
+	u64 d;
+
+	if (c->phase != X4_RISE || c->t_pending >= earliest)
+		return;
+	d = earliest - c->t_pending;
+	c->origin += d;
+	c->t_pending += d;
+	e->shifts++;
+	e->shifted_ns += d;
+}
+
 /* After the last step: end now, or after the hold (and settle) time. */
 static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 				    u64 t)
@@ -1117,6 +1185,35 @@ static noinline void halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 	cut(c);
 }
 
+static u64 min_u64(u64 a, u64 b)
+{
+	return a < b ? a : b;
+}
+
+/*
+ * The fall of the step that rose at now_ns (planned at t_step), and the
+ * shortest low time after it. Minimums count from the real edges: a
+ * configured pulse or space as configured; otherwise X4_CLOCK_MIN_NS, or
+ * what the move plans where that is shorter.
+ */
+static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
+			      u64 t_step, u64 now_ns)
+{
+	const struct x4_timing *t = &e->timing;
+	u64 high = t->pulse_ns ? t->pulse_ns : c->half_ns;
+	u64 high_min = t->pulse_ns ? high : min_u64(high, X4_CLOCK_MIN_NS);
+	u64 interval = 2 * c->half_ns;
+
+	if (c->n < c->run.last)
+		interval = c->t_next - c->t_cur;
+	c->t_pending = t_step + high;
+	if (c->t_pending < now_ns + high_min)
+		c->t_pending = now_ns + high_min;
+	c->space_min = t->space_ns ? t->space_ns :
+		min_u64(interval > high ? interval - high : 0,
+			t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
+}
+
 static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	const struct x4_plan *p = &c->run;
@@ -1145,17 +1242,18 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	}
 	/* (The last step keeps the step time of the one before.) */
 
+	if (now_ns < t_step)
+		now_ns = t_step;
 	if (phase_mode(e)) {
-		step_done(e, c, t_step);
+		step_done(e, c, now_ns);
+		keep_min(e, c, now_ns + min_u64(2 * c->half_ns,
+						2 * X4_CLOCK_MIN_NS));
 		smc_step(e, c, t_step);
 		return;
 	}
 	e->data |= c->stepping;
 	c->phase = X4_FALL;
-	/* A configured pulse is a minimum: count it from the real edge. */
-	c->t_pending = e->timing.pulse_ns ?
-		(now_ns > t_step ? now_ns : t_step) + e->timing.pulse_ns :
-		t_step + c->half_ns;
+	rise_times(e, c, t_step, now_ns);
 }
 
 /* Step n's clock falls and step n + 1 follows (the hot path, with rise()). */
@@ -1163,9 +1261,7 @@ static inline void fall(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	e->data &= (u8)~c->stepping;
 	next_step(c);
-	/* A configured space is a minimum too: from the real edge. */
-	if (e->timing.space_ns && now_ns + e->timing.space_ns > c->t_pending)
-		c->t_pending = now_ns + e->timing.space_ns;
+	keep_min(e, c, now_ns + c->space_min);
 }
 
 /* Every event but fall(), and what runs next. */
@@ -1176,9 +1272,9 @@ static noinline void fire_event(struct x4_engine *e, struct x4_chan *c,
 	case X4_RISE:
 		rise(e, c, now_ns);
 		break;
-	case X4_FALL: /* of the last step */
+	case X4_FALL: /* of the last step: the hold counts from the real edge */
 		e->data &= (u8)~c->stepping;
-		last_step_done(e, c, c->t_pending);
+		last_step_done(e, c, now_ns > c->t_pending ? now_ns : c->t_pending);
 		break;
 	case X4_SETUP:
 		begin_setup(e, c, now_ns);

@@ -42,6 +42,19 @@ typedef int64_t s64;
 #define X4_DIR_SETUP_NS 100000u /* manual 5.2 */
 #define X4_TIMING_MAX_NS 1000000u /* any configured time: at most 1 ms */
 #define X4_PULSE_MIN_NS 1000u /* a configured pulse: at least 1 us */
+/*
+ * The X4Step clock's shortest half period (20 kHz): without a configured
+ * pulse, no clock high or low time is shorter than this, or than what the
+ * move plans when that is shorter (a profile move above 20 000 steps/s).
+ */
+#define X4_CLOCK_MIN_NS 25000u
+/*
+ * Port writes per second that the moves of one port may need together,
+ * by default (x4_engine.budget): a leader step is two writes (clock up and
+ * down), a phase-mode step one per motor. See the README for where the
+ * figure comes from.
+ */
+#define X4_WRITE_BUDGET 200000u
 
 /* Results: the numbers of the documented X4Step API. */
 enum x4_result {
@@ -59,6 +72,12 @@ enum x4_result {
 	X4_ERR_NOT_LOADED = 11,
 	X4_ERR_IS_LOADED = 12,
 	X4_ERR_STEPS_TOO_HIGH = 13,
+	/*
+	 * Not an X4Step code: the moves of the port together would need more
+	 * port writes per second than its budget. The API reports it as
+	 * X4_ERR_FREQ_TOO_HIGH; the module's errno for it is ERANGE.
+	 */
+	X4_ERR_RATE_BUDGET = 64,
 };
 
 /* Data register: axis i has direction on bit 2i, clock on bit 2i+1. */
@@ -236,6 +255,8 @@ struct x4_chan {
 	u64 t_next; /* T(n + 1), when n < last */
 	u64 t_pending; /* engine time of the pending event */
 	u64 half_ns; /* high time of the current step */
+	u64 space_min; /* shortest low time after the current step */
+	u32 rate; /* port writes per second at the move's top speed */
 	u64 bres[X4_AXES]; /* Bresenham accumulators of the minor axes */
 	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
 	u8 queued;
@@ -270,6 +291,15 @@ struct x4_engine {
 	struct x4_profile prof[X4_AXES];
 	struct x4_switches sw;
 	u8 inputs; /* active switches (after NO/NC), last sampled */
+
+	/*
+	 * A late event never makes a pulse, space or phase step shorter than
+	 * its minimum: the channel's remaining schedule moves instead. These
+	 * count how often and by how much (the glue reads and clears them).
+	 */
+	u64 shifts;
+	u64 shifted_ns;
+	u32 budget; /* port writes per second, all moves together; 0: none */
 };
 
 void x4_engine_init(struct x4_engine *e);
@@ -312,6 +342,23 @@ static inline bool x4_engine_busy(const struct x4_engine *e)
 static inline u64 x4_engine_due(const struct x4_engine *e)
 {
 	return e->due;
+}
+
+/*
+ * The pending event ends the clock pulse that the event of channel `fired`
+ * began: the only event worth waiting for in the timer callback.
+ */
+static inline bool x4_engine_pulse_pending(const struct x4_engine *e,
+					   const struct x4_chan *fired)
+{
+	return e->cur == fired && fired->phase == X4_FALL;
+}
+
+/* The pending event is a step that a switch may forbid: sample first. */
+static inline bool x4_engine_rise_watched(const struct x4_engine *e)
+{
+	return e->cur->phase == X4_RISE &&
+	       (e->cur->halt_mask | e->cur->deferred);
 }
 
 /* Whether the inputs matter now: some running move watches a switch. */
