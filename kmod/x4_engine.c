@@ -394,7 +394,13 @@ static u8 busy_axes(const struct x4_engine *e)
 /* Port writes of one leader step: clock up and down, or a phase pattern per motor. */
 static u32 writes_per_step(const struct x4_engine *e, u8 axes)
 {
-	return phase_mode(e) ? (u32)__builtin_popcount(axes) : 2;
+	u32 n = 0;
+
+	if (!phase_mode(e))
+		return 2;
+	for (; axes; axes &= axes - 1)
+		n++;
+	return n;
 }
 
 /*
@@ -1201,14 +1207,14 @@ static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
 {
 	const struct x4_timing *t = &e->timing;
 	u64 high = t->pulse_ns ? t->pulse_ns : c->half_ns;
-	u64 high_min = t->pulse_ns ? high : min_u64(high, X4_CLOCK_MIN_NS);
 	u64 interval = 2 * c->half_ns;
 
+	c->high_min = t->pulse_ns ? high : min_u64(high, X4_CLOCK_MIN_NS);
 	if (c->n < c->run.last)
 		interval = c->t_next - c->t_cur;
 	c->t_pending = t_step + high;
-	if (c->t_pending < now_ns + high_min)
-		c->t_pending = now_ns + high_min;
+	if (c->t_pending < now_ns + c->high_min)
+		c->t_pending = now_ns + c->high_min;
 	c->space_min = t->space_ns ? t->space_ns :
 		min_u64(interval > high ? interval - high : 0,
 			t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
@@ -1244,10 +1250,11 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 
 	if (now_ns < t_step)
 		now_ns = t_step;
+	e->fired = c;
 	if (phase_mode(e)) {
 		step_done(e, c, now_ns);
-		keep_min(e, c, now_ns + min_u64(2 * c->half_ns,
-						2 * X4_CLOCK_MIN_NS));
+		c->space_min = min_u64(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
+		keep_min(e, c, now_ns + c->space_min);
 		smc_step(e, c, t_step);
 		return;
 	}
@@ -1262,6 +1269,7 @@ static inline void fall(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	e->data &= (u8)~c->stepping;
 	next_step(c);
 	keep_min(e, c, now_ns + c->space_min);
+	e->fired = c;
 }
 
 /* Every event but fall(), and what runs next. */
@@ -1313,6 +1321,31 @@ void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 		e->due = c->t_pending;
 	else
 		schedule_all(e);
+}
+
+/*
+ * The step edge just fired reached the port at t_ns, a little after the
+ * time x4_engine_fire() was given: its pulse or space counts from here.
+ */
+void x4_engine_written(struct x4_engine *e, u64 t_ns)
+{
+	struct x4_chan *c = e->fired;
+
+	if (!c)
+		return;
+	e->fired = NULL;
+	if (c->phase == X4_FALL) {
+		if (c->t_pending >= t_ns + c->high_min)
+			return;
+		c->t_pending = t_ns + c->high_min;
+	} else if (c->phase == X4_RISE) {
+		if (c->t_pending >= t_ns + c->space_min)
+			return;
+		keep_min(e, c, t_ns + c->space_min);
+	} else {
+		return;
+	}
+	schedule(e, c);
 }
 
 /*

@@ -255,7 +255,8 @@ struct x4_chan {
 	u64 t_next; /* T(n + 1), when n < last */
 	u64 t_pending; /* engine time of the pending event */
 	u64 half_ns; /* high time of the current step */
-	u64 space_min; /* shortest low time after the current step */
+	u64 high_min; /* shortest high time of the current step */
+	u64 space_min; /* shortest low time (phase mode: step) after it */
 	u32 rate; /* port writes per second at the move's top speed */
 	u64 bres[X4_AXES]; /* Bresenham accumulators of the minor axes */
 	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
@@ -299,6 +300,7 @@ struct x4_engine {
 	 */
 	u64 shifts;
 	u64 shifted_ns;
+	struct x4_chan *fired; /* the channel of the last step edge fired */
 	u32 budget; /* port writes per second, all moves together; 0: none */
 };
 
@@ -316,6 +318,7 @@ int x4_engine_stop(struct x4_engine *e);
 int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop);
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
 void x4_engine_fire(struct x4_engine *e, u64 now_ns);
+void x4_engine_written(struct x4_engine *e, u64 t_ns);
 
 int x4_profile_check(const struct x4_profile *p);
 /* A reference run's own arguments (not its axis, switch or output mode). */

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0
 /*
  * x4step: the engine on the port registers, paced by a hard-irq hrtimer
- * with absolute expiry times, so a late callback never shifts the rest of
- * the schedule.
+ * with absolute expiry times. A callback does a bounded amount of work:
+ * the events that are due, at most X4_TICK_EVENTS of them and for at most
+ * about X4_TICK_NS, then it re-arms, so that the ioctls, brake keys and
+ * the other CPUs' interrupts get the lock and the CPU in between. What a
+ * late callback leaves over fires in the next one; the engine keeps every
+ * pulse and space at its minimum whatever the lateness.
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
@@ -16,13 +20,17 @@
 /* Pins 1, 14 and 17 (C0, C1, C3) are inverted by the port hardware. */
 #define X4_CTL_HW_INVERT 0x0b
 /* Pin 11 (S7, Busy) is inverted by the port hardware. */
+#define X4_STATUS_HW_INVERT 0x80
 /*
- * Events due sooner than this after the last are waited for in the timer
- * callback instead of re-arming the timer: only configured short pulses
- * (the X4Step clock's shortest half period is 25 us).
+ * The fall of a configured clock pulse due this soon after its rise is
+ * waited for in the callback instead of re-arming the timer, so that the
+ * pulse lasts what was asked (the timer's jitter is of this order). No
+ * other event is waited for.
  */
 #define X4_SPIN_NS 10000
-#define X4_STATUS_HW_INVERT 0x80
+/* The most events, and about the longest time, of one timer callback. */
+#define X4_TICK_EVENTS 8
+#define X4_TICK_NS 20000
 
 /* Wakes pollers and x4_release's uninterruptible wait for the brake. */
 static void x4_wake(struct irq_work *work)
@@ -32,12 +40,13 @@ static void x4_wake(struct irq_work *work)
 	wake_up_all(&x4->wait);
 }
 
-/* The data bits that user wiring inverts: set once, not per event. Caller holds slock. */
+/* The data bits that user wiring inverts: set once, not per event. */
 void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert)
 {
 	u8 bits = 0;
 	int i;
 
+	lockdep_assert_held(&x4->slock);
 	for (i = 0; i < X4_AXES; i++) {
 		if (clock_invert & (1u << i))
 			bits |= X4_CLK_BIT(i);
@@ -51,8 +60,7 @@ void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert)
 
 /*
  * Put the engine's pin levels on the port, writing only the registers
- * that change (port I/O is slow, and this runs in hard irq). Caller holds
- * slock.
+ * that change (port I/O is slow, and this runs in hard irq).
  */
 void x4_port_write_locked(struct x4_port *x4)
 {
@@ -60,6 +68,7 @@ void x4_port_write_locked(struct x4_port *x4)
 	u8 data = x4->eng.data;
 	u8 ctl = x4->eng.ctl ^ X4_CTL_HW_INVERT;
 
+	lockdep_assert_held(&x4->slock);
 	if (!x4->claimed)
 		return;
 	if (x4->eng.mode == X4_MODE_CLOCK_DIR)
@@ -73,15 +82,23 @@ void x4_port_write_locked(struct x4_port *x4)
 	x4->written_valid = true;
 }
 
+/* Minimums count from when the write was done, not from before it. */
+static void x4_port_written_locked(struct x4_port *x4)
+{
+	x4_engine_written(&x4->eng, ktime_get_ns() - ktime_to_ns(x4->epoch));
+}
+
 /*
  * Fire and write what is due by engine time `until` (more writes of one
- * instant in phase mode, a stop's rest patterns). Caller holds slock.
+ * instant in phase mode, a stop's rest patterns).
  */
 void x4_port_drain_locked(struct x4_port *x4, u64 until)
 {
+	lockdep_assert_held(&x4->slock);
 	while (x4_engine_busy(&x4->eng) && x4_engine_due(&x4->eng) <= until) {
 		x4_engine_fire(&x4->eng, until);
 		x4_port_write_locked(x4);
+		x4_port_written_locked(x4);
 	}
 }
 
@@ -91,6 +108,7 @@ void x4_port_write_rest_locked(struct x4_port *x4)
 	u8 bytes[X4_SMC_AXES];
 	int i, n = x4_engine_rest_writes(&x4->eng, bytes);
 
+	lockdep_assert_held(&x4->slock);
 	for (i = 0; i < n; i++) {
 		x4->eng.data = bytes[i];
 		x4_port_write_locked(x4);
@@ -107,23 +125,24 @@ void x4_port_gone(struct x4_port *x4)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
-/* Caller holds slock and has checked that the port is not gone. */
+/* The input pin levels; the caller has checked that the port is not gone. */
 u32 x4_port_inputs_locked(struct x4_port *x4)
 {
-	u8 status = x4->port->ops->read_status(x4->port) ^ X4_STATUS_HW_INVERT;
+	u8 status;
 
+	lockdep_assert_held(&x4->slock);
+	status = x4->port->ops->read_status(x4->port) ^ X4_STATUS_HW_INVERT;
 	/* S3..S7 are pins 15, 13, 12, 10, 11: X4GetIn bits 0..4. */
 	return (status >> 3) & 0x1f;
 }
 
-/* Count how late this expiry is. Caller holds slock. */
-static void x4_account_lateness(struct x4_port *x4, struct hrtimer *timer,
-				ktime_t now)
+/* Count how late an event is written, `late` ns after it was due. */
+static void x4_account_lateness(struct x4_port *x4, s64 late)
 {
 	struct x4step_timing *t = &x4->timing;
-	s64 late = ktime_to_ns(ktime_sub(now, hrtimer_get_expires(timer)));
 	u64 bucket;
 
+	lockdep_assert_held(&x4->slock);
 	if (late < 0)
 		late = 0;
 	bucket = (u64)late / X4STEP_TIMING_BUCKET_NS;
@@ -136,25 +155,40 @@ static void x4_account_lateness(struct x4_port *x4, struct hrtimer *timer,
 		t->beyond++;
 }
 
-/* Sample the inputs when a running move watches its switches. */
-static void x4_sense_locked(struct x4_port *x4)
+/*
+ * Fire the engine's pending event at `now` and write it; more writes of
+ * the same instant (phase mode) go out with it.
+ */
+static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 {
-	if (x4->claimed && x4_engine_sensing(&x4->eng))
-		x4_engine_sense(&x4->eng, x4_port_inputs_locked(x4));
+	struct x4_engine *e = &x4->eng;
+	u64 t = x4_engine_due(e);
+
+	lockdep_assert_held(&x4->slock);
+	/* A step that a limit or REF watches: look at the switches first. */
+	if (x4->claimed && x4_engine_rise_watched(e))
+		x4_engine_sense(e, x4_port_inputs_locked(x4));
+	x4_account_lateness(x4, ktime_to_ns(now) - ktime_to_ns(x4->epoch) - t);
+	x4_engine_fire(e, ktime_to_ns(ktime_sub(now, x4->epoch)));
+	x4_port_write_locked(x4);
+	x4_port_written_locked(x4);
+	x4_port_drain_locked(x4, t);
 }
 
-/* (Re)arm the timer for the engine's next event. Caller holds slock. */
+/* (Re)arm the timer for the engine's next event. */
 static void x4_arm_locked(struct x4_port *x4)
 {
+	lockdep_assert_held(&x4->slock);
 	if (x4_engine_busy(&x4->eng))
 		hrtimer_start(&x4->timer,
 			      ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng)),
 			      HRTIMER_MODE_ABS_HARD);
 }
 
-/* Wake pollers when moves ended since the last look. Caller holds slock. */
+/* Wake pollers when moves ended since the last look. */
 static void x4_note_ends_locked(struct x4_port *x4)
 {
+	lockdep_assert_held(&x4->slock);
 	if (x4->moves_ended != x4->eng.ends) {
 		x4->moves_ended = x4->eng.ends;
 		irq_work_queue(&x4->wake_work);
@@ -170,42 +204,47 @@ static void x4_note_ends_locked(struct x4_port *x4)
 static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 {
 	struct x4_port *x4 = container_of(timer, struct x4_port, timer);
+	struct x4_engine *e = &x4->eng;
+	const struct x4_chan *fired = NULL;
 	unsigned long flags;
-	ktime_t now, due;
-	u64 t;
+	ktime_t now, due, end;
+	int n = 0;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (x4_engine_busy(&x4->eng) && !hrtimer_is_queued(timer)) {
-		now = ktime_get();
-		x4_account_lateness(x4, timer, now);
-		x4_sense_locked(x4);
-		for (;;) {
-			/*
-			 * The armed event may have been stopped meanwhile:
-			 * fire only what is due. What is due within
-			 * X4_SPIN_NS (a configured pulse shorter than the
-			 * timer's jitter) is waited for here, so that it
-			 * lasts what was asked.
-			 */
-			due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
-			if (ktime_after(due, now)) {
-				if (ktime_to_ns(ktime_sub(due, now)) > X4_SPIN_NS)
-					break;
-				while (ktime_before(now = ktime_get(), due))
-					cpu_relax();
-			}
-			t = x4_engine_due(&x4->eng);
-			x4_engine_fire(&x4->eng,
-				       ktime_to_ns(ktime_sub(now, x4->epoch)));
-			x4_port_write_locked(x4);
-			x4_port_drain_locked(x4, t); /* the same instant */
-			if (!x4_engine_busy(&x4->eng))
+	if (!x4_engine_busy(e) || hrtimer_is_queued(timer))
+		goto out;
+	now = ktime_get();
+	end = ktime_add_ns(now, X4_TICK_NS);
+	x4->timing.callbacks++;
+	for (;;) {
+		/* The armed event may have been stopped: fire what is due. */
+		due = ktime_add_ns(x4->epoch, x4_engine_due(e));
+		if (ktime_after(due, now)) {
+			if (!x4_engine_pulse_pending(e, fired) ||
+			    ktime_to_ns(ktime_sub(due, now)) > X4_SPIN_NS)
 				break;
-			now = ktime_get();
+			while (ktime_before(now = ktime_get(), due))
+				cpu_relax();
 		}
-		x4_arm_locked(x4);
-		x4_note_ends_locked(x4);
+		fired = e->cur;
+		x4_fire_locked(x4, now);
+		if (!x4_engine_busy(e))
+			break;
+		now = ktime_get();
+		if (++n >= X4_TICK_EVENTS || ktime_after(now, end)) {
+			if (!ktime_after(ktime_add_ns(x4->epoch,
+						      x4_engine_due(e)), now))
+				x4->timing.capped++; /* more was due */
+			break;
+		}
 	}
+	x4->timing.shifts += e->shifts;
+	x4->timing.shifted_ns += e->shifted_ns;
+	e->shifts = 0;
+	e->shifted_ns = 0;
+	x4_arm_locked(x4);
+	x4_note_ends_locked(x4);
+out:
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return HRTIMER_NORESTART;
 }
@@ -223,6 +262,9 @@ MODULE_PARM_DESC(dir_setup_ns, "direction setup before the first step in ns (def
 static unsigned int dir_hold_ns;
 module_param(dir_hold_ns, uint, 0444);
 MODULE_PARM_DESC(dir_hold_ns, "direction hold after the last step in ns (default 0)");
+static unsigned int write_budget = X4_WRITE_BUDGET;
+module_param(write_budget, uint, 0444);
+MODULE_PARM_DESC(write_budget, "port writes per second all moves of a port may need together (default 200000, 0: no limit)");
 
 void x4_port_init(struct x4_port *x4)
 {
@@ -232,6 +274,7 @@ void x4_port_init(struct x4_port *x4)
 	x4_engine_init(&x4->eng);
 	if (x4_engine_configure(&x4->eng, &t, X4_MODE_CLOCK_DIR))
 		pr_warn("step timing parameters out of range (1000..1000000 ns), using the defaults\n");
+	x4->eng.budget = write_budget;
 	init_waitqueue_head(&x4->wait);
 	init_irq_work(&x4->wake_work, x4_wake);
 	x4_hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
@@ -300,11 +343,12 @@ int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg)
 }
 
 /*
- * After the engine braked or stopped moves (caller holds slock): a stop's
- * writes go out at once, and pollers learn of the moves that ended.
+ * After the engine braked or stopped moves: a stop's writes go out at
+ * once, and pollers learn of the moves that ended.
  */
 void x4_port_halted_locked(struct x4_port *x4)
 {
+	lockdep_assert_held(&x4->slock);
 	x4_port_write_locked(x4);
 	x4_port_drain_locked(x4, 0); /* a stop's rest patterns, due at 0 */
 	x4_note_ends_locked(x4);

@@ -28,8 +28,11 @@ struct Stall {
 // its due time, or when the stall that covers it ends, plus up to
 // `jitter_ns` of random lateness; never before the event fired before it.
 // `before_fire` may start or halt moves at the engine time it is given.
+// Each write reaches the port up to `write_ns` after the time fire() was
+// given (x4_engine_written()); the events record when it did.
 std::vector<x4_event> RunLate(x4_engine &e, const std::vector<Stall> &stalls, uint64_t jitter_ns = 0,
-                              const std::function<void(uint64_t)> &before_fire = nullptr) {
+                              const std::function<void(uint64_t)> &before_fire = nullptr,
+                              uint64_t write_ns = 0) {
   std::vector<x4_event> out;
   std::mt19937_64 rng(15);
   uint64_t clock = 0;
@@ -41,6 +44,10 @@ std::vector<x4_event> RunLate(x4_engine &e, const std::vector<Stall> &stalls, ui
     if (before_fire) before_fire(now);
     if (!x4_engine_busy(&e)) break;
     x4_engine_fire(&e, now);
+    if (write_ns) {
+      now += rng() % (write_ns + 1);
+      x4_engine_written(&e, now);
+    }
     out.push_back({now, e.data, e.ctl});
     clock = now;
   }
@@ -168,6 +175,19 @@ TEST(Lateness, JitterAt20kHzShiftsAndKeeps25us) {
   EXPECT_GE(Min(p.highs), X4_CLOCK_MIN_NS);
   EXPECT_GE(Min(p.lows), X4_CLOCK_MIN_NS);
   EXPECT_GT(eng.e.shifts, 0u);
+}
+
+// The port write comes a little after the time the engine was given (the
+// step's computation, the port's own delay): minimums count from the write.
+TEST(Lateness, MinimumsCountFromTheWrite) {
+  Eng eng;
+  eng.Timing(5000, 5000);
+  eng.Goto(1, 5000, Prof(0, 0, 45000, 400000, 400000));
+  const auto ev = RunLate(eng.e, {}, 0, nullptr, 700);
+  const Pulses p = PulsesOf(ev, 1);
+  EXPECT_EQ(p.rises.size(), 5000u);
+  EXPECT_GE(Min(p.highs), 5000u);
+  EXPECT_GE(Min(p.lows), 5000u);
 }
 
 // Configured pulse and space are minimums from the real edges too.

@@ -26,7 +26,11 @@
 #include <linux/ioctl.h>
 #include <linux/types.h>
 
-#define X4STEP_ABI_VERSION 2 /* 2: positioning */
+/*
+ * 2: positioning; 3: GET_TIMING counts every event, and shifts.
+ * A version only adds: a program built for version N runs on any >= N.
+ */
+#define X4STEP_ABI_VERSION 3
 #define X4STEP_AXES 4
 #define X4STEP_MAX_BRAKE_CODES 20
 
@@ -135,10 +139,16 @@ struct x4step_step_timing {
 };
 
 /*
- * X4STEP_GET_TIMING: how late the step timer fired (hrtimer expiry to the
- * callback) since the last read, which resets it. hist[i] counts
- * lateness in [i, i + 1) * X4STEP_TIMING_BUCKET_NS; later ones in
- * `beyond`.
+ * X4STEP_GET_TIMING: how late the step timer's events fired since the
+ * last read by the controller, which resets it (a read-only descriptor
+ * reads without resetting). An event is one edge or port write of a move;
+ * its lateness is from its planned time to the moment it was written.
+ * hist[i] counts lateness in [i, i + 1) * X4STEP_TIMING_BUCKET_NS; later
+ * ones in `beyond`. No pulse or space is ever shortened to make up for
+ * lateness: where the next step would come too soon the rest of that
+ * move's schedule moves later, counted in `shifts` and `shifted_ns`.
+ * A timer callback fires at most a few events, for at most about 20 us,
+ * then re-arms: `capped` counts the callbacks that stopped at that limit.
  */
 #define X4STEP_TIMING_BUCKETS 512
 #define X4STEP_TIMING_BUCKET_NS 64
@@ -148,6 +158,12 @@ struct x4step_timing {
 	__u64 beyond;
 	__u64 reserved;
 	__u32 hist[X4STEP_TIMING_BUCKETS];
+	/* ABI 3 */
+	__u64 callbacks; /* timer callbacks that fired events */
+	__u64 capped;
+	__u64 shifts;
+	__u64 shifted_ns;
+	__u64 reserved3[4];
 };
 
 /*
@@ -320,6 +336,10 @@ struct x4step_axes {
 #define X4STEP_GET_STEP_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0d, struct x4step_step_timing)
 /* Read and reset the timer lateness statistics. */
 #define X4STEP_GET_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0b, struct x4step_timing)
+/* The same in ABI 2's size: only the fields up to hist[] (2080 bytes). */
+#define X4STEP_TIMING_V2_SIZE (4 * 8 + 4 * X4STEP_TIMING_BUCKETS)
+#define X4STEP_GET_TIMING_V2 _IOC(_IOC_READ, X4STEP_IOC_MAGIC, 0x0b, \
+				  X4STEP_TIMING_V2_SIZE)
 /* Positioning: profiles, independent moves, homing, halts, switches. */
 #define X4STEP_SET_PROFILE _IOW(X4STEP_IOC_MAGIC, 0x10, struct x4step_profile)
 #define X4STEP_GET_PROFILE _IOWR(X4STEP_IOC_MAGIC, 0x11, struct x4step_profile)
