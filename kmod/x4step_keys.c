@@ -8,6 +8,18 @@
  * (1..127) for a press, break code c + 128 for the release. Linux key
  * codes 1..88 are set-1 make codes already; extended keys are translated
  * to the code the MF2 keyboard sends after its E0 prefix.
+ *
+ * With X4STEP_CFG_KEYS_SWALLOW, a brake key pressed while a move runs is
+ * swallowed, and so are that key's auto-repeats and its release, even once
+ * the move has ended. Any other press passes, and so does its release, even
+ * if that release brakes (a break code): applications see a key's press and
+ * release together or not at all, never a key stuck down. As sysrq does,
+ * each keyboard's handle keeps a bitmap of the keys whose press it swallowed.
+ *
+ * The handler is a filter, ahead of evdev on every keyboard, but the input
+ * core delivers a grabbed device's events to the grabbing handle only
+ * (input_pass_values()): while a process holds a keyboard with EVIOCGRAB,
+ * its keys, ESC too, never reach this handler and brake nothing.
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
@@ -17,6 +29,13 @@
 #include "x4step_dev.h"
 
 #define X4_KEY_ESC 1
+
+/* One per keyboard. */
+struct x4_key_handle {
+	struct input_handle handle;
+	/* Keys whose press was swallowed; under the device's event_lock. */
+	DECLARE_BITMAP(swallowed, KEY_CNT);
+};
 
 static u8 x4_set1_code(unsigned int key)
 {
@@ -67,32 +86,48 @@ static u8 x4_set1_code(unsigned int key)
 }
 
 /*
- * Runs under the input device's event lock with interrupts off: only the
- * engine's raw spinlock is taken. Returns true to swallow the event.
+ * Runs under the input device's event lock with interrupts off, which also
+ * serialises the handle's bitmap: only the engine's raw spinlock is taken.
+ * Returns true to swallow the event.
  */
 static bool x4_key_filter(struct input_handle *handle, unsigned int type,
 			  unsigned int code, int value)
 {
+	struct x4_key_handle *kh =
+		container_of(handle, struct x4_key_handle, handle);
+	bool swallow;
 	u8 make;
 
-	if (type != EV_KEY || value == 2)
-		return false; /* auto-repeat is not a new press */
-	make = x4_set1_code(code);
+	if (type != EV_KEY)
+		return false;
+	make = x4_set1_code(code); /* 0 for any code >= 128 */
 	if (!make)
 		return false;
-	return x4_brake_key_all(value ? make : make + 128);
+	if (value == 2) /* auto-repeat is no new press: it goes with the press */
+		return test_bit(code, kh->swallowed);
+	if (value) {
+		swallow = x4_brake_key_all(make);
+		/* Assigned either way: a grab may have taken the last release. */
+		__assign_bit(code, kh->swallowed, swallow);
+		return swallow;
+	}
+	/* A release brakes on its own code but is swallowed with its press. */
+	x4_brake_key_all(make + 128);
+	return __test_and_clear_bit(code, kh->swallowed);
 }
 
 static int x4_key_connect(struct input_handler *handler,
 			  struct input_dev *dev,
 			  const struct input_device_id *id)
 {
+	struct x4_key_handle *kh;
 	struct input_handle *handle;
 	int ret;
 
-	handle = kzalloc(sizeof(*handle), GFP_KERNEL);
-	if (!handle)
+	kh = kzalloc(sizeof(*kh), GFP_KERNEL);
+	if (!kh)
 		return -ENOMEM;
+	handle = &kh->handle;
 	handle->dev = dev;
 	handle->handler = handler;
 	handle->name = KBUILD_MODNAME;
@@ -108,7 +143,7 @@ static int x4_key_connect(struct input_handler *handler,
 err_unregister:
 	input_unregister_handle(handle);
 err_free:
-	kfree(handle);
+	kfree(kh);
 	return ret;
 }
 
@@ -116,7 +151,7 @@ static void x4_key_disconnect(struct input_handle *handle)
 {
 	input_close_device(handle);
 	input_unregister_handle(handle);
-	kfree(handle);
+	kfree(container_of(handle, struct x4_key_handle, handle));
 }
 
 static const struct input_device_id x4_key_ids[] = {

@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: GPL-2.0
 // In-guest test of the brake keys: a uinput keyboard types, the module's
 // input handler brakes. Prints PASS/FAIL lines and the brake latency.
+// With X4STEP_CFG_KEYS_SWALLOW an evdev reader of the same keyboard checks
+// that a key's press and release are swallowed together.
+#include <dirent.h>
 #include <fcntl.h>
 #include <linux/uinput.h>
 #include <linux/x4step.h>
@@ -41,10 +44,42 @@ class Keyboard {
     usleep(200000);  // let the handlers connect
   }
   ~Keyboard() {
+    if (evdev_ >= 0) close(evdev_);
     ioctl(fd_, UI_DEV_DESTROY);
     close(fd_);
   }
   bool ok() const { return fd_ >= 0; }
+  // The keyboard's own /dev/input/eventN, read as an application would.
+  // Returns its descriptor, -1 if not found.
+  int OpenEvdev() {
+    DIR *d = opendir("/dev/input");
+    for (dirent *e; d && (e = readdir(d));) {
+      if (std::strncmp(e->d_name, "event", 5)) continue;
+      const std::string path = std::string("/dev/input/") + e->d_name;
+      const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+      char name[64] = {};
+      if (fd >= 0 && ioctl(fd, EVIOCGNAME(sizeof name - 1), name) >= 0 &&
+          !std::strcmp(name, "x4step test keyboard")) {
+        evdev_ = fd;
+        break;
+      }
+      if (fd >= 0) close(fd);
+    }
+    if (d) closedir(d);
+    return evdev_;
+  }
+  // What the reader got since the last call: "+" press, "-" release, "r"
+  // repeat of `key`, in order (the other keys are ignored).
+  std::string Seen(int key) {
+    std::string seen;
+    input_event ev[64];
+    ssize_t n;
+    while ((n = read(evdev_, ev, sizeof ev)) > 0)
+      for (ssize_t i = 0; i < n / ssize_t(sizeof ev[0]); i++)
+        if (ev[i].type == EV_KEY && ev[i].code == key) seen += "-+r"[std::min(ev[i].value, 2)];
+    return seen;
+  }
+  bool Grab(bool on) { return ioctl(evdev_, EVIOCGRAB, on ? 1 : 0) == 0; }
   // value: 1 press, 0 release, 2 auto-repeat. Returns the time before writing.
   uint64_t Key(int code, int value) {
     input_event ev[2] = {};
@@ -60,6 +95,7 @@ class Keyboard {
 
  private:
   int fd_;
+  int evdev_ = -1;
 };
 
 x4step_status Status(int fd) {
@@ -85,6 +121,13 @@ void Endless(int fd) {
   x4step_endless e{1, 1, 1000, 50, 0, 0, {0, 0}};
   if (ioctl(fd, X4STEP_MOVE_ENDLESS, &e)) std::perror("MOVE_ENDLESS");
   usleep(150000);
+}
+
+bool SetSwallow(int fd, bool on) {
+  x4step_config cfg{};
+  if (ioctl(fd, X4STEP_GET_CONFIG, &cfg)) return false;
+  cfg.flags = on ? cfg.flags | X4STEP_CFG_KEYS_SWALLOW : cfg.flags & ~X4STEP_CFG_KEYS_SWALLOW;
+  return ioctl(fd, X4STEP_SET_CONFIG, &cfg) == 0;
 }
 
 std::vector<uint64_t> latencies;
@@ -166,6 +209,106 @@ int main() {
   Endless(fd);
   ExpectBrake(fd, kb, 21, 1, 21, "20th brake code");
   kb.Key(21, 0);
+
+  // Swallowed keys: an application reading the keyboard sees a key's press
+  // and release together or not at all, never a key stuck down (a press
+  // without its release) nor a release without its press.
+  Check(kb.OpenEvdev() >= 0, "evdev reader of the test keyboard");
+  Check(SetSwallow(fd, true), "keys swallowed (X4STEP_CFG_KEYS_SWALLOW)");
+  kb.Seen(KEY_ENTER);
+
+  // Not swallowed while no move runs.
+  SetCodes(fd, {28});
+  kb.Key(KEY_ENTER, 1);
+  kb.Key(KEY_ENTER, 0);
+  Check(kb.Seen(KEY_ENTER) == "+-", "swallow: a brake key passes while no move runs");
+
+  // Make code: the press brakes and is swallowed, and so are its
+  // auto-repeat and its release (the move has ended by then).
+  Endless(fd);
+  ExpectBrake(fd, kb, KEY_ENTER, 1, 28, "swallow: ENTER press");
+  kb.Key(KEY_ENTER, 2);
+  kb.Key(KEY_ENTER, 0);
+  std::string seen = kb.Seen(KEY_ENTER);
+  Check(seen.empty(),
+        "swallow, make code: press, auto-repeat and release all swallowed (seen '" + seen + "')");
+
+  // Break code: the press (no brake code) reaches the application while a
+  // move runs, so its release must too, although it brakes.
+  SetCodes(fd, {28 + 128});
+  Endless(fd);
+  kb.Key(KEY_ENTER, 1);
+  usleep(100000);
+  Check(Active(fd), "swallow, break code: the press does not brake");
+  ExpectBrake(fd, kb, KEY_ENTER, 0, 156, "swallow: ENTER release");
+  seen = kb.Seen(KEY_ENTER);
+  Check(seen == "+-" || seen.empty(),
+        "swallow, break code: press and release seen together or not at all (seen '" + seen + "')");
+  Check(seen == "+-", "swallow, break code: the passed press's release passes though it brakes");
+
+  // Break code of a key held since before the move (the manual's example 7).
+  kb.Key(KEY_ENTER, 1);
+  Endless(fd);
+  ExpectBrake(fd, kb, KEY_ENTER, 0, 156, "swallow: release of a key held before the move");
+  seen = kb.Seen(KEY_ENTER);
+  Check(seen == "+-", "swallow, key held before the move: press and release seen (seen '" + seen + "')");
+
+  // Make and break code: the press brakes, both are swallowed.
+  SetCodes(fd, {28, 28 + 128});
+  Endless(fd);
+  ExpectBrake(fd, kb, KEY_ENTER, 1, 28, "swallow: ENTER press (make and break code)");
+  kb.Key(KEY_ENTER, 0);
+  seen = kb.Seen(KEY_ENTER);
+  Check(seen.empty(), "swallow, make and break code: press and release swallowed (seen '" + seen + "')");
+
+  // ESC, always a brake code.
+  SetCodes(fd, {});
+  Endless(fd);
+  ExpectBrake(fd, kb, KEY_ESC, 1, 1, "swallow: ESC");
+  kb.Key(KEY_ESC, 0);
+  seen = kb.Seen(KEY_ESC);
+  Check(seen.empty(), "swallow: ESC press and release swallowed (seen '" + seen + "')");
+
+  // A process that grabs the keyboard (EVIOCGRAB) takes its keys, ESC too,
+  // away from x4step's handler: the input core then delivers to the grab
+  // only. Documented in the README (Brake keys).
+  Endless(fd);
+  Check(kb.Grab(true), "EVIOCGRAB of the test keyboard");
+  kb.Key(KEY_ESC, 1);
+  kb.Key(KEY_ESC, 0);
+  usleep(100000);
+  Check(Active(fd), "ESC on a grabbed keyboard does not brake (documented)");
+  seen = kb.Seen(KEY_ESC);
+  Check(seen == "+-", "the grabbing reader gets ESC's press and release (seen '" + seen + "')");
+  kb.Grab(false);
+  ExpectBrake(fd, kb, KEY_ESC, 1, 1, "ESC after the grab ends");
+  kb.Key(KEY_ESC, 0);
+  seen = kb.Seen(KEY_ESC);
+  Check(seen.empty(), "swallow after the grab: ESC press and release swallowed (seen '" + seen + "')");
+
+  // A grab that takes a swallowed press's release leaves no stale state:
+  // the key's next press and release, with no move running, both pass.
+  SetCodes(fd, {28});
+  Endless(fd);
+  ExpectBrake(fd, kb, KEY_ENTER, 1, 28, "swallow: ENTER press before a grab");
+  kb.Grab(true);
+  kb.Key(KEY_ENTER, 0);
+  kb.Grab(false);
+  kb.Seen(KEY_ENTER);  // the grab's release without a press: x4step never saw it
+  kb.Key(KEY_ENTER, 1);
+  kb.Key(KEY_ENTER, 0);
+  seen = kb.Seen(KEY_ENTER);
+  Check(seen == "+-",
+        "swallow: after a grab took a release, the next press and release pass (seen '" + seen + "')");
+  Check(SetSwallow(fd, false), "keys no longer swallowed");
+
+  // Without swallowing, a brake key reaches the application entirely.
+  SetCodes(fd, {28});
+  Endless(fd);
+  ExpectBrake(fd, kb, KEY_ENTER, 1, 28, "no swallow: ENTER press");
+  kb.Key(KEY_ENTER, 0);
+  seen = kb.Seen(KEY_ENTER);
+  Check(seen == "+-", "no swallow: press and release seen (seen '" + seen + "')");
 
   std::sort(latencies.begin(), latencies.end());
   if (!latencies.empty())
