@@ -1191,16 +1191,21 @@ static noinline void halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 	cut(c);
 }
 
-static u64 min_u64(u64 a, u64 b)
+/*
+ * The shortest a time planned `planned` ns long may become when its start
+ * was late: `min`, or half the plan where the plan is shorter than that (a
+ * move faster than the X4Step clock: timer jitter must not shift it all).
+ */
+static u64 min_of(u64 planned, u64 min)
 {
-	return a < b ? a : b;
+	return planned >= min ? min : planned / 2;
 }
 
 /*
  * The fall of the step that rose at now_ns (planned at t_step), and the
  * shortest low time after it. Minimums count from the real edges: a
- * configured pulse or space as configured; otherwise X4_CLOCK_MIN_NS, or
- * what the move plans where that is shorter.
+ * configured pulse or space as configured; otherwise min_of() the plan and
+ * X4_CLOCK_MIN_NS (or the configured pulse, for the space).
  */
 static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
 			      u64 t_step, u64 now_ns)
@@ -1209,15 +1214,15 @@ static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
 	u64 high = t->pulse_ns ? t->pulse_ns : c->half_ns;
 	u64 interval = 2 * c->half_ns;
 
-	c->high_min = t->pulse_ns ? high : min_u64(high, X4_CLOCK_MIN_NS);
+	c->high_min = t->pulse_ns ? high : min_of(high, X4_CLOCK_MIN_NS);
 	if (c->n < c->run.last)
 		interval = c->t_next - c->t_cur;
 	c->t_pending = t_step + high;
 	if (c->t_pending < now_ns + c->high_min)
 		c->t_pending = now_ns + c->high_min;
 	c->space_min = t->space_ns ? t->space_ns :
-		min_u64(interval > high ? interval - high : 0,
-			t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
+		min_of(interval > high ? interval - high : 0,
+		       t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
 }
 
 static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
@@ -1253,7 +1258,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	e->fired = c;
 	if (phase_mode(e)) {
 		step_done(e, c, now_ns);
-		c->space_min = min_u64(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
+		c->space_min = min_of(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
 		keep_min(e, c, now_ns + c->space_min);
 		smc_step(e, c, t_step);
 		return;

@@ -44,8 +44,9 @@ typedef int64_t s64;
 #define X4_PULSE_MIN_NS 1000u /* a configured pulse: at least 1 us */
 /*
  * The X4Step clock's shortest half period (20 kHz): without a configured
- * pulse, no clock high or low time is shorter than this, or than what the
- * move plans when that is shorter (a profile move above 20 000 steps/s).
+ * pulse, no clock high or low time is shorter than this, however late the
+ * timer; where a move plans shorter ones (a profile move above 20 000
+ * steps/s), none is shorter than half of what it plans.
  */
 #define X4_CLOCK_MIN_NS 25000u
 /*
