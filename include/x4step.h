@@ -48,11 +48,17 @@ extern "C" {
  * Open port lpt (LPT1..LPT4) and clear the 1 ms timer. If a port is open
  * already it is released first, as by X4ReInit.
  * @return X4NoErr, X4ErrParamFail (lpt not 1..4), X4ErrLPTNotFound (no
- *         /dev/x4stepN, or another program controls it)
+ *         /dev/x4stepN, or the port is taken: another program controls
+ *         it, the module still brakes the motors of a program that ended
+ *         while they ran, or another parport driver (lp; ppdev for a
+ *         program using /dev/parportN) has claimed it. The holder's name
+ *         is in /proc/sys/dev/parport/parport(lpt-1)/devices/active; the
+ *         C++ API's exception says it.)
  */
 int X4Init(int lpt);
 
-/** Release the port; running motors brake along their ramp first.
+/** Release the port; running motors brake along their ramp first, and
+ *  this returns when they stand, however long the brake takes.
  *  @return X4NoErr, X4ErrInitNotDone */
 int X4ReInit(void);
 

@@ -222,10 +222,14 @@ errc check(const homing &h) noexcept;
 std::string device_path(int lpt);
 
 /// Owns one port: the only one that moves its motors. Move-only.
-/// Destroying it while motors run brakes them along the ramp first.
+/// Destroying it while motors run brakes them along the ramp first, and
+/// waits until they stand (see close()).
 class controller {
  public:
-  /// Open LPT1..4. Throws lpt_not_found if the port is missing or taken.
+  /// Open LPT1..4. Throws lpt_not_found if the port is missing or taken;
+  /// when taken, what() says by whom: another controller (or the module
+  /// still braking the motors of one that was killed), or another parport
+  /// driver such as ppdev (a program using /dev/parportN) or lp.
   explicit controller(int lpt);
   /// Open a device node by path.
   explicit controller(const std::string &path);
@@ -292,8 +296,11 @@ class controller {
   /// (negative: for ever). Other axes may go on moving.
   bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
 
-  /// Release the port now (what the destructor does); idempotent.
-  void close();
+  /// Release the port now (what the destructor does); idempotent. Brakes
+  /// running motors along their ramps and waits until they stand (for as
+  /// long as the brake takes; the port going away ends the wait), so that
+  /// the next controller can open at once. Never throws.
+  void close() noexcept;
 
  private:
   struct impl;
@@ -311,6 +318,9 @@ class monitor {
   ~monitor();
 
   status get_status() const;
+  /// As controller::wait; after a controller closed during a brake, until
+  /// the module has braked to rest and released the port, so that a
+  /// controller can open when this returns true.
   bool wait(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
   axes_status get_axes() const;
   /// As controller::wait_axes.

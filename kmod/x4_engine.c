@@ -640,48 +640,88 @@ int x4_engine_set_profile(struct x4_engine *e, s32 axis,
 	return X4_OK;
 }
 
-int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
-		   bool relative, u64 now_ns)
+int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
+			const s32 *target, bool relative, struct x4_goto *g)
 {
 	s64 steps[X4_AXES];
-	u64 rate = 0;
-	int i, j, ret;
+	int i, ret;
 
 	if (!axes || axes & ~mode_axes(e))
 		return X4_ERR_PARAM_FAIL;
+	g->axes = axes;
+	g->moving = 0;
+	g->rate = 0;
 	for (i = 0; i < X4_AXES; i++) {
 		if (!(axes & (1u << i)))
 			continue;
 		ret = timing_check(e, (s32)e->prof[i].vm);
 		if (ret)
 			return ret;
-		/* A profile move's top speed is at most vm. */
-		rate += (u64)e->prof[i].vm * writes_per_step(e, 1);
 	}
 	if (busy_axes(e) & axes)
 		return X4_ERR_IS_ACTIVE;
-	if (budget_check(e, rate))
+	for (i = 0; i < X4_AXES; i++) {
+		g->from[i] = position(e, i);
+		steps[i] = relative ? (s64)target[i] :
+				      (s64)target[i] - g->from[i];
+		if (!(axes & (1u << i)) || !steps[i])
+			continue; /* not commanded, or there already */
+		g->moving |= 1u << i;
+		/* A profile move's top speed is at most vm. */
+		g->rate += (u64)e->prof[i].vm * writes_per_step(e, 1);
+	}
+	if (budget_check(e, g->rate))
 		return X4_ERR_RATE_BUDGET;
+	for (i = 0; i < X4_AXES; i++) {
+		s64 one[X4_AXES] = { 0 };
+
+		if (!(g->moving & (1u << i)))
+			continue;
+		one[i] = steps[i];
+		plan_axes(&g->plan[i], one);
+		plan_prof(&g->plan[i], g->plan[i].abs_steps[i], &e->prof[i]);
+	}
+	return X4_OK;
+}
+
+int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
+			 u64 now_ns)
+{
+	int i;
+
+	if (busy_axes(e) & g->axes)
+		return X4_ERR_IS_ACTIVE;
+	if (budget_check(e, g->rate))
+		return X4_ERR_RATE_BUDGET;
+	for (i = 0; i < X4_AXES; i++)
+		if (g->axes & (1u << i) && position(e, i) != g->from[i])
+			return X4_ERR_PARAM_FAIL; /* planned from elsewhere */
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 
-		if (!(axes & (1u << i)))
+		if (!(g->axes & (1u << i)))
 			continue;
-		for (j = 0; j < X4_AXES; j++)
-			steps[j] = 0;
-		steps[i] = relative ? (s64)target[i] :
-				      (s64)target[i] - position(e, i);
-		if (!steps[i]) {
-			e->err[i] = 0; /* a command, but there already */
+		if (!(g->moving & (1u << i))) {
+			e->err[i] = 0;
 			continue;
 		}
-		plan_axes(&c->run, steps);
-		plan_prof(&c->run, c->run.abs_steps[i], &e->prof[i]);
+		c->run = g->plan[i];
 		c->home = 0;
 		begin(e, c, now_ns);
 	}
 	return X4_OK;
 }
+
+#ifndef __KERNEL__ /* the module plans on a copy: x4_port_goto() */
+int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
+		   bool relative, u64 now_ns)
+{
+	struct x4_goto g;
+	int ret = x4_engine_plan_goto(e, axes, target, relative, &g);
+
+	return ret ? ret : x4_engine_start_goto(e, &g, now_ns);
+}
+#endif
 
 /* Start reference run phase `phase` of the axis of channel c. */
 static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
@@ -694,6 +734,9 @@ static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 	plan_profile(&c->run, (u64)c->sref + 1, (u32)(vref < 0 ? -vref : vref), 0);
 	c->home = phase;
 	begin(e, c, now_ns);
+	/* The budget holds the faster phase for the whole reference run. */
+	if (c->rate < c->home_rate)
+		c->rate = c->home_rate;
 }
 
 static u32 abs_s32(s32 v)
@@ -740,6 +783,7 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	if (budget_check(e, (u64)vmax * writes_per_step(e, 1)))
 		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
+	c->home_rate = vmax * writes_per_step(e, 1);
 	c->sref = sref;
 	c->vref2 = vref2;
 	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
@@ -1048,7 +1092,9 @@ static void keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
 	d = earliest - c->t_pending;
 	c->origin += d;
 	c->t_pending += d;
-	e->shifts++;
+	if (!e->edge_shifted)
+		e->shifts++; /* an edge counts once (x4_engine_written) */
+	e->edge_shifted = true;
 	e->shifted_ns += d;
 }
 
@@ -1256,6 +1302,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	if (now_ns < t_step)
 		now_ns = t_step;
 	e->fired = c;
+	e->edge_shifted = false;
 	if (phase_mode(e)) {
 		step_done(e, c, now_ns);
 		c->space_min = min_of(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
@@ -1273,8 +1320,9 @@ static inline void fall(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	e->data &= (u8)~c->stepping;
 	next_step(c);
-	keep_min(e, c, now_ns + c->space_min);
 	e->fired = c;
+	e->edge_shifted = false;
+	keep_min(e, c, now_ns + c->space_min);
 }
 
 /* Every event but fall(), and what runs next. */

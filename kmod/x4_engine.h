@@ -259,6 +259,7 @@ struct x4_chan {
 	u64 high_min; /* shortest high time of the current step */
 	u64 space_min; /* shortest low time (phase mode: step) after it */
 	u32 rate; /* port writes per second at the move's top speed */
+	u32 home_rate; /* a reference run's, at its faster phase */
 	u64 bres[X4_AXES]; /* Bresenham accumulators of the minor axes */
 	u8 queue[X4_SMC_AXES]; /* phase mode: more writes due at t_pending */
 	u8 queued;
@@ -302,6 +303,7 @@ struct x4_engine {
 	u64 shifts;
 	u64 shifted_ns;
 	struct x4_chan *fired; /* the channel of the last step edge fired */
+	bool edge_shifted; /* ... and that edge moved its schedule already */
 	u32 budget; /* port writes per second, all moves together; 0: none */
 };
 
@@ -326,8 +328,26 @@ int x4_profile_check(const struct x4_profile *p);
 int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref);
 int x4_engine_set_profile(struct x4_engine *e, s32 axis,
 			  const struct x4_profile *p);
+/* Host only: the module plans outside its lock (below). */
 int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 		   bool relative, u64 now_ns);
+/*
+ * x4_engine_goto() in two steps, so that the module can plan (64-bit
+ * divisions and square roots for up to four axes) outside its raw lock, on
+ * a copy of the engine, and start under the lock: start_goto re-checks what
+ * may have changed meanwhile (the axes idle, the budget, the coordinates).
+ */
+struct x4_goto {
+	u8 axes; /* the axes commanded */
+	u8 moving; /* those not at their target already */
+	u64 rate; /* port writes per second at the top speeds */
+	s32 from[X4_AXES]; /* the coordinates planned from */
+	struct x4_plan plan[X4_AXES];
+};
+int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
+			const s32 *target, bool relative, struct x4_goto *g);
+int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
+			 u64 now_ns);
 int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns);
 int x4_engine_set_position(struct x4_engine *e, u8 axes, const s32 *pos);

@@ -10,6 +10,7 @@
 #include <linux/mutex.h>
 #include <linux/spinlock.h>
 #include <linux/wait.h>
+#include <linux/workqueue.h>
 #include <linux/x4step.h>
 
 #include "x4_engine.h"
@@ -52,9 +53,21 @@ struct x4_port {
 	u64 moves_ended;
 
 	struct x4step_timing timing; /* lateness of the timer, under slock */
+	/* A goto is planned on a copy of the engine, outside slock (lock). */
+	struct x4_engine plan_eng;
+	struct x4_goto plan_goto;
 
 	struct irq_work wake_work; /* wake pollers from the hard-irq timer */
 	wait_queue_head_t wait;
+
+	/*
+	 * Deferred release (x4step_main.c). A controller that closes while
+	 * moves run has them braked; the port stays claimed and no new
+	 * controller may open ("releasing", under lock) until the engine is
+	 * idle; then release_work stops the port and releases it.
+	 */
+	struct delayed_work release_work;
+	bool releasing;
 };
 
 void x4_port_init(struct x4_port *x4);
@@ -63,6 +76,8 @@ void x4_port_quiesce(struct x4_port *x4);
 /* Engine calls that start moves, with the ioctl's arguments. */
 typedef int (*x4_starter)(struct x4_engine *e, const void *arg, u64 now_ns);
 int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg);
+int x4_port_goto(struct x4_port *x4, u8 axes, const s32 *target,
+		 bool relative);
 void x4_port_halted_locked(struct x4_port *x4);
 void x4_port_write_locked(struct x4_port *x4);
 void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);

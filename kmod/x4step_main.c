@@ -2,8 +2,10 @@
 /*
  * x4step: up to four stepper motors on a PC parallel port.
  *
- * A parport client driver: one char device /dev/x4stepN per parportN,
- * the port claimed exclusively while a controller holds the device open.
+ * A parport client driver: one char device /dev/x4stepN per parportN
+ * (the `ports` parameter chooses which), the port claimed while a
+ * controller holds the device open, and until the brake of its last
+ * moves has ended; the rest of the time lp, ppdev and others may use it.
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
@@ -17,6 +19,7 @@
 #include <linux/rcupdate.h>
 #include <linux/slab.h>
 #include <linux/uaccess.h>
+#include <linux/workqueue.h>
 
 #include "x4step_compat.h"
 #include "x4step_dev.h"
@@ -68,12 +71,12 @@ static int x4_open(struct inode *inode, struct file *file)
 	mutex_lock(&x4->lock);
 	if (x4->gone)
 		ret = -ENODEV;
-	else if (x4->controller)
-		ret = -EBUSY;
+	else if (x4->controller || x4->releasing)
+		ret = -EBUSY; /* a controller, or the brake of one that closed */
 	else if (parport_claim(x4->pardev))
-		ret = -EBUSY; /* another driver holds the port */
+		ret = -EBUSY; /* another driver (lp, ppdev, ...) holds the port */
 	if (!ret) {
-		x4->controller = file;
+		WRITE_ONCE(x4->controller, file);
 		x4_port_claimed(x4);
 	}
 	mutex_unlock(&x4->lock);
@@ -82,32 +85,71 @@ static int x4_open(struct inode *inode, struct file *file)
 	return ret;
 }
 
-/*
- * Longest brake: a 1000 ms ramp from full speed. A move still running
- * after this is stopped without ramp.
- */
-#define X4_RELEASE_BRAKE_WAIT (3 * HZ)
+/* How often the deferred release looks whether the brake has ended. */
+#define X4_RELEASE_POLL msecs_to_jiffies(5)
 
+/* Stop the port (the engine is idle) and let others have it. */
+static void x4_let_go(struct x4_port *x4)
+{
+	lockdep_assert_held(&x4->lock);
+	/* Before the wake-up in quiesce: pollers see the port free. */
+	WRITE_ONCE(x4->releasing, false);
+	x4_port_quiesce(x4);
+	parport_release(x4->pardev);
+}
+
+/*
+ * The deferred release: once the brake started by x4_release() has ended,
+ * the port goes back to the parport core and a new controller may open.
+ * It looks every few ms: the end of the moves is signalled only to the
+ * wait queue, by the hard-irq timer's irq_work. x4_detach() cancels it.
+ */
+static void x4_release_work(struct work_struct *work)
+{
+	struct x4_port *x4 = container_of(to_delayed_work(work), struct x4_port,
+					  release_work);
+
+	mutex_lock(&x4->lock);
+	if (x4->releasing) {
+		if (x4_busy(x4))
+			schedule_delayed_work(&x4->release_work,
+					      X4_RELEASE_POLL);
+		else
+			x4_let_go(x4);
+	}
+	mutex_unlock(&x4->lock);
+}
+
+/*
+ * The controller went away (closed, or killed): brake what runs along its
+ * ramp and return at once. A brake may take minutes (profiles allow
+ * ramps of an hour), so the port is released by x4_release_work() when
+ * the engine is idle; until then the port stays claimed and the
+ * controller slot taken. Nothing here waits for the motors.
+ */
 static int x4_release(struct inode *inode, struct file *file)
 {
 	struct x4_port *x4 = file->private_data;
 	unsigned long flags;
+	bool busy;
 
 	mutex_lock(&x4->lock);
 	if (x4->controller == file) {
-		/* The controller went away (maybe killed): brake, then let go. */
-		raw_spin_lock_irqsave(&x4->slock, flags);
-		if (x4_engine_busy(&x4->eng))
-			x4_engine_brake(&x4->eng);
-		raw_spin_unlock_irqrestore(&x4->slock, flags);
-		if (!x4->gone) {
-			if (!wait_event_timeout(x4->wait, !x4_busy(x4),
-						X4_RELEASE_BRAKE_WAIT))
-				dev_warn(&x4->dev, "brake timed out, stopped\n");
-			x4_port_quiesce(x4);
-			parport_release(x4->pardev);
+		WRITE_ONCE(x4->controller, NULL);
+		if (!x4->gone) { /* else x4_detach() released the port */
+			raw_spin_lock_irqsave(&x4->slock, flags);
+			if (x4_engine_busy(&x4->eng))
+				x4_engine_brake(&x4->eng);
+			busy = x4_engine_busy(&x4->eng);
+			raw_spin_unlock_irqrestore(&x4->slock, flags);
+			if (busy) {
+				WRITE_ONCE(x4->releasing, true);
+				schedule_delayed_work(&x4->release_work,
+						      X4_RELEASE_POLL);
+			} else {
+				x4_let_go(x4);
+			}
 		}
-		x4->controller = NULL;
 	}
 	mutex_unlock(&x4->lock);
 	put_device(&x4->dev);
@@ -121,7 +163,13 @@ static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
 	poll_wait(file, &x4->wait, wait);
 	if (READ_ONCE(x4->gone))
 		return EPOLLERR | EPOLLHUP;
-	return x4_busy(x4) ? 0 : EPOLLIN | EPOLLRDNORM;
+	/*
+	 * Idle, and the brake of a controller that closed is over: once
+	 * this reports POLLIN, a new controller may open.
+	 */
+	if (x4_busy(x4) || READ_ONCE(x4->releasing))
+		return 0;
+	return EPOLLIN | EPOLLRDNORM;
 }
 
 static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
@@ -166,6 +214,8 @@ static int x4_errno(int result)
 		return -ENODATA;
 	case X4_ERR_NOT_ACTIVE:
 		return -ESRCH;
+	case X4_ERR_RATE_BUDGET:
+		return -ERANGE;
 	default:
 		return -EINVAL;
 	}
@@ -210,20 +260,34 @@ static int x4_start_endless(struct x4_engine *e, const void *arg, u64 now)
 				 ue->ramp_ms, now);
 }
 
-static int x4_start_goto(struct x4_engine *e, const void *arg, u64 now)
-{
-	const struct x4step_goto *ug = arg;
-
-	return x4_engine_goto(e, (u8)ug->axes, ug->target,
-			      ug->flags & X4STEP_GOTO_RELATIVE, now);
-}
-
 static int x4_start_home(struct x4_engine *e, const void *arg, u64 now)
 {
 	const struct x4step_home *uh = arg;
 
 	return x4_engine_home(e, uh->axis, (u8)uh->phases, uh->vref1,
 			      uh->vref2, uh->sref, now);
+}
+
+/* How the ioctls that start moves start them: an X4Step result. */
+typedef int (*x4_runner)(struct x4_port *x4, const void *karg);
+
+static int x4_run_endless(struct x4_port *x4, const void *karg)
+{
+	return x4_port_run(x4, x4_start_endless, karg);
+}
+
+static int x4_run_home(struct x4_port *x4, const void *karg)
+{
+	return x4_port_run(x4, x4_start_home, karg);
+}
+
+/* A goto is planned outside the raw lock (x4_port_goto()). */
+static int x4_run_goto(struct x4_port *x4, const void *karg)
+{
+	const struct x4step_goto *ug = karg;
+
+	return x4_port_goto(x4, (u8)ug->axes, ug->target,
+			    ug->flags & X4STEP_GOTO_RELATIVE);
 }
 
 /*
@@ -235,7 +299,7 @@ static int x4_start_home(struct x4_engine *e, const void *arg, u64 now)
  */
 static int x4_ioctl_run(struct x4_port *x4, void __user *uarg, void *karg,
 			size_t size, size_t result_off,
-			bool (*bad)(const void *karg), x4_starter start)
+			bool (*bad)(const void *karg), x4_runner run)
 {
 	s32 __user *uresult = (s32 __user *)((char __user *)uarg + result_off);
 	s32 result = X4_ERR_PARAM_FAIL;
@@ -246,8 +310,10 @@ static int x4_ioctl_run(struct x4_port *x4, void __user *uarg, void *karg,
 		return -EFAULT;
 	if (bad(karg))
 		return -EINVAL;
-	result = x4_port_run(x4, start, karg);
-	if (put_user(result, uresult))
+	result = run(x4, karg);
+	/* Over the write budget: the API's nearest code, errno ERANGE. */
+	if (put_user(result == X4_ERR_RATE_BUDGET ? X4_ERR_FREQ_TOO_HIGH : result,
+		     uresult))
 		return -EFAULT;
 	return x4_errno(result);
 }
@@ -536,7 +602,12 @@ static int x4_ioctl_get_step_timing(struct x4_port *x4, void __user *uarg)
 	return copy_to_user(uarg, &ut, sizeof(ut)) ? -EFAULT : 0;
 }
 
-static int x4_ioctl_timing(struct x4_port *x4, void __user *uarg)
+/*
+ * GET_TIMING, in this ABI's size or version 2's (`size`). Only the
+ * controller's read resets the figures.
+ */
+static int x4_ioctl_timing(struct x4_port *x4, struct file *file,
+			   void __user *uarg, size_t size)
 {
 	struct x4step_timing *t;
 	unsigned long flags;
@@ -547,9 +618,10 @@ static int x4_ioctl_timing(struct x4_port *x4, void __user *uarg)
 		return -ENOMEM;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	*t = x4->timing;
-	memset(&x4->timing, 0, sizeof(x4->timing));
+	if (READ_ONCE(x4->controller) == file)
+		memset(&x4->timing, 0, sizeof(x4->timing));
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	if (copy_to_user(uarg, t, sizeof(*t)))
+	if (copy_to_user(uarg, t, size))
 		ret = -EFAULT;
 	kfree(t);
 	return ret;
@@ -591,7 +663,9 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		mutex_unlock(&x4->lock);
 		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
 	case X4STEP_GET_TIMING:
-		return x4_ioctl_timing(x4, uarg);
+		return x4_ioctl_timing(x4, file, uarg, sizeof(struct x4step_timing));
+	case X4STEP_GET_TIMING_V2:
+		return x4_ioctl_timing(x4, file, uarg, X4STEP_TIMING_V2_SIZE);
 	case X4STEP_GET_STEP_TIMING:
 		return x4_ioctl_get_step_timing(x4, uarg);
 	case X4STEP_GET_PROFILE:
@@ -643,17 +717,17 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_MOVE_ENDLESS:
 		ret = x4_ioctl_run(x4, uarg, &karg.endless, sizeof(karg.endless),
 				   offsetof(struct x4step_endless, result),
-				   x4_bad_endless, x4_start_endless);
+				   x4_bad_endless, x4_run_endless);
 		break;
 	case X4STEP_GOTO:
 		ret = x4_ioctl_run(x4, uarg, &karg.go, sizeof(karg.go),
 				   offsetof(struct x4step_goto, result),
-				   x4_bad_goto, x4_start_goto);
+				   x4_bad_goto, x4_run_goto);
 		break;
 	case X4STEP_HOME:
 		ret = x4_ioctl_run(x4, uarg, &karg.home, sizeof(karg.home),
 				   offsetof(struct x4step_home, result),
-				   x4_bad_home, x4_start_home);
+				   x4_bad_home, x4_run_home);
 		break;
 	case X4STEP_HALT:
 		ret = x4_ioctl_halt_axes(x4, uarg);
@@ -703,18 +777,58 @@ static void x4_dev_release(struct device *dev)
 	kfree(x4);
 }
 
+/* The parport numbers x4step serves (none given: all of them). */
+static int ports[X4_MAX_PORTS];
+static int n_ports;
+module_param_array(ports, int, &n_ports, 0444);
+MODULE_PARM_DESC(ports, "parport numbers to serve, e.g. ports=0,2 (default: every port)");
+
+static bool x4_serves(struct parport *port)
+{
+	int i;
+
+	if (port->number >= X4_MAX_PORTS) {
+		pr_info("%s: not served: x4step serves parport0..%d\n",
+			port->name, X4_MAX_PORTS - 1);
+		return false;
+	}
+	/*
+	 * The step timer writes the registers in hard-irq context: a port
+	 * whose operations may sleep (a USB adapter such as uss720) cannot
+	 * be driven.
+	 */
+	if (!(port->modes & PARPORT_MODE_SAFEININT)) {
+		pr_info("%s: not served: its operations may sleep (USB adapter?), x4step drives the port from a hard-irq timer\n",
+			port->name);
+		return false;
+	}
+	if (!n_ports)
+		return true;
+	for (i = 0; i < n_ports; i++)
+		if (ports[i] == port->number)
+			return true;
+	pr_info("%s: not served (not in the ports parameter)\n", port->name);
+	return false;
+}
+
+/*
+ * A new port. The device is registered without exclusive access, as
+ * ppdev's: lp, ppdev and others share the port, and x4step claims it
+ * only while a controller has /dev/x4stepN open (x4_open()).
+ */
 static void x4_attach(struct parport *port)
 {
-	struct pardev_cb cb = { .flags = PARPORT_DEV_EXCL };
+	struct pardev_cb cb = { };
 	struct x4_port *x4;
 	int ret;
 
-	if (port->number >= X4_MAX_PORTS)
+	if (!x4_serves(port))
 		return;
 	x4 = kzalloc(sizeof(*x4), GFP_KERNEL);
 	if (!x4)
 		return;
 	mutex_init(&x4->lock);
+	INIT_DELAYED_WORK(&x4->release_work, x4_release_work);
 	x4_port_init(x4);
 	/* Held until the last file closes: the port may go away first. */
 	x4->port = parport_get_port(port);
@@ -722,6 +836,7 @@ static void x4_attach(struct parport *port)
 	x4->pardev = parport_register_dev_model(port, KBUILD_MODNAME, &cb,
 						port->number);
 	if (!x4->pardev) {
+		/* e.g. plip has the port exclusively: see `ports` */
 		pr_err("%s: cannot register device\n", port->name);
 		parport_put_port(port);
 		kfree(x4);
@@ -730,6 +845,7 @@ static void x4_attach(struct parport *port)
 
 	device_initialize(&x4->dev);
 	x4->dev.class = x4_class;
+	x4->dev.parent = port->dev; /* in sysfs under the port, as ppdev */
 	x4->dev.devt = MKDEV(MAJOR(x4_devt), port->number);
 	x4->dev.release = x4_dev_release;
 	cdev_init(&x4->cdev, &x4_fops);
@@ -751,6 +867,11 @@ err_put:
 	put_device(&x4->dev);
 }
 
+/*
+ * The port goes away (its driver's removal, or x4step's unload): stop
+ * the motors at once, a brake of a closed controller too, and never touch
+ * the port again. Waits for nobody's brake.
+ */
 static void x4_detach(struct parport *port)
 {
 	struct x4_port *x4;
@@ -766,12 +887,20 @@ static void x4_detach(struct parport *port)
 	cdev_device_del(&x4->cdev, &x4->dev);
 	mutex_lock(&x4->lock);
 	x4_port_gone(x4);
-	if (x4->controller) {
+	if (x4->releasing)
+		dev_warn(&x4->dev, "port removed while braking: stopped\n");
+	if (x4->controller || x4->releasing) {
+		WRITE_ONCE(x4->releasing, false);
 		x4_port_quiesce(x4);
 		parport_release(x4->pardev);
 	}
 	parport_unregister_device(x4->pardev);
 	mutex_unlock(&x4->lock);
+	/*
+	 * With `gone` set, nothing queues the release work again: after
+	 * this it neither runs nor is pending (module unload, kfree).
+	 */
+	cancel_delayed_work_sync(&x4->release_work);
 	hrtimer_cancel(&x4->timer);
 	irq_work_sync(&x4->wake_work);
 	wake_up_all(&x4->wait);
@@ -794,8 +923,15 @@ static char *x4_devnode(X4_DEVNODE_CONST struct device *dev, umode_t *mode)
 
 static int __init x4_init(void)
 {
-	int ret;
+	int i, ret;
 
+	for (i = 0; i < n_ports; i++) {
+		if (ports[i] < 0 || ports[i] >= X4_MAX_PORTS) {
+			pr_err("ports: %d is not a parport number 0..%d\n",
+			       ports[i], X4_MAX_PORTS - 1);
+			return -EINVAL;
+		}
+	}
 	ret = alloc_chrdev_region(&x4_devt, 0, X4_MAX_PORTS, KBUILD_MODNAME);
 	if (ret)
 		return ret;
@@ -805,16 +941,20 @@ static int __init x4_init(void)
 		goto err_region;
 	}
 	x4_class->devnode = x4_devnode;
-	ret = parport_register_driver(&x4_driver);
-	if (ret)
-		goto err_class;
+	/*
+	 * The brake keys first: once the parport driver is registered, the
+	 * devices can be opened, and nothing may fail after that.
+	 */
 	ret = x4_keys_init();
 	if (ret)
-		goto err_driver;
+		goto err_class;
+	ret = parport_register_driver(&x4_driver);
+	if (ret)
+		goto err_keys;
 	return 0;
 
-err_driver:
-	parport_unregister_driver(&x4_driver);
+err_keys:
+	x4_keys_exit();
 err_class:
 	class_destroy(x4_class);
 err_region:
@@ -824,8 +964,8 @@ err_region:
 
 static void __exit x4_exit(void)
 {
+	parport_unregister_driver(&x4_driver); /* detaches every port */
 	x4_keys_exit();
-	parport_unregister_driver(&x4_driver);
 	class_destroy(x4_class);
 	unregister_chrdev_region(x4_devt, X4_MAX_PORTS);
 }

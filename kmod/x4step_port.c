@@ -28,11 +28,16 @@
  * other event is waited for.
  */
 #define X4_SPIN_NS 10000
-/* The most events, and about the longest time, of one timer callback. */
+/*
+ * The most events, and about the longest time, of one timer callback; one
+ * that stops with more due gives the CPU back for X4_TICK_GAP_NS first
+ * (re-armed in the past, the hrtimer core would run it again at once).
+ */
 #define X4_TICK_EVENTS 8
 #define X4_TICK_NS 20000
+#define X4_TICK_GAP_NS 5000
 
-/* Wakes pollers and x4_release's uninterruptible wait for the brake. */
+/* Wakes pollers when moves end (from the hard-irq timer). */
 static void x4_wake(struct irq_work *work)
 {
 	struct x4_port *x4 = container_of(work, struct x4_port, wake_work);
@@ -156,33 +161,42 @@ static void x4_account_lateness(struct x4_port *x4, s64 late)
 }
 
 /*
- * Fire the engine's pending event at `now` and write it; more writes of
- * the same instant (phase mode) go out with it.
+ * Fire the engine's pending event at `now` and write it. Every event goes
+ * through here, also those of other channels due at the same instant and
+ * a phase step's further writes: each is counted, and each step that a
+ * limit or REF watches has the switches looked at first.
  */
 static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 {
 	struct x4_engine *e = &x4->eng;
-	u64 t = x4_engine_due(e);
+	s64 t = ktime_to_ns(ktime_sub(now, x4->epoch));
 
 	lockdep_assert_held(&x4->slock);
-	/* A step that a limit or REF watches: look at the switches first. */
 	if (x4->claimed && x4_engine_rise_watched(e))
 		x4_engine_sense(e, x4_port_inputs_locked(x4));
-	x4_account_lateness(x4, ktime_to_ns(now) - ktime_to_ns(x4->epoch) - t);
-	x4_engine_fire(e, ktime_to_ns(ktime_sub(now, x4->epoch)));
+	x4_account_lateness(x4, t - (s64)x4_engine_due(e));
+	x4_engine_fire(e, t);
 	x4_port_write_locked(x4);
 	x4_port_written_locked(x4);
-	x4_port_drain_locked(x4, t);
 }
 
-/* (Re)arm the timer for the engine's next event. */
-static void x4_arm_locked(struct x4_port *x4)
+/* (Re)arm the timer for the engine's next event, not before `earliest`. */
+static void x4_arm_locked(struct x4_port *x4, ktime_t earliest)
 {
+	ktime_t due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
+
 	lockdep_assert_held(&x4->slock);
 	if (x4_engine_busy(&x4->eng))
-		hrtimer_start(&x4->timer,
-			      ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng)),
+		hrtimer_start(&x4->timer, ktime_after(due, earliest) ? due : earliest,
 			      HRTIMER_MODE_ABS_HARD);
+}
+
+/* The fall of a configured pulse shorter than the timer's jitter is next. */
+static bool x4_short_pulse_next(struct x4_port *x4, const struct x4_chan *fired,
+				ktime_t due, ktime_t now)
+{
+	return x4->eng.timing.pulse_ns && x4_engine_pulse_pending(&x4->eng, fired) &&
+	       ktime_to_ns(ktime_sub(due, now)) <= X4_SPIN_NS;
 }
 
 /* Wake pollers when moves ended since the last look. */
@@ -207,7 +221,7 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	struct x4_engine *e = &x4->eng;
 	const struct x4_chan *fired = NULL;
 	unsigned long flags;
-	ktime_t now, due, end;
+	ktime_t now, due, end, earliest = 0;
 	int n = 0;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
@@ -215,34 +229,34 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 		goto out;
 	now = ktime_get();
 	end = ktime_add_ns(now, X4_TICK_NS);
-	x4->timing.callbacks++;
 	for (;;) {
 		/* The armed event may have been stopped: fire what is due. */
 		due = ktime_add_ns(x4->epoch, x4_engine_due(e));
 		if (ktime_after(due, now)) {
-			if (!x4_engine_pulse_pending(e, fired) ||
-			    ktime_to_ns(ktime_sub(due, now)) > X4_SPIN_NS)
+			if (!x4_short_pulse_next(x4, fired, due, now))
 				break;
 			while (ktime_before(now = ktime_get(), due))
 				cpu_relax();
+		} else if (n >= X4_TICK_EVENTS || ktime_after(now, end)) {
+			/* More is due: the next callback, after a gap. */
+			x4->timing.capped++;
+			earliest = ktime_add_ns(now, X4_TICK_GAP_NS);
+			break;
 		}
 		fired = e->cur;
 		x4_fire_locked(x4, now);
+		n++;
 		if (!x4_engine_busy(e))
 			break;
 		now = ktime_get();
-		if (++n >= X4_TICK_EVENTS || ktime_after(now, end)) {
-			if (!ktime_after(ktime_add_ns(x4->epoch,
-						      x4_engine_due(e)), now))
-				x4->timing.capped++; /* more was due */
-			break;
-		}
 	}
+	if (n)
+		x4->timing.callbacks++;
 	x4->timing.shifts += e->shifts;
 	x4->timing.shifted_ns += e->shifted_ns;
 	e->shifts = 0;
 	e->shifted_ns = 0;
-	x4_arm_locked(x4);
+	x4_arm_locked(x4, earliest);
 	x4_note_ends_locked(x4);
 out:
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -299,12 +313,13 @@ void x4_port_claimed(struct x4_port *x4)
 
 /*
  * Stop whatever runs, at once, and forget the loaded move; all outputs
- * low. Then the registers are no longer ours. Caller holds the mutex.
+ * low. Then the registers are no longer ours.
  */
 void x4_port_quiesce(struct x4_port *x4)
 {
 	unsigned long flags;
 
+	lockdep_assert_held(&x4->lock);
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4_engine_stop(&x4->eng);
 	x4_port_drain_locked(x4, U64_MAX);
@@ -336,10 +351,39 @@ int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg)
 		    ktime_get_ns() - ktime_to_ns(x4->epoch));
 	if (ret == X4_OK) {
 		x4->last_brake_code = 0;
-		x4_arm_locked(x4);
+		x4_arm_locked(x4, 0);
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
+}
+
+static int x4_start_planned_goto(struct x4_engine *e, const void *arg,
+				 u64 now_ns)
+{
+	return x4_engine_start_goto(e, arg, now_ns);
+}
+
+/*
+ * A goto (X4STEP_GOTO): planned, with the divisions and square roots of up
+ * to four axes, on a copy of the engine outside the raw lock, so that
+ * interrupts stay off only for the start. Caller holds the mutex, which
+ * keeps the copy and the plan.
+ */
+int x4_port_goto(struct x4_port *x4, u8 axes, const s32 *target,
+		 bool relative)
+{
+	unsigned long flags;
+	int ret;
+
+	lockdep_assert_held(&x4->lock);
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4->plan_eng = x4->eng;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	ret = x4_engine_plan_goto(&x4->plan_eng, axes, target, relative,
+				  &x4->plan_goto);
+	if (ret)
+		return ret;
+	return x4_port_run(x4, x4_start_planned_goto, &x4->plan_goto);
 }
 
 /*

@@ -6,11 +6,14 @@
 #include <linux/x4step.h>
 #include <poll.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <climits>
+#include <fstream>
 #include <ostream>
 #include <utility>
 
@@ -91,6 +94,11 @@ class category_impl : public std::error_category {
       fail(errc::not_loaded);
     case ESRCH:
       fail(errc::not_active);
+    case ERANGE:  // each move alone is fine: together they are too fast
+      throw error(make_error_code(errc::freq_too_high),
+                  std::string(what) +
+                      ": the moves of the port together would need more port writes per second than its "
+                      "budget (module parameter write_budget): wait for a move to end, or run slower");
     case ENODEV:
     case ENXIO:
       fail(errc::lpt_not_found);
@@ -99,14 +107,43 @@ class category_impl : public std::error_category {
   }
 }
 
+// A controller's open refused with EBUSY: say who holds the port. The
+// parport core names the device that has claimed parportN (the device's
+// minor) in /proc/sys/dev/parport/parportN/devices/active: "x4step" (a
+// controller, or the module still braking the moves of one that closed),
+// "ppdev0" (a program using /dev/parport0), "lp", ..., or "none".
+[[noreturn]] void fail_busy(const std::string &path) {
+  std::string why = "port busy: another x4step controller, or another driver (lp, ppdev), has it";
+  struct stat sb {};
+  if (::stat(path.c_str(), &sb) == 0 && S_ISCHR(sb.st_mode)) {
+    const std::string port = "parport" + std::to_string(minor(sb.st_rdev));
+    std::ifstream active("/proc/sys/dev/parport/" + port + "/devices/active");
+    std::string holder;
+    if (!(active >> holder)) {
+      // No parport sysctl: keep the general text.
+    } else if (holder == "x4step") {
+      why = "port busy: another x4step controller has " + port +
+            ", or the module is still braking the motors of one that closed";
+    } else if (holder == "none") {
+      why = "port busy: " + port + " was busy and is free now: try again";
+    } else {
+      why = "port busy: " + port + " is claimed by " + holder + " (another parport driver" +
+            (holder.rfind("ppdev", 0) == 0 ? ", for a program using /dev/" + port : std::string()) + ")";
+    }
+  }
+  throw error(make_error_code(errc::lpt_not_found), path + ": " + why);
+}
+
 int open_device(const std::string &path, int flags) {
   const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
   if (fd < 0) {
-    if (errno == ENOENT || errno == ENODEV || errno == ENXIO || errno == EBUSY) fail(errc::lpt_not_found);
+    if (errno == EBUSY) fail_busy(path);
+    if (errno == ENOENT || errno == ENODEV || errno == ENXIO) fail(errc::lpt_not_found);
     fail_errno(errno, "open " + path);
   }
   x4step_info info{};
-  if (::ioctl(fd, X4STEP_GET_INFO, &info) || info.abi_version != X4STEP_ABI_VERSION) {
+  // Versions only add: any module of this version or newer will do.
+  if (::ioctl(fd, X4STEP_GET_INFO, &info) || info.abi_version < X4STEP_ABI_VERSION) {
     ::close(fd);
     fail(errc::lpt_not_found);
   }
@@ -556,13 +593,21 @@ bool controller::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout
   return need().wait_axes(axis_mask, timeout);
 }
 
-void controller::close() {
+void controller::close() noexcept {
   if (!impl_) return;
-  // Brake and wait here rather than in the kernel's release, so that the
-  // caller's close returns once the motors stand. HALT of every axis
-  // covers the axes' own moves and the interpolated move alike.
+  // Brake and wait here: the kernel brakes on its own when the device
+  // closes, but keeps the port until the motors stand, so a new controller
+  // could not open yet. HALT of every axis covers the axes' own moves and
+  // the interpolated move alike. No time limit: a profile's brake may take
+  // minutes. This runs in the destructor and the noexcept move assignment,
+  // so nothing is thrown: an error (the port went away: POLLERR) ends the
+  // wait, and the device is closed anyway.
   x4step_halt all{all_axes, X4STEP_HALT_BRAKE, {}};
-  if (::ioctl(impl_->fd, X4STEP_HALT, &all) == 0) impl_->wait(std::chrono::milliseconds(5000));
+  ::ioctl(impl_->fd, X4STEP_HALT, &all);  // ESRCH: nothing to brake
+  try {
+    impl_->wait(std::chrono::milliseconds(-1));
+  } catch (...) {
+  }
   impl_.reset();
 }
 

@@ -101,7 +101,7 @@ int X4Init(int lpt) {
 
 int X4ReInit(void) {
   if (!port) return X4ErrInitNotDone;
-  port.reset();  // brakes running motors, waits, releases the port
+  port.reset();  // brakes running motors, waits until they stand (no limit), releases the port
   return X4NoErr;
 }
 

@@ -28,4 +28,4 @@ echo
 echo "== module: step timer lateness vs a bare hrtimer, 20 kHz 4-axis move (QEMU -icount, Debian 6.1)"
 qout=${X4_QEMU_BUILD:-$(cd "$build" && pwd)/qemu-bench}
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t timing >/dev/null 2>&1 || echo "(the timing run failed: see $qout)"
-cat "$qout"/6.1.*/timing/console.log | tr -d '\r' | grep -E 'timer:|hrtimer:|ratio|kHz|example:|step timing'
+cat "$qout"/6.1.*/timing/console.log | tr -d '\r' | grep -E 'timer:|hrtimer:|ratio|kHz|example:|step timing|event cost|budget'

@@ -15,6 +15,7 @@ lib=$(find "$stage" -name libx4step.a) # lib/ or lib/<multiarch>/
 cxx="g++ -std=c++17 -O2 -Wall -Wextra -Werror -static"
 $cxx -I"$top/include/uapi" -o "$out/module_test" "$top/tests/guest/module_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
+$cxx -I"$top/include/uapi" -o "$out/discipline_test" "$top/tests/guest/discipline_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/reliability_test" "$top/tests/guest/reliability_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/ioctl_fuzz" "$top/tests/fuzz/ioctl_fuzz.cpp"
 gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' \

@@ -3,6 +3,12 @@
 // (run-suite.sh shows the FAIL lines), and the count for the exit status.
 #pragma once
 
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <string>
 
@@ -28,6 +34,34 @@ inline bool timing_checks = true;
 inline void CheckTiming(bool ok, const std::string &what) {
   if (timing_checks) return Check(ok, what);
   std::printf("SKIP %s [%s; not checked on a debug kernel]\n", what.c_str(), ok ? "held" : "did not hold");
+}
+
+// Wait until a controller may open the device: poll() on a read-only
+// descriptor reports POLLIN once no move runs and the module has ended the
+// brake of a controller that closed (or was killed) while its moves ran.
+// False on timeout.
+inline bool WaitFree(const char *dev, int timeout_ms) {
+  const int fd = open(dev, O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  bool free = false;
+  for (;;) {
+    pollfd p{fd, POLLIN, 0};
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+    if (poll(&p, 1, static_cast<int>(std::max<long long>(0, left.count()))) == 1) {
+      free = (p.revents & POLLIN) != 0;
+      break;
+    }
+    if (left.count() <= 0) break;
+  }
+  close(fd);
+  return free;
+}
+
+// Milliseconds since t.
+inline double MsSince(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
 // Print the closing line; the program's exit status.

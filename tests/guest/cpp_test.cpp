@@ -1,6 +1,16 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // In-guest test of the C++ API against the module.
+#include <fcntl.h>
+#include <linux/ppdev.h>
+#include <signal.h>
+#include <sys/ioctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <string>
 #include <thread>
 #include <utility>
@@ -14,6 +24,106 @@ namespace {
 
 using guest::Check;
 using guest::Throws;
+using Clock = std::chrono::steady_clock;
+
+// What opening a controller throws, "" if it opens.
+std::string OpenError(const std::string &path) {
+  try {
+    x4step::controller c(path);
+  } catch (const x4step::error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Axis 1 at 9000 steps/s braking at 1500 steps/s^2: a 6 s brake.
+void StartLongBrakeMove(x4step::controller &c) {
+  c.set_profile(1, {0, 0, 9000, 100000, 1500});
+  c.zero(1);
+  c.move_by(1, 1000000);
+}
+
+// close() waits for the whole brake, however long it takes (here 6 s, more
+// than the 5 s the library used to wait), so that the next controller
+// opens at once, and the axis stays synchronized (braked, not stopped).
+void CloseWaitsForTheBrake() {
+  x4step::controller c(1);
+  StartLongBrakeMove(c);
+  std::this_thread::sleep_for(400ms);
+  const auto t = Clock::now();
+  c.close();
+  const double s = guest::MsSince(t) / 1000;
+  x4step::axis_status a;
+  const x4step::errc e = Throws([&] {
+    x4step::controller next(1);
+    a = next.axis(1);
+  });
+  std::printf("close() during a 6 s brake took %.1f s; axis 1 at %ld\n", s, a.position);
+  Check(e == x4step::errc::ok && s > 5.5 && !a.running && a.synced,
+        "close() waits for a 6 s brake; then the next controller opens, the axis synchronized");
+  std::printf("SEG %ld 0 0 0 braked\n", a.position);
+}
+
+// Who holds a busy port: the error names ppdev when a program has claimed
+// the port through /dev/parport0 (ppdev loaded by cpp.sh).
+void BusyByPpdev() {
+  const int pp = open("/dev/parport0", O_RDWR | O_CLOEXEC);
+  if (pp < 0) {
+    std::printf("SKIP busy by ppdev: no /dev/parport0\n");
+    return;
+  }
+  if (ioctl(pp, PPCLAIM)) {
+    Check(false, std::string("ppdev claims parport0: ") + std::strerror(errno));
+    close(pp);
+    return;
+  }
+  const std::string msg = OpenError("/dev/x4step0");
+  Check(msg.find("parport0 is claimed by ppdev0") != std::string::npos,
+        "controller refused while ppdev holds the port, naming it: " + msg);
+  ioctl(pp, PPRELEASE);
+  close(pp);
+}
+
+// A controller's destructor waits for the brake; when the port goes away
+// meanwhile (here the virtual port's module is removed, cpp.sh loads it as
+// parport1) the destructor returns, nothing thrown (std::terminate would
+// abort the process).
+void PortGoesAwayInDestructor() {
+  const char *dev = "/dev/x4step1";
+  if (access(dev, F_OK)) {
+    std::printf("SKIP port going away: no %s (x4vport)\n", dev);
+    return;
+  }
+  int started[2];
+  if (pipe(started)) return;
+  const pid_t child = fork();
+  if (child == 0) {
+    {
+      x4step::controller v{std::string(dev)};
+      StartLongBrakeMove(v);
+      std::this_thread::sleep_for(300ms);  // at speed: braking takes 6 s
+      if (!v.axis(1).running || write(started[1], "s", 1) != 1) _exit(2);
+    }  // the destructor brakes and waits: the port vanishes meanwhile
+    _exit(0);
+  }
+  close(started[1]);
+  char c = 0;
+  const bool ok = read(started[0], &c, 1) == 1;
+  close(started[0]);
+  std::this_thread::sleep_for(300ms);
+  const auto t = Clock::now();
+  const int rc = std::system("rmmod x4vport");
+  int status = 0;
+  while (waitpid(child, &status, WNOHANG) == 0 && guest::MsSince(t) < 5000) std::this_thread::sleep_for(10ms);
+  if (guest::MsSince(t) >= 5000) {
+    kill(child, SIGKILL);
+    waitpid(child, &status, 0);
+  }
+  std::printf("port going away: rmmod status %d, controller process status 0x%x after %.0f ms\n", rc, status,
+              guest::MsSince(t));
+  Check(ok && rc == 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0,
+        "the destructor returns, nothing thrown, when the port goes away during its brake");
+}
 
 }  // namespace
 
@@ -24,6 +134,9 @@ int main() {
     x4step::controller c(1);
     Check(static_cast<bool>(c) && c.path() == "/dev/x4step0", "controller on LPT1");
     Check(Throws([] { x4step::controller second(1); }) == errc::lpt_not_found, "second controller refused");
+    const std::string busy = OpenError("/dev/x4step0");
+    Check(busy.find("another x4step controller has parport0") != std::string::npos,
+          "second controller: the message says who has the port: " + busy);
     x4step::monitor mon(1);
     Check(mon.get_status().controlled, "monitor sees the controller");
 
@@ -59,5 +172,8 @@ int main() {
     Check(!again.active() && again.get_status().steps[3] < -10, "destructor braked the endless move");
   }
   std::printf("SEG 0 0 0 ? braked\n");
+  CloseWaitsForTheBrake();
+  BusyByPpdev();
+  PortGoesAwayInDestructor();
   return guest::Finish("cpp_test");
 }

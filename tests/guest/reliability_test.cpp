@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: GPL-2.0
 // In-guest reliability and access tests of the module: open/close cycles
 // without leaks, a stress run whose step counts the host compares with the
-// port trace, no kernel memory in what ioctls copy out, and no access for
-// users outside the device's group.
+// port trace, no kernel memory in what ioctls copy out, no access for
+// users outside the device's group, a close during a long brake, and the
+// port shared with ppdev.
 #include <fcntl.h>
+#include <linux/ppdev.h>
 #include <linux/x4step.h>
 #include <poll.h>
 #include <signal.h>
@@ -15,6 +17,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -27,6 +30,8 @@
 namespace {
 
 using guest::Check;
+using guest::MsSince;
+using Clock = std::chrono::steady_clock;
 
 const char *kDev = "/dev/x4step0";
 
@@ -216,7 +221,8 @@ void KilledAtRandomPoints() {
     usleep(delay);
     kill(child, SIGKILL);
     waitpid(child, nullptr, 0);
-    const int fd = open(kDev, O_RDWR);
+    // The module brakes, then lets go of the port: poll() says when.
+    const int fd = guest::WaitFree(kDev, 10000) ? open(kDev, O_RDWR) : -1;
     x4step_status st{};
     if (running && fd >= 0 && ioctl(fd, X4STEP_GET_STATUS, &st) == 0 && !(st.flags & X4STEP_ST_ACTIVE)) ok++;
     if (fd >= 0) close(fd);
@@ -224,6 +230,180 @@ void KilledAtRandomPoints() {
   }
   Check(ok == 20,
         "20 controllers killed at random points: braked, port free, next opens (" + std::to_string(ok) + ")");
+}
+
+x4step_axis Axis1(int fd) {
+  x4step_axes a{};
+  if (ioctl(fd, X4STEP_GET_AXES, &a)) std::perror("GET_AXES");
+  return a.axis[0];
+}
+
+std::string Ms(double ms) { return std::to_string(static_cast<long>(ms + 0.5)) + " ms"; }
+
+// A controller closes during a long brake: axis 1 at 10000 steps/s with a
+// deceleration of 2500 steps/s^2 brakes for 4 s and 20000 steps. close()
+// returns at once; the module goes on braking along the ramp (it does not
+// stop the motor, which would clear the axis' synchronization); monitors
+// and other opens never wait meanwhile; a new controller gets EBUSY until
+// the brake has ended, and opens when poll() says so.
+void CloseDuringLongBrake() {
+  const int fd = open(kDev, O_RDWR);
+  const int ro = open(kDev, O_RDONLY);
+  x4step_profile prof{1, 0, 0, 10000, 100000, 2500, {0, 0}};
+  x4step_position zero{1, 0, {0, 0, 0, 0}};
+  x4step_goto go{1, X4STEP_GOTO_RELATIVE, {1000000, 0, 0, 0}, 0, {0, 0, 0}};
+  const bool started = fd >= 0 && ro >= 0 && ioctl(fd, X4STEP_SET_PROFILE, &prof) == 0 &&
+                       ioctl(fd, X4STEP_SET_POSITION, &zero) == 0 && ioctl(fd, X4STEP_GOTO, &go) == 0;
+  Check(started, "long brake: a 10000 steps/s move of axis 1 starts");
+  if (!started) {
+    if (fd >= 0) close(fd);
+    if (ro >= 0) close(ro);
+    return;
+  }
+  usleep(400000);
+  Check(Axis1(ro).velocity >= 9900, "long brake: cruising at 10000 steps/s");
+
+  // Another thread, while or right after the controller closes: a monitor's
+  // calls (GET_CONFIG and GET_STEP_TIMING take the port's mutex) and a
+  // controller's open.
+  bool mon_ok = false;
+  double mon_ms = 0, rw_ms = 0;
+  int rw_err = 0;
+  const x4step_axis at_close = Axis1(ro);
+  std::thread other([&] {
+    usleep(20000);  // close() has returned, or (before the fix) waits in the kernel
+    auto t = Clock::now();
+    const int m = open(kDev, O_RDONLY);
+    x4step_status st;
+    x4step_axes ax;
+    x4step_config cfg;
+    x4step_step_timing stt;
+    mon_ok = m >= 0 && ioctl(m, X4STEP_GET_STATUS, &st) == 0 && ioctl(m, X4STEP_GET_AXES, &ax) == 0 &&
+             ioctl(m, X4STEP_GET_CONFIG, &cfg) == 0 && ioctl(m, X4STEP_GET_STEP_TIMING, &stt) == 0 &&
+             (st.flags & X4STEP_ST_ACTIVE);
+    mon_ms = MsSince(t);
+    if (m >= 0) close(m);
+    t = Clock::now();
+    const int c = open(kDev, O_RDWR);
+    rw_err = c < 0 ? errno : 0;
+    rw_ms = MsSince(t);
+    if (c >= 0) close(c);
+  });
+  const auto t0 = Clock::now();
+  close(fd);
+  const double close_ms = MsSince(t0);
+  other.join();
+  Check(close_ms < 100, "long brake: close() returns at once (" + Ms(close_ms) + ")");
+  Check(mon_ok && mon_ms < 100,
+        "long brake: a monitor's open, GET_STATUS (active), GET_AXES, GET_CONFIG, GET_STEP_TIMING meanwhile: "
+        "at "
+        "once (" +
+            Ms(mon_ms) + ")");
+  Check(rw_err == EBUSY && rw_ms < 100, "long brake: a controller's open meanwhile: EBUSY at once (" +
+                                            std::string(std::strerror(rw_err)) + ", " + Ms(rw_ms) + ")");
+
+  usleep(500000);
+  const x4step_axis a1 = Axis1(ro);
+  usleep(1000000);
+  const x4step_axis a2 = Axis1(ro);
+  std::printf("long brake: at close %d steps %u/s; +0.5 s %d steps %u/s state 0x%x; +1.5 s %d steps %u/s\n",
+              at_close.position, at_close.velocity, a1.position, a1.velocity, a1.state, a2.position,
+              a2.velocity);
+  Check((a1.state & X4STEP_AX_DECEL) && (a2.state & X4STEP_AX_DECEL) && a1.position > at_close.position &&
+            a2.position > a1.position && a1.velocity < at_close.velocity && a2.velocity < a1.velocity &&
+            a2.velocity > 0,
+        "long brake: the motor keeps braking along the ramp after close()");
+  const int busy = open(kDev, O_RDWR);
+  const int busy_err = errno;
+  Check(busy < 0 && busy_err == EBUSY, "long brake: a controller's open 1.5 s into the brake: EBUSY");
+  if (busy >= 0) close(busy);
+
+  pollfd p{ro, POLLIN, 0};
+  const bool ended = poll(&p, 1, 15000) == 1 && (p.revents & POLLIN);
+  const double brake_ms = MsSince(t0);
+  const x4step_axis end = Axis1(ro);
+  const int next = open(kDev, O_RDWR);
+  const int next_err = errno;
+  Check(ended && next >= 0, "long brake: once poll() reports the end (" + Ms(brake_ms) +
+                                " after close), a new controller opens (" +
+                                (next >= 0 ? std::string("ok") : std::strerror(next_err)) + ")");
+  const long braked = static_cast<long>(end.position) - at_close.position;
+  std::printf("long brake: %ld steps after close, end at %d, state 0x%x error 0x%x\n", braked, end.position,
+              end.state, end.error);
+  Check(!(end.state & X4STEP_AX_RUN) && (end.state & X4STEP_AX_SYNC) && end.error == 0,
+        "long brake: braked to rest, not stopped: axis 1 still synchronized");
+  Check(braked >= 19500 && braked <= 20500,
+        "long brake: the whole ramp, ~20000 steps (" + std::to_string(braked) + ")");
+  std::printf("SEG %d 0 0 0 braked\n", end.position);
+  if (next >= 0) close(next);
+  close(ro);
+}
+
+// x4step shares the port: with ppdev loaded (reliability.sh), a program
+// claims parport0 through /dev/parport0 while no x4step controller has it;
+// meanwhile x4step's controller open fails with EBUSY at once, and the
+// parport core names ppdev as the holder; a ppdev claim made while an
+// x4step controller has the port waits and gets it when the controller
+// closes.
+void ParportSharing() {
+  const int pp = open("/dev/parport0", O_RDWR | O_CLOEXEC);
+  if (pp < 0) {
+    std::printf("SKIP ppdev: no /dev/parport0 (%s)\n", std::strerror(errno));
+    return;
+  }
+  const bool claimed = ioctl(pp, PPCLAIM) == 0;
+  Check(claimed, std::string("ppdev claims parport0 while x4step is loaded (") +
+                     (claimed ? "ok" : std::strerror(errno)) + ")");
+  if (claimed) {
+    std::string holder;
+    std::ifstream("/proc/sys/dev/parport/parport0/devices/active") >> holder;
+    Check(holder.rfind("ppdev", 0) == 0, "the parport core names the holder: " + holder);
+    const auto t = Clock::now();
+    const int fd = open(kDev, O_RDWR);
+    const int err = errno;
+    const double ms = MsSince(t);
+    Check(fd < 0 && err == EBUSY && ms < 100,
+          "x4step controller open while ppdev holds the port: EBUSY at once (" +
+              std::string(fd < 0 ? std::strerror(err) : "opened") + ", " + Ms(ms) + ")");
+    if (fd >= 0) close(fd);
+    const int ro = open(kDev, O_RDONLY);
+    x4step_status st{};
+    Check(ro >= 0 && ioctl(ro, X4STEP_GET_STATUS, &st) == 0 && !(st.flags & X4STEP_ST_CONTROLLED),
+          "x4step monitor meanwhile: opens, not controlled");
+    if (ro >= 0) close(ro);
+    Check(ioctl(pp, PPRELEASE) == 0, "ppdev releases parport0");
+  }
+  close(pp);
+
+  const int fd = open(kDev, O_RDWR);
+  Check(fd >= 0, "then the x4step controller opens");
+  if (fd < 0) return;
+  int claimed_pipe[2];
+  if (pipe(claimed_pipe)) return;
+  const pid_t child = fork();
+  if (child == 0) {
+    close(fd);  // the parent's controller: its close must release the file
+    const int p2 = open("/dev/parport0", O_RDWR | O_CLOEXEC);
+    alarm(10);
+    if (p2 < 0 || ioctl(p2, PPCLAIM)) _exit(1);  // waits for the port
+    if (write(claimed_pipe[1], "c", 1) != 1) _exit(1);
+    ioctl(p2, PPRELEASE);
+    _exit(0);
+  }
+  close(claimed_pipe[1]);
+  pollfd p{claimed_pipe[0], POLLIN, 0};
+  const bool early = poll(&p, 1, 500) != 0;
+  Check(!early, "a ppdev claim waits while the x4step controller has the port");
+  const auto t = Clock::now();
+  close(fd);
+  char c = 0;
+  p.revents = 0;
+  const bool got = poll(&p, 1, 5000) == 1 && read(claimed_pipe[0], &c, 1) == 1 && c == 'c';
+  int status = 0;
+  waitpid(child, &status, 0);
+  Check(got && WIFEXITED(status) && WEXITSTATUS(status) == 0,
+        "... and gets the port when the controller closes (" + Ms(MsSince(t)) + ")");
+  close(claimed_pipe[0]);
 }
 
 }  // namespace
@@ -235,5 +415,7 @@ int main() {
   Access();
   Stress();
   KilledAtRandomPoints();
+  CloseDuringLongBrake();
+  ParportSharing();
   return guest::Finish("reliability_test");
 }

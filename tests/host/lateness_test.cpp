@@ -78,7 +78,9 @@ Pulses PulsesOf(const std::vector<x4_event> &ev, int axis) {
   return p;
 }
 
-uint64_t Min(const std::vector<uint64_t> &v) { return v.empty() ? UINT64_MAX : *std::min_element(v.begin(), v.end()); }
+uint64_t Min(const std::vector<uint64_t> &v) {
+  return v.empty() ? UINT64_MAX : *std::min_element(v.begin(), v.end());
+}
 
 // Stalls of 300 us every few ms from `from` on, as a busy CPU would give.
 std::vector<Stall> Stalls(uint64_t from, int count, uint64_t every = 3'100'000, uint64_t len = 300'000) {
@@ -87,7 +89,9 @@ std::vector<Stall> Stalls(uint64_t from, int count, uint64_t every = 3'100'000, 
   return s;
 }
 
-x4_profile Prof(uint32_t v0, uint32_t ve, uint32_t vm, uint32_t a0, uint32_t ae) { return {v0, ve, vm, a0, ae}; }
+x4_profile Prof(uint32_t v0, uint32_t ve, uint32_t vm, uint32_t a0, uint32_t ae) {
+  return {v0, ve, vm, a0, ae};
+}
 
 struct Eng {
   x4_engine e;
@@ -188,6 +192,19 @@ TEST(Lateness, MinimumsCountFromTheWrite) {
   EXPECT_EQ(p.rises.size(), 5000u);
   EXPECT_GE(Min(p.highs), 5000u);
   EXPECT_GE(Min(p.lows), 5000u);
+}
+
+// One stall moves the schedule once: the step after it, counted once even
+// when its write, too, comes late.
+TEST(Lateness, OneStallIsOneShift) {
+  Eng eng;
+  const x4_move m = Move(1000, 0, 0, 0, 10000, 0);
+  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
+  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  const auto ev = RunLate(eng.e, {{30'000'000, 300'000}}, 0, nullptr, 700);
+  EXPECT_EQ(PulsesOf(ev, 0).rises.size(), 1000u);
+  EXPECT_EQ(eng.e.shifts, 1u);
+  EXPECT_GE(eng.e.shifted_ns, 200'000u);
 }
 
 // Configured pulse and space are minimums from the real edges too.
@@ -327,10 +344,34 @@ TEST(Budget, PhaseModeCountsOneWritePerMotor) {
   Eng eng;
   const x4_timing t = {0, 0, X4_DIR_SETUP_NS, 0};
   ASSERT_EQ(x4_engine_configure(&eng.e, &t, X4_MODE_SMC_PHASE), X4_OK);
-  eng.e.budget = 3 * 20000;
+  eng.e.budget = 3 * 20000 - 1;
   const x4_move m = Move(100, 100, 100, 0, 20000, 0);
   ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
+  EXPECT_EQ(x4_engine_start(&eng.e, kStart), X4_ERR_RATE_BUDGET);
+  eng.e.budget = 3 * 20000;
   EXPECT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+}
+
+// A reference run keeps the budget of its faster phase while it runs the
+// slower one: phase 2 starts from the timer, where nothing can refuse it.
+TEST(Budget, AReferenceRunHoldsItsFasterPhase) {
+  Eng eng;
+  x4_switches sw{};
+  sw.ref[0] = 1;
+  ASSERT_EQ(x4_engine_set_switches(&eng.e, &sw), X4_OK);
+  ASSERT_EQ(x4_engine_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -100, 45000, 1000, kStart), X4_OK);
+  eng.Goto(1, 100000, Prof(0, 0, 45000, 100000, 100000));
+  EXPECT_EQ(x4_engine_endless(&eng.e, 3, false, 10001, 0, kStart), X4_ERR_RATE_BUDGET);
+  EXPECT_EQ(x4_engine_endless(&eng.e, 3, false, 10000, 0, kStart), X4_OK);
+}
+
+// An axis of a goto that is at its target already needs nothing.
+TEST(Budget, AxesAtTheirTargetsDoNotCount) {
+  Eng eng;
+  const x4_profile fast = Prof(0, 0, 45000, 100000, 100000);
+  for (int i = 1; i <= X4_AXES; i++) ASSERT_EQ(x4_engine_set_profile(&eng.e, i, &fast), X4_OK);
+  const int32_t target[X4_AXES] = {100, 100, 0, 0};
+  EXPECT_EQ(x4_engine_goto(&eng.e, 0x0f, target, true, kStart), X4_OK);
 }
 
 TEST(Budget, ZeroMeansNoBudget) {

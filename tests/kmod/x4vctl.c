@@ -9,6 +9,10 @@
  *                                      device open SECS seconds (the test
  *                                      removes the port meanwhile), then
  *                                      try status, info, stop and poll
+ *   x4vctl DEV close-braking VM AE     a goto of axis 1 at VM steps/s, then
+ *                                      close while it runs: the module
+ *                                      brakes at AE steps/s^2 (VM / AE
+ *                                      seconds) after close() has returned
  */
 #include <errno.h>
 #include <fcntl.h>
@@ -18,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/ioctl.h>
+#include <time.h>
 #include <unistd.h>
 
 static int get_status(int fd, struct x4step_status *st)
@@ -93,6 +98,28 @@ static int cmd_hold_endless(int fd, int freq_hz, int secs)
 	return 0;
 }
 
+static int cmd_close_braking(int *fd, int vm, int ae)
+{
+	struct x4step_profile pr = { 1, 0, 0, vm, 100000, ae, { 0, 0 } };
+	struct x4step_goto go = { 1, X4STEP_GOTO_RELATIVE, { 1000000, 0, 0, 0 },
+				  -1, { 0, 0, 0 } };
+	struct timespec t0, t1;
+
+	if (ioctl(*fd, X4STEP_SET_PROFILE, &pr) || ioctl(*fd, X4STEP_GOTO, &go)) {
+		printf("GOTO errno %d result %d\n", errno, go.result);
+		return 1;
+	}
+	usleep(300000); /* at speed */
+	clock_gettime(CLOCK_MONOTONIC, &t0);
+	close(*fd);
+	clock_gettime(CLOCK_MONOTONIC, &t1);
+	*fd = -1;
+	printf("closed while moving: close() took %ld us\n",
+	       (long)((t1.tv_sec - t0.tv_sec) * 1000000 +
+		      (t1.tv_nsec - t0.tv_nsec) / 1000));
+	return 0;
+}
+
 int main(int argc, char **argv)
 {
 	int fd, ret = 2;
@@ -112,6 +139,9 @@ int main(int argc, char **argv)
 		ret = cmd_move(fd, atoi(argv[3]), atoi(argv[4]), atoi(argv[5]));
 	else if (!strcmp(argv[2], "hold-endless") && argc == 5)
 		ret = cmd_hold_endless(fd, atoi(argv[3]), atoi(argv[4]));
-	close(fd);
+	else if (!strcmp(argv[2], "close-braking") && argc == 5)
+		ret = cmd_close_braking(&fd, atoi(argv[3]), atoi(argv[4]));
+	if (fd >= 0)
+		close(fd);
 	return ret;
 }

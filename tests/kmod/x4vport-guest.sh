@@ -59,6 +59,8 @@ check "insmod x4step" insmod "$X4MOD/x4step.ko"
 sleep 1
 check "/dev/x4step$N exists" [ -c "/dev/x4step$N" ]
 check "/dev/x4step0 (parport_pc) exists" [ -c /dev/x4step0 ]
+check "x4step$N sits under the virtual port's device in sysfs" \
+	[ "$(readlink -f "/sys/class/x4step/x4step$N/device")" = "$(readlink -f /sys/bus/platform/devices/x4vport)" ]
 
 # Inputs: pins -> status register -> X4GetIn through x4step.
 for p in 0x1f 0x00 0x10 0x0f 0x01 0x02 0x04 0x08 0x15; do
@@ -274,6 +276,22 @@ check "rmmod x4vport (open, moving)" rmmod x4vport
 check "client survived" wait $hp
 check "x4step still loaded" grep -q '^x4step ' /proc/modules
 
+# ... a controller closed during a 5 s brake (the module keeps the port
+# until the motor stands): the removal stops it at once, waiting for nothing.
+uptime_ms() { awk '{ printf "%d\n", $1 * 1000 }' /proc/uptime; }
+check "insmod x4vport again" insmod "$X4MOD/x4vport.ko"
+sleep 1
+N=$(cat "$D/port")
+check "close during a 5 s brake" x4vctl "/dev/x4step$N" close-braking 5000 1000
+check "a controller's open during the brake: refused" sh -c "! sh -c 'exec 3<>/dev/x4step$N' 2>/dev/null"
+t0=$(uptime_ms)
+check "rmmod x4vport (a closed controller's brake running)" rmmod x4vport
+ms=$(($(uptime_ms) - t0))
+check "... at once (${ms} ms)" [ "$ms" -lt 1000 ]
+check "the kernel log says the brake was stopped" \
+	sh -c "dmesg | grep -q 'x4step$N: port removed while braking: stopped'"
+check "x4step still loaded" grep -q '^x4step ' /proc/modules
+
 # Overrun counting with a small buffer.
 check "insmod x4vport ring_order=10" insmod "$X4MOD/x4vport.ko" ring_order=10
 sleep 1
@@ -285,7 +303,24 @@ check "overruns counted" [ "$(cat "$D/overruns")" -gt 0 ]
 echo >"$D/clear"
 check "clear zeroes overruns" [ "$(cat "$D/overruns")" = 0 ]
 
-# Unload order: client first.
+# A port whose operations may sleep (a USB adapter's) is not served: x4step
+# writes the registers from a hard-irq timer.
+check "rmmod x4vport (small ring)" rmmod x4vport
+check "insmod x4vport may_sleep=1" insmod "$X4MOD/x4vport.ko" may_sleep=1
+sleep 1
+N=$(cat "$D/port")
+check "may_sleep: no /dev/x4step$N" [ ! -e "/dev/x4step$N" ]
+check "may_sleep: the kernel log says why" \
+	sh -c "dmesg | grep -q 'parport$N: not served: its operations may sleep'"
+check "rmmod x4vport (may_sleep)" rmmod x4vport
+check "insmod x4vport again" insmod "$X4MOD/x4vport.ko"
+sleep 1
+N=$(cat "$D/port")
+check "/dev/x4step$N back" [ -c "/dev/x4step$N" ]
+
+# Unload order: client first; here while a closed controller's brake runs
+# on the virtual port (its deferred release is cancelled, the motor stopped).
+check "close during a 5 s brake (then rmmod x4step)" x4vctl "/dev/x4step$N" close-braking 5000 1000
 check "rmmod x4step" rmmod x4step
 check "no /dev/x4step*" [ ! -e /dev/x4step0 ]
 check "rmmod x4vport after x4step" rmmod x4vport

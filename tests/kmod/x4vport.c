@@ -66,6 +66,9 @@
  *                    entry right after its 'd' entry, when it changes), so
  *                    a client reading the status after a step sees the
  *                    new level, as with a switch wired to a real machine.
+ *   irqoff      (w)  a late timer on demand: writing N (1..10000) busy-waits
+ *                    N us with interrupts off on the writing CPU, as a
+ *                    driver that holds a lock too long would do.
  * Numbers are read as "0x%02x" (registers) or decimal (counters); writes
  * take any base kstrtoull accepts ("0x78", "120"), positions, AT and HYST
  * any that kstrtoll accepts ("-400", "0x100").
@@ -119,6 +122,16 @@
 static unsigned int ring_order = 20;
 module_param(ring_order, uint, 0444);
 MODULE_PARM_DESC(ring_order, "trace buffer holds 2^ring_order entries (10..24)");
+
+/*
+ * Announce the port without PARPORT_MODE_SAFEININT, as a USB adapter's
+ * (uss720): its operations might sleep, and clients that drive a port in
+ * interrupt context (x4step) must leave it alone. The operations are the
+ * same; only the flag differs.
+ */
+static bool may_sleep;
+module_param(may_sleep, bool, 0444);
+MODULE_PARM_DESC(may_sleep, "announce a port whose operations may sleep (no PARPORT_MODE_SAFEININT)");
 
 #define X4V_CTL_LINES 0x0f /* strobe, autofd, init, select */
 #define X4V_CTL_IRQ 0x10
@@ -860,6 +873,33 @@ out:
 	return ret ? ret : len;
 }
 
+static ssize_t x4v_irqoff_write(struct file *file, const char __user *ubuf,
+				size_t len, loff_t *ppos)
+{
+	unsigned long flags;
+	unsigned int us;
+	u64 end;
+	int ret;
+
+	ret = kstrtouint_from_user(ubuf, len, 0, &us);
+	if (ret)
+		return ret;
+	if (!us || us > 10000)
+		return -EINVAL;
+	local_irq_save(flags);
+	end = ktime_get_ns() + (u64)us * NSEC_PER_USEC;
+	while (ktime_get_ns() < end)
+		cpu_relax();
+	local_irq_restore(flags);
+	return len;
+}
+
+static const struct file_operations x4v_irqoff_fops = {
+	.owner = THIS_MODULE,
+	.open = nonseekable_open,
+	.write = x4v_irqoff_write,
+};
+
 static const struct file_operations x4v_switches_fops = {
 	.owner = THIS_MODULE,
 	.open = x4v_switches_open,
@@ -878,6 +918,7 @@ static void x4v_debugfs_init(void)
 	debugfs_create_file("trace", 0444, d, NULL, &x4v_trace_fops);
 	debugfs_create_file("trace_pipe", 0444, d, NULL, &x4v_pipe_fops);
 	debugfs_create_file("clear", 0200, d, NULL, &x4v_clear_fops);
+	debugfs_create_file("irqoff", 0200, d, NULL, &x4v_irqoff_fops);
 	debugfs_create_file_unsafe("count", 0444, d, NULL, &x4v_count_fops);
 	debugfs_create_file_unsafe("overruns", 0444, d, NULL,
 				   &x4v_overruns_fops);
@@ -928,7 +969,9 @@ static int __init x4v_init(void)
 		ret = -ENOMEM;
 		goto err_pdev;
 	}
-	port->modes = PARPORT_MODE_PCSPP | PARPORT_MODE_SAFEININT;
+	port->modes = PARPORT_MODE_PCSPP;
+	if (!may_sleep)
+		port->modes |= PARPORT_MODE_SAFEININT;
 	port->dev = &x4v.pdev->dev;
 	x4v.port = port;
 	x4v_debugfs_init();

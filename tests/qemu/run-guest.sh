@@ -87,7 +87,9 @@ for applet in $(/bin/busybox --list-full); do
 	[ -e "$root/$applet" ] || ln -s /bin/busybox "$root/$applet"
 done
 # uinput and evdev (/dev/input/event*, to watch keys in tests) may be built in.
-for m in parport:drivers/parport parport_pc:drivers/parport uinput:drivers/input/misc evdev:drivers/input; do
+# lp and ppdev, the other parport clients, are there for tests to load.
+for m in parport:drivers/parport parport_pc:drivers/parport uinput:drivers/input/misc evdev:drivers/input \
+	lp:drivers/char ppdev:drivers/char; do
 	src=$(find_module "${m%%:*}" "${m#*:}")
 	if [ -n "$src" ]; then
 		copy_module "$src" "$root/lib/kmod"

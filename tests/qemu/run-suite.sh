@@ -30,7 +30,7 @@ tests=(
 	"smoke|tests/qemu/smoke.sh|||tests/qemu/check-no-steps.sh"
 	"module|tests/guest/module.sh|$g/module_test||tests/qemu/check-segments.sh"
 	"keys|tests/guest/keys.sh|$g/keys_test||tests/qemu/check-segments.sh"
-	"cpp|tests/guest/cpp.sh|$g/cpp_test||tests/qemu/check-segments.sh"
+	"cpp|tests/guest/cpp.sh|$g/cpp_test|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh"
 	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
 	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
 	"fuzz|tests/fuzz/fuzz.sh|$g/ioctl_fuzz||tests/fuzz/check-no-edges.sh"
@@ -39,6 +39,7 @@ tests=(
 	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
 	"x4ctl-keys|tests/x4ctl/guest-x4ctl-keys.sh|$g/x4ctl|--monitor @KOUT@/mon.sock|"
 	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko|"
+	"discipline|tests/guest/discipline.sh|$g/discipline_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|"
 	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh"
 )
 

@@ -50,6 +50,8 @@ x4step::controller open_controller(const std::string &dev) {
     if (const auto h = find_controller(dev))
       throw failure(dev + ": port busy: PID " + std::to_string(h->pid) + " (" + h->name + ") controls it" +
                     (h->is_x4ctl() ? "; 'x4ctl brake' ends its move" : ""));
+    // The library's own text when it knows more (who holds a busy port).
+    if (e.what() != e.code().message()) throw failure(e.what());
     throw failure(dev + ": " + e.code().message());
   }
 }

@@ -8,6 +8,14 @@
  * only, are padded to 64 bits, and their reserved fields must be zero, so
  * 32-bit programs use the same layout and later versions can extend them.
  *
+ * The read-write open claims the parallel port; it fails with EBUSY while
+ * another controller has the device, while the module still brakes the
+ * moves of a controller that closed (close() starts the brake along the
+ * ramps and returns; the port is kept until the motors stand), or while
+ * another parport driver (lp, ppdev) has claimed the port. poll() reports
+ * POLLIN when no move runs and no such brake is pending, POLLERR | POLLHUP
+ * when the port went away.
+ *
  * Errors: every ioctl returns 0 or -1 with errno set.
  *   EINVAL  a parameter is out of range; for the ioctls with a
  *           `result` field the X4Step error code (1..13, as in
@@ -16,6 +24,9 @@
  *   EEXIST  a move is loaded already (X4ErrIsLoaded)
  *   ENODATA no move is loaded (X4ErrNotLoaded)
  *   ESRCH   no move is running (X4ErrNotActive)
+ *   ERANGE  a start that the port's write budget cannot take beside the
+ *           moves that run (module parameter write_budget, port writes
+ *           per second); `result` is X4ErrFreqTooHigh
  *   EBADF   a state-changing ioctl on a read-only descriptor
  *   ENODEV  the parallel port went away
  *   ENOTTY  unknown ioctl
@@ -65,7 +76,8 @@ struct x4step_endless {
 /* Flags of struct x4step_status. */
 #define X4STEP_ST_ACTIVE (1u << 0) /* a move runs (the AKTIV signal) */
 #define X4STEP_ST_LOADED (1u << 1) /* a move is loaded */
-#define X4STEP_ST_CONTROLLED (1u << 2) /* a controller has the device open */
+/* A controller has the device open, or its moves still brake after close. */
+#define X4STEP_ST_CONTROLLED (1u << 2)
 
 /* Output pins in x4step_status.outputs and x4step_output.signal. */
 #define X4STEP_OUT_SIGNAL1 (1u << 0) /* pin 1 */

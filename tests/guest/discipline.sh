@@ -1,0 +1,8 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+# Guest script: the step timer's discipline (issue 15) on the virtual port.
+# Run with --icount.
+mount -t debugfs none /sys/kernel/debug 2>/dev/null
+insmod "$X4MOD/x4step.ko" || exit 1
+insmod "$X4MOD/x4vport.ko" || exit 1
+exec /bin/discipline_test
