@@ -344,6 +344,7 @@ struct x4_goto {
 	s32 from[X4_AXES]; /* the coordinates planned from */
 	struct x4_plan plan[X4_AXES];
 };
+
 int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
 			const s32 *target, bool relative, struct x4_goto *g);
 int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,

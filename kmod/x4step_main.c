@@ -558,7 +558,7 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 	ret = x4_engine_configure(&x4->eng, &x4->eng.timing, cfg.output_mode);
 	if (!ret) {
 		x4_port_set_invert(x4, cfg.clock_invert, cfg.dir_invert);
-		x4->cfg_flags = cfg.flags;
+		WRITE_ONCE(x4->cfg_flags, cfg.flags); /* read by the key handler */
 		x4_port_write_rest_locked(x4);
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -613,6 +613,9 @@ static int x4_ioctl_timing(struct x4_port *x4, struct file *file,
 	unsigned long flags;
 	int ret = 0;
 
+	/* Version 2's struct is this one's head. */
+	BUILD_BUG_ON(offsetof(struct x4step_timing, callbacks) !=
+		     X4STEP_TIMING_V2_SIZE);
 	t = kmalloc(sizeof(*t), GFP_KERNEL);
 	if (!t)
 		return -ENOMEM;

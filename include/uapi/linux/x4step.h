@@ -154,7 +154,8 @@ struct x4step_step_timing {
  * X4STEP_GET_TIMING: how late the step timer's events fired since the
  * last read by the controller, which resets it (a read-only descriptor
  * reads without resetting). An event is one edge or port write of a move;
- * its lateness is from its planned time to the moment it was written.
+ * its lateness is from its planned time to the moment it was fired
+ * (the port write follows within the engine's few hundred instructions).
  * hist[i] counts lateness in [i, i + 1) * X4STEP_TIMING_BUCKET_NS; later
  * ones in `beyond`. No pulse or space is ever shortened to make up for
  * lateness: where the next step would come too soon the rest of that
@@ -346,7 +347,7 @@ struct x4step_axes {
 /* Set and read the step timing (only while no move runs). */
 #define X4STEP_SET_STEP_TIMING _IOW(X4STEP_IOC_MAGIC, 0x0c, struct x4step_step_timing)
 #define X4STEP_GET_STEP_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0d, struct x4step_step_timing)
-/* Read and reset the timer lateness statistics. */
+/* Read the timer lateness statistics (the controller's read resets them). */
 #define X4STEP_GET_TIMING _IOR(X4STEP_IOC_MAGIC, 0x0b, struct x4step_timing)
 /* The same in ABI 2's size: only the fields up to hist[] (2080 bytes). */
 #define X4STEP_TIMING_V2_SIZE (4 * 8 + 4 * X4STEP_TIMING_BUCKETS)
