@@ -64,6 +64,25 @@ inline double MsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+// A file's whole text (debugfs and sysfs files); empty if unreadable.
+inline std::string Slurp(const std::string &path) {
+  std::string s;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return s;
+  char buf[65536];
+  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) s.append(buf, size_t(n));
+  ::close(fd);
+  return s;
+}
+
+// One write(2) of text; false if the file refused it.
+inline bool Put(const std::string &path, const std::string &text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool ok = ::write(fd, text.data(), text.size()) == ssize_t(text.size());
+  return ::close(fd) == 0 && ok;
+}
+
 // Print the closing line; the program's exit status.
 inline int Finish(const char *program) {
   std::printf("%s: %d failed\n", program, failures);

@@ -32,22 +32,8 @@ using guest::Check;
 
 const std::string kV = "/sys/kernel/debug/x4vport/";
 
-std::string Slurp(const std::string &path) {
-  std::string s;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return s;
-  char buf[65536];
-  for (ssize_t n; (n = ::read(fd, buf, sizeof buf)) > 0;) s.append(buf, size_t(n));
-  ::close(fd);
-  return s;
-}
-
-bool Put(const std::string &path, const std::string &text) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool ok = ::write(fd, text.data(), text.size()) == ssize_t(text.size());
-  return ::close(fd) == 0 && ok;
-}
+using guest::Put;
+using guest::Slurp;
 
 uint64_t Now() {
   timespec ts;

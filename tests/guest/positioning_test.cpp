@@ -55,27 +55,8 @@ std::string F(const char *fmt, ...) {
   return buf;
 }
 
-std::string Slurp(const std::string &path) {
-  std::string s;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return s;
-  char buf[65536];
-  for (;;) {
-    const ssize_t n = ::read(fd, buf, sizeof(buf));
-    if (n <= 0) break;
-    s.append(buf, size_t(n));
-  }
-  ::close(fd);
-  return s;
-}
-
-// One write(2) of text; false if the file refused it.
-bool Put(const std::string &path, const std::string &text) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool ok = ::write(fd, text.data(), text.size()) == ssize_t(text.size());
-  return ::close(fd) == 0 && ok;
-}
+using guest::Put;
+using guest::Slurp;
 
 // ---- the machine (x4vport) -------------------------------------------------
 

@@ -100,6 +100,10 @@ struct Eng {
     const x4_timing t = {pulse, space, X4_DIR_SETUP_NS, 0};
     ASSERT_EQ(x4_engine_configure(&e, &t, X4_MODE_CLOCK_DIR), X4_OK);
   }
+  void Start(const x4_move &m) {
+    ASSERT_EQ(x4_engine_load(&e, &m), X4_OK);
+    ASSERT_EQ(x4_engine_start(&e, kStart), X4_OK);
+  }
   void Goto(int axis, int32_t steps, const x4_profile &p, uint64_t now = kStart) {
     int32_t target[X4_AXES] = {};
     target[axis] = steps;
@@ -115,8 +119,7 @@ struct Eng {
 TEST(Lateness, A300usStallAt20kHzGivesNoShortPulse) {
   Eng eng;
   const x4_move m = Move(4000, 0, 0, 0, 20000, 50);
-  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
-  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  eng.Start(m);
   const auto ev = RunLate(eng.e, Stalls(80'000'000, 20));
   const Pulses p = PulsesOf(ev, 0);
   EXPECT_EQ(p.rises.size(), 4000u);
@@ -130,8 +133,7 @@ TEST(Lateness, A300usStallAt20kHzGivesNoShortPulse) {
 TEST(Lateness, TheRestOfTheScheduleMovesByTheCountedShift) {
   Eng eng;
   const x4_move m = Move(3000, 1000, 0, 0, 10000, 100);
-  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
-  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  eng.Start(m);
   Recording ideal;
   {
     Eng ref;
@@ -156,8 +158,7 @@ TEST(Lateness, TheRestOfTheScheduleMovesByTheCountedShift) {
 TEST(Lateness, JitterWithinTheSlackDoesNotShift) {
   Eng eng;
   const x4_move m = Move(2000, 0, 0, 0, 5000, 100);
-  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
-  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  eng.Start(m);
   const auto ev = RunLate(eng.e, {}, 5000);
   EXPECT_EQ(eng.e.shifts, 0u);
   EXPECT_EQ(PulsesOf(ev, 0).rises.size(), 2000u);
@@ -199,8 +200,7 @@ TEST(Lateness, MinimumsCountFromTheWrite) {
 TEST(Lateness, OneStallIsOneShift) {
   Eng eng;
   const x4_move m = Move(1000, 0, 0, 0, 10000, 0);
-  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
-  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  eng.Start(m);
   const auto ev = RunLate(eng.e, {{30'000'000, 300'000}}, 0, nullptr, 700);
   EXPECT_EQ(PulsesOf(ev, 0).rises.size(), 1000u);
   EXPECT_EQ(eng.e.shifts, 1u);
@@ -263,8 +263,7 @@ TEST(Lateness, PhaseStepsKeepTheirInterval) {
   const x4_timing t = {0, 0, X4_DIR_SETUP_NS, 0};
   ASSERT_EQ(x4_engine_configure(&eng.e, &t, X4_MODE_SMC_PHASE), X4_OK);
   const x4_move m = Move(3000, 0, 0, 0, 10000, 50);
-  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
-  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  eng.Start(m);
   const auto ev = RunLate(eng.e, Stalls(50'000'000, 30, 3'300'000, 400'000), 2000);
   std::vector<uint64_t> steps;  // writes of motor X's running patterns
   uint8_t last = 0xff;
@@ -286,8 +285,7 @@ TEST(Lateness, DirectionHoldFromTheRealLastEdge) {
   const x4_timing t = {0, 0, X4_DIR_SETUP_NS, 40000};
   ASSERT_EQ(x4_engine_configure(&eng.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
   const x4_move m = Move(-100, 0, 0, 0, 1000, 0);
-  ASSERT_EQ(x4_engine_load(&eng.e, &m), X4_OK);
-  ASSERT_EQ(x4_engine_start(&eng.e, kStart), X4_OK);
+  eng.Start(m);
   // Step 99 rises at 99 ms + 100 us and should fall 500 us later.
   const auto ev = RunLate(eng.e, {{99'400'000, 700'000}});
   ASSERT_GE(ev.size(), 2u);
