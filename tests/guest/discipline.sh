@@ -5,4 +5,8 @@
 mount -t debugfs none /sys/kernel/debug 2>/dev/null
 insmod "$X4MOD/x4step.ko" || exit 1
 insmod "$X4MOD/x4vport.ko" || exit 1
-exec /bin/discipline_test
+# A debug kernel's timers are too late for the millisecond checks.
+case $(uname -r) in
+*-x4debug) exec /bin/discipline_test --no-timing ;;
+*) exec /bin/discipline_test ;;
+esac

@@ -29,6 +29,7 @@
 namespace {
 
 using guest::Check;
+using guest::CheckTiming;
 
 const std::string kV = "/sys/kernel/debug/x4vport/";
 
@@ -145,16 +146,16 @@ void Print(const char *what, const x4step_timing &t) {
 
 // While fast moves run: does a process that sleeps 100 ms get the CPU back
 // when its sleep ends, and does the STOP it then issues take effect at once?
-// The moves' rates differ a little, so that their edges drift past each
-// other: the old timer callback, which waited for whatever came within
-// 10 us, then never left.
+// The old timer callback waited for whatever came within 10 us: with the
+// edges of the moves interleaved closer than that, it never left.
 void StopDuring(const char *what, unsigned axes, uint64_t t0) {
   const uint64_t wanted = t0 + 100'000'000;
   usleep(100000);
   const uint64_t woke = Now();
-  Check(woke < wanted + 5'000'000,
-        F("%s: a 100 ms sleep ends %.1f ms late (the CPU is not held)", what, (woke - wanted) / 1e6));
+  CheckTiming(woke < wanted + 5'000'000,
+              F("%s: a 100 ms sleep ends %.1f ms late (the CPU is not held)", what, (woke - wanted) / 1e6));
   const int err = Ioctl(X4STEP_STOP);
+  const uint64_t stopped = Now();
   Check(err == 0, F("%s: the moves still run when STOP is issued (%s)", what, std::strerror(err)));
   Check(WaitIdle(1000), F("%s: idle after STOP", what));
   const auto c = Clocks();
@@ -162,7 +163,9 @@ void StopDuring(const char *what, unsigned axes, uint64_t t0) {
   for (int a = 0; a < 4; a++)
     if (axes & (1u << a) && !c[a].rises.empty()) last = std::max(last, c[a].rises.back());
   const long long after = (long long)last - (long long)wanted;
-  Check(after < 1'000'000, F("%s: last step %.1f us after the STOP was due (limit 1 ms)", what, after / 1e3));
+  Check(last < stopped, F("%s: no step after the STOP returned", what));
+  CheckTiming(after < 1'000'000,
+              F("%s: last step %.1f us after the STOP was due (limit 1 ms)", what, after / 1e3));
   Print(what, Timing());
 }
 
@@ -312,8 +315,10 @@ void MonitorDoesNotReset(const std::string &dev) {
 
 }  // namespace
 
-int main() {
+int main(int argc, char **argv) {
   setvbuf(stdout, nullptr, _IOLBF, 0);
+  // A debug kernel's timer and ioctls are too slow for the 1 ms and 5 ms checks.
+  if (argc > 1 && std::strcmp(argv[1], "--no-timing") == 0) guest::timing_checks = false;
   const std::string port = Slurp(kV + "port");
   if (port.empty()) {
     Check(false, "x4vport loaded (" + kV + "port)");
