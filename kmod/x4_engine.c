@@ -723,6 +723,11 @@ int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 }
 #endif
 
+static u32 abs_s32(s32 v)
+{
+	return v < 0 ? (u32)-(s64)v : (u32)v;
+}
+
 /* Start reference run phase `phase` of the axis of channel c. */
 static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 		       u8 phase, s32 vref, u64 now_ns)
@@ -731,17 +736,12 @@ static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 
 	steps[axis] = vref < 0 ? -(s64)c->sref : (s64)c->sref;
 	plan_axes(&c->run, steps);
-	plan_profile(&c->run, (u64)c->sref + 1, (u32)(vref < 0 ? -vref : vref), 0);
+	plan_profile(&c->run, (u64)c->sref + 1, abs_s32(vref), 0);
 	c->home = phase;
 	begin(e, c, now_ns);
 	/* The budget holds the faster phase for the whole reference run. */
 	if (c->rate < c->home_rate)
 		c->rate = c->home_rate;
-}
-
-static u32 abs_s32(s32 v)
-{
-	return v < 0 ? (u32)-(s64)v : (u32)v;
 }
 
 static bool vref_ok(s32 v)
@@ -763,7 +763,7 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns)
 {
 	struct x4_chan *c;
-	u32 vmax;
+	u32 vmax, rate;
 	int ret;
 
 	if (axis < 1 || axis > X4_AXES ||
@@ -780,10 +780,11 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	vmax = phases & X4_HOME_PHASE1 ? abs_s32(vref1) : 0;
 	if (phases & X4_HOME_PHASE2 && abs_s32(vref2) > vmax)
 		vmax = abs_s32(vref2);
-	if (budget_check(e, (u64)vmax * writes_per_step(e, 1)))
+	rate = vmax * writes_per_step(e, 1);
+	if (budget_check(e, rate))
 		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
-	c->home_rate = vmax * writes_per_step(e, 1);
+	c->home_rate = rate;
 	c->sref = sref;
 	c->vref2 = vref2;
 	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
@@ -1083,12 +1084,12 @@ static void end(struct x4_engine *e, struct x4_chan *c)
  * late. Move the rest of its schedule, rather than catch up with a burst
  * of short pulses that a driver would lose.
  */
-static void keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
+static bool keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
 {
 	u64 d;
 
 	if (c->phase != X4_RISE || c->t_pending >= earliest)
-		return;
+		return false;
 	d = earliest - c->t_pending;
 	c->origin += d;
 	c->t_pending += d;
@@ -1096,6 +1097,7 @@ static void keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
 		e->shifts++; /* an edge counts once (x4_engine_written) */
 	e->edge_shifted = true;
 	e->shifted_ns += d;
+	return true;
 }
 
 /* After the last step: end now, or after the hold (and settle) time. */
@@ -1387,17 +1389,10 @@ void x4_engine_written(struct x4_engine *e, u64 t_ns)
 	if (!c)
 		return;
 	e->fired = NULL;
-	if (c->phase == X4_FALL) {
-		if (c->t_pending >= t_ns + c->high_min)
-			return;
+	if (c->phase == X4_FALL && c->t_pending < t_ns + c->high_min)
 		c->t_pending = t_ns + c->high_min;
-	} else if (c->phase == X4_RISE) {
-		if (c->t_pending >= t_ns + c->space_min)
-			return;
-		keep_min(e, c, t_ns + c->space_min);
-	} else {
+	else if (!keep_min(e, c, t_ns + c->space_min))
 		return;
-	}
 	schedule(e, c);
 }
 

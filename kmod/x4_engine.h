@@ -386,17 +386,6 @@ static inline bool x4_engine_rise_watched(const struct x4_engine *e)
 	       (e->cur->halt_mask | e->cur->deferred);
 }
 
-/* Whether the inputs matter now: some running move watches a switch. */
-static inline bool x4_engine_sensing(const struct x4_engine *e)
-{
-	int i;
-
-	for (i = 0; i < X4_AXES; i++)
-		if (e->ch[i].halt_mask | e->ch[i].deferred)
-			return true;
-	return false;
-}
-
 /* What the port shows at rest: 1 byte, or one per SMC motor (3). */
 int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes);
 

@@ -82,7 +82,6 @@ void x4_port_halted_locked(struct x4_port *x4);
 void x4_port_write_locked(struct x4_port *x4);
 void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);
 void x4_port_write_rest_locked(struct x4_port *x4);
-void x4_port_drain_locked(struct x4_port *x4, u64 until);
 u32 x4_port_inputs_locked(struct x4_port *x4);
 void x4_port_gone(struct x4_port *x4);
 bool x4_port_brake_key(struct x4_port *x4, u32 code);

@@ -97,7 +97,7 @@ static void x4_port_written_locked(struct x4_port *x4)
  * Fire and write what is due by engine time `until` (more writes of one
  * instant in phase mode, a stop's rest patterns).
  */
-void x4_port_drain_locked(struct x4_port *x4, u64 until)
+static void x4_port_drain_locked(struct x4_port *x4, u64 until)
 {
 	lockdep_assert_held(&x4->slock);
 	while (x4_engine_busy(&x4->eng) && x4_engine_due(&x4->eng) <= until) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "engine_ref.h"
@@ -82,6 +83,12 @@ uint64_t Min(const std::vector<uint64_t> &v) {
   return v.empty() ? UINT64_MAX : *std::min_element(v.begin(), v.end());
 }
 
+// No high time below `high` and no low time below `low`.
+void ExpectMinimums(const Pulses &p, uint64_t high, uint64_t low) {
+  EXPECT_GE(Min(p.highs), high);
+  EXPECT_GE(Min(p.lows), low);
+}
+
 // Stalls of 300 us every few ms from `from` on, as a busy CPU would give.
 std::vector<Stall> Stalls(uint64_t from, int count, uint64_t every = 3'100'000, uint64_t len = 300'000) {
   std::vector<Stall> s;
@@ -123,8 +130,7 @@ TEST(Lateness, A300usStallAt20kHzGivesNoShortPulse) {
   const auto ev = RunLate(eng.e, Stalls(80'000'000, 20));
   const Pulses p = PulsesOf(ev, 0);
   EXPECT_EQ(p.rises.size(), 4000u);
-  EXPECT_GE(Min(p.highs), X4_CLOCK_MIN_NS);
-  EXPECT_GE(Min(p.lows), X4_CLOCK_MIN_NS);
+  ExpectMinimums(p, X4_CLOCK_MIN_NS, X4_CLOCK_MIN_NS);
   EXPECT_GT(eng.e.shifts, 0u);
 }
 
@@ -145,8 +151,7 @@ TEST(Lateness, TheRestOfTheScheduleMovesByTheCountedShift) {
   const Pulses lead = PulsesOf(ev, 0), minor = PulsesOf(ev, 1);
   ASSERT_EQ(lead.rises.size(), 3000u);
   EXPECT_EQ(minor.rises.size(), 1000u);
-  EXPECT_GE(Min(lead.highs), X4_CLOCK_MIN_NS);
-  EXPECT_GE(Min(lead.lows), X4_CLOCK_MIN_NS);
+  ExpectMinimums(lead, X4_CLOCK_MIN_NS, X4_CLOCK_MIN_NS);
   ASSERT_GT(eng.e.shifted_ns, 0u);
   // The last stall ends at 60 ms + 9 * 7 ms + 450 us; 200 steps later all is calm.
   for (size_t n = 2000; n < 3000; n++)
@@ -177,8 +182,7 @@ TEST(Lateness, JitterAt20kHzShiftsAndKeeps25us) {
   });
   const Pulses p = PulsesOf(ev, 1);
   EXPECT_GT(p.rises.size(), 3000u);
-  EXPECT_GE(Min(p.highs), X4_CLOCK_MIN_NS);
-  EXPECT_GE(Min(p.lows), X4_CLOCK_MIN_NS);
+  ExpectMinimums(p, X4_CLOCK_MIN_NS, X4_CLOCK_MIN_NS);
   EXPECT_GT(eng.e.shifts, 0u);
 }
 
@@ -191,8 +195,7 @@ TEST(Lateness, MinimumsCountFromTheWrite) {
   const auto ev = RunLate(eng.e, {}, 0, nullptr, 700);
   const Pulses p = PulsesOf(ev, 1);
   EXPECT_EQ(p.rises.size(), 5000u);
-  EXPECT_GE(Min(p.highs), 5000u);
-  EXPECT_GE(Min(p.lows), 5000u);
+  ExpectMinimums(p, 5000u, 5000u);
 }
 
 // One stall moves the schedule once: the step after it, counted once even
@@ -215,8 +218,7 @@ TEST(Lateness, ConfiguredPulseAndSpaceAt45000StepsPerSecond) {
   const auto ev = RunLate(eng.e, Stalls(20'000'000, 40, 1'700'000, 120'000), 3000);
   const Pulses p = PulsesOf(ev, 0);
   EXPECT_EQ(p.rises.size(), 20000u);
-  EXPECT_GE(Min(p.highs), 5000u);
-  EXPECT_GE(Min(p.lows), 8000u);
+  ExpectMinimums(p, 5000u, 8000u);
 }
 
 // Above 20 000 steps/s the symmetric clock's halves keep at least half of
@@ -228,8 +230,7 @@ TEST(Lateness, SymmetricClockAbove20kHzKeepsHalfItsPlannedHalves) {
   const Pulses p = PulsesOf(ev, 2);
   EXPECT_EQ(p.rises.size(), 20000u);
   // 45000 steps/s: 22222 ns per step, 11111 ns each half.
-  EXPECT_GE(Min(p.highs), 11111u / 2);
-  EXPECT_GE(Min(p.lows), 11111u / 2);
+  ExpectMinimums(p, 11111u / 2, 11111u / 2);
   EXPECT_GT(eng.e.shifts, 0u);
 }
 
@@ -250,9 +251,10 @@ TEST(Lateness, IndependentChannelsKeepTheirMinimums) {
   const auto ev = RunLate(eng.e, Stalls(5'000'000, 60, 1'300'000, 200'000), 1500);
   for (int axis : {0, 3}) {
     const Pulses p = PulsesOf(ev, axis);
-    EXPECT_EQ(p.rises.size(), axis ? 9000u : 12000u) << "axis " << axis;
-    EXPECT_GE(Min(p.highs), axis ? X4_CLOCK_MIN_NS : 1'000'000'000 / 30000 / 4) << "axis " << axis;
-    EXPECT_GE(Min(p.lows), axis ? X4_CLOCK_MIN_NS : 1'000'000'000 / 30000 / 4) << "axis " << axis;
+    SCOPED_TRACE("axis " + std::to_string(axis));
+    EXPECT_EQ(p.rises.size(), axis ? 9000u : 12000u);
+    const uint64_t min = axis ? X4_CLOCK_MIN_NS : 1'000'000'000 / 30000 / 4;
+    ExpectMinimums(p, min, min);
   }
 }
 
