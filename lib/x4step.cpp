@@ -18,7 +18,7 @@
 #include <utility>
 
 extern "C" {
-#include "x4_engine.h"  // the kernel's own argument checks
+#include "x4_check.h"  // the kernel's own argument checks
 }
 
 namespace x4step {

@@ -439,7 +439,7 @@ PtrKind random_ptr_kind(Rng &r, bool mostly_good) {
 
 // ------------------------------------------------------------------ expectations
 
-// X4Step result codes (x4_engine.h).
+// X4Step result codes (kmod/engine/x4_check.h).
 enum {
   XR_OK = 0,
   XR_NO_STEPS = 1,

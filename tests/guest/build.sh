@@ -18,10 +18,15 @@ $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/discipline_test" "$top/tests/guest/discipline_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/reliability_test" "$top/tests/guest/reliability_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/ioctl_fuzz" "$top/tests/fuzz/ioctl_fuzz.cpp"
-gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' \
-	-c -o "$out/x4_engine.o" "$top/kmod/x4_engine.c"
-$cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod" -o "$out/timing_bench" \
-	"$top/tests/guest/timing_bench.cpp" "$top/tests/host/engine_ref.cpp" "$out/x4_engine.o"
+engine_objs=
+for f in "$top"/kmod/engine/*.c; do
+	o=$out/$(basename "$f" .c).o
+	gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' -c -o "$o" "$f"
+	engine_objs="$engine_objs $o"
+done
+# shellcheck disable=SC2086
+$cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod/engine" -o "$out/timing_bench" \
+	"$top/tests/guest/timing_bench.cpp" "$top/tests/host/engine_ref.cpp" $engine_objs
 $cxx -I"$stage/include" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$lib"
 $cxx -I"$stage/include" -o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$lib"
 $cxx -I"$stage/include" -o "$out/phase_test" "$top/tests/guest/phase_test.cpp" "$lib"

@@ -13,6 +13,14 @@ extern "C" {
 #include "x4_engine.h"
 }
 
+// One output event as the tests record them: the pin levels after
+// x4_engine_fire(), at the time x4_engine_due() gave before it.
+struct x4_event {
+  uint64_t t_ns;  // since the engine epoch
+  uint8_t data;   // data register after the event
+  uint8_t ctl;    // control outputs after the event
+};
+
 namespace x4test {
 
 // Ideal time in seconds of leader step n (n = 0 is the first step) of a

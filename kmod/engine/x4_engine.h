@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-2.0 */
 /*
- * x4step engine core: turns X4Step moves into a stream of port events.
+ * x4step engine: turns moves into a stream of port events. The public
+ * interface of kmod/engine/ for the module's glue and the host tests.
  *
  * Plain C with no kernel dependency, no floating point and no allocation:
  * the module runs it in its hrtimer callback and the host unit tests run
@@ -10,38 +11,22 @@
  *
  * Output levels are logical pin levels (1 = HIGH at the connector); the
  * port glue applies hardware inversions and user polarity in one place.
+ *
+ * The engine's files, each owning one job:
+ *   x4_check.c   the commands' arguments and their checks (libx4step too)
+ *   x4_plan.c    profile mathematics: plans, T(n), brake distances
+ *   x4_sched.c   channels: commands, the event state machine, Bresenham,
+ *                the write budget and the minimum pulse and space
+ *   x4_switch.c  reference and limit switches, reference runs
+ *   x4_phase.c   the SMC800/SMC1500 half-step phase output
+ *   x4_status.c  what the axes are doing, for GET_AXES
  */
 #ifndef X4_ENGINE_H
 #define X4_ENGINE_H
 
-#ifdef __KERNEL__
-#include <linux/types.h>
-#else
-#include <stdbool.h>
-#include <stdint.h>
-typedef uint8_t u8;
-typedef int8_t s8;
-typedef uint32_t u32;
-typedef int32_t s32;
-typedef uint64_t u64;
-typedef int64_t s64;
-#endif
+#include "x4_check.h"
+#include "x4_plan.h"
 
-#define X4_AXES 4
-#define X4_FREQ_MIN_HZ 10
-#define X4_FREQ_MAX_HZ 20000
-#define X4_RAMP_MAX_MS 1000
-#define X4_STEPS_MAX 16777216
-/*
- * Short moves that cannot reach their frequency still run this many steps
- * at constant speed between the ramps (manual, chapter 2): two full steps
- * of a half-stepping drive, enough for the rotor to follow the change from
- * accelerating to braking torque without being torn off.
- */
-#define X4_PLATEAU_STEPS 4
-#define X4_DIR_SETUP_NS 100000u /* manual 5.2 */
-#define X4_TIMING_MAX_NS 1000000u /* any configured time: at most 1 ms */
-#define X4_PULSE_MIN_NS 1000u /* a configured pulse: at least 1 us */
 /*
  * The X4Step clock's shortest half period (20 kHz): without a configured
  * pulse, no clock high or low time is shorter than this, however late the
@@ -57,91 +42,13 @@ typedef int64_t s64;
  */
 #define X4_WRITE_BUDGET 200000u
 
-/* Results: the numbers of the documented X4Step API. */
-enum x4_result {
-	X4_OK = 0,
-	X4_ERR_NO_STEPS = 1,
-	X4_ERR_FREQ_TOO_HIGH = 2,
-	X4_ERR_FREQ_TOO_LOW = 3,
-	X4_ERR_RAMP_TOO_HIGH = 4,
-	X4_ERR_RAMP_FREQ = 5,
-	X4_ERR_LPT_NOT_FOUND = 6,
-	X4_ERR_NOT_ACTIVE = 7,
-	X4_ERR_PARAM_FAIL = 8,
-	X4_ERR_INIT_NOT_DONE = 9,
-	X4_ERR_IS_ACTIVE = 10,
-	X4_ERR_NOT_LOADED = 11,
-	X4_ERR_IS_LOADED = 12,
-	X4_ERR_STEPS_TOO_HIGH = 13,
-	/*
-	 * Not an X4Step code: the moves of the port together would need more
-	 * port writes per second than its budget. The API reports it as
-	 * X4_ERR_FREQ_TOO_HIGH; the module's errno for it is ERANGE.
-	 */
-	X4_ERR_RATE_BUDGET = 64,
-};
-
-/* Data register: axis i has direction on bit 2i, clock on bit 2i+1. */
-#define X4_DIR_BIT(axis) ((u8)(1u << (2 * (axis))))
-#define X4_CLK_BIT(axis) ((u8)(2u << (2 * (axis))))
-#define X4_CLK_MASK 0xaa
-#define X4_DIR_MASK 0x55
-
 /* Control outputs as pin levels. */
 #define X4_CTL_SIGNAL1 0x01 /* pin 1 */
 #define X4_CTL_SIGNAL2 0x02 /* pin 14 */
 #define X4_CTL_BOOST 0x04 /* pin 16: high while ramping */
 #define X4_CTL_AKTIV 0x08 /* pin 17: high while a move runs */
 
-/*
- * Step timing of a port (issue: driver boards need their own). pulse_ns 0
- * is the X4Step behaviour: a symmetric clock (high = low time).
- */
-struct x4_timing {
-	u32 pulse_ns; /* clock high time, 0: half the step period */
-	u32 space_ns; /* minimum clock low time between steps */
-	u32 dir_setup_ns; /* directions out before the first step */
-	u32 dir_hold_ns; /* directions held after the last step */
-};
-
-/* Output modes of a port. */
-enum x4_output_mode {
-	X4_MODE_CLOCK_DIR = 0, /* step and direction signals (X4Step) */
-	X4_MODE_SMC_PHASE = 1, /* SMC800/SMC1500 half-step phase patterns */
-	X4_MODE_SMC_PHASE_HOLD = 2, /* the same, reduced current at rest */
-};
 #define X4_SMC_AXES 3 /* motors X, Y, Z: select bits 0x00, 0x40, 0x80 */
-
-/* One output event, as the tests record them: e->data and e->ctl after
- * x4_engine_fire(), at the time x4_engine_due() said before it.
- */
-struct x4_event {
-	u64 t_ns; /* when, since the engine epoch */
-	u8 data; /* data register after the event */
-	u8 ctl; /* control outputs after the event */
-};
-
-/* An interpolated X4Load move. */
-struct x4_move {
-	s32 steps[X4_AXES];
-	s32 freq_hz;
-	s32 ramp_ms;
-};
-
-/*
- * The ramp of an axis' own moves (ProStep4): start at v0, accelerate with
- * a0 to vm, decelerate with ae to ve (steps/s, steps/s^2; 0: no ramp).
- */
-struct x4_profile {
-	u32 v0;
-	u32 ve;
-	u32 vm;
-	u32 a0;
-	u32 ae;
-};
-#define X4_VEL_MAX 45000
-#define X4_ACC_MAX 1000000
-#define X4_RAMP_TIME_MAX_S 3600 /* vm / a: keeps the ramp math in 64 bits */
 
 /* Reference and limit switches: inputs 1..5 (X4GetIn bit 0..4), 0 none. */
 struct x4_switches {
@@ -151,10 +58,6 @@ struct x4_switches {
 	u8 nc; /* bit k: input k + 1 is active while LOW */
 };
 #define X4_INPUTS 5
-
-/* Reference run phases (x4_engine_home). */
-#define X4_HOME_PHASE1 1
-#define X4_HOME_PHASE2 2
 
 /* Per-axis state and error bits, as ProStep4's asr and error registers. */
 #define X4_AX_RUN 0x001
@@ -175,53 +78,6 @@ struct x4_axis_state {
 	u32 state; /* X4_AX_* */
 	u32 error; /* X4_AXERR_* */
 	u32 velocity; /* steps/s */
-};
-
-/*
- * One side of a ramp: the time to reach step m from the ramp's virtual
- * rest point is u(m) = sqrt(c + m * k), with c and k in units of 4^sh ns^2
- * (sh > 0 only for ramps longer than about 2 s, whose squares would not
- * fit 64 bits in ns^2). s_ns = u(0): a start (or stop) at non-zero speed.
- */
-struct x4_ramp {
-	u64 c;
-	u64 k;
-	u64 s_ns;
-	u8 sh;
-};
-
-/*
- * The leader axis' schedule, precomputed at load so that starting a
- * preloaded move needs no work. T(n) is the time of leader step n
- * (n = 0 is the first step, T(0) = 0) relative to the move's origin:
- *   n <  n_cruise: T(n) = u_acc(n) - acc.s_ns                 (accelerate)
- *   n <  n_decel:  T(n) = c_base + (2n - c_m0) * c_num / c_den    (cruise)
- *   n >= n_decel:  T(n) = t_last - (u_dec(last - n) - dec.s_ns)    (brake)
- * X4Step moves ramp from and to rest (c = s = 0) with k = 2 / a in ns^2
- * per step, a = freq / ramp (thesis eq. 4.6).
- */
-struct x4_plan {
-	u64 last; /* index of the last leader step; U64_MAX: endless */
-	struct x4_ramp acc;
-	struct x4_ramp dec;
-	u64 n_cruise;
-	u64 n_decel;
-	u64 c_base;
-	u64 c_m0;
-	u64 c_num;
-	u64 c_den;
-	u64 t_last;
-	u64 bres_2l; /* 2 * leader steps (a goto's can pass 2^32) */
-	u64 single_half_ns; /* high time of a one-step move */
-	u32 brake_steps; /* X4Step: steps to stop from cruise along the ramp */
-	struct x4_profile prof; /* a profile move's ramp (vm 0: X4Step's) */
-	u32 abs_steps[X4_AXES];
-	u64 bres_inc[X4_AXES]; /* 2 * steps of a minor axis, else 0 */
-	u8 dirs; /* direction bits of the axes that move */
-	u8 leader;
-	u8 axes; /* axes with a non-zero path */
-	s8 sign[X4_AXES];
-	bool endless;
 };
 
 enum x4_phase {
@@ -310,8 +166,6 @@ struct x4_engine {
 void x4_engine_init(struct x4_engine *e);
 int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
 			u8 mode);
-int x4_move_check(const struct x4_move *m);
-int x4_ramp_check(s32 freq_hz, s32 ramp_ms);
 int x4_engine_load(struct x4_engine *e, const struct x4_move *m);
 int x4_engine_start(struct x4_engine *e, u64 now_ns);
 int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
@@ -323,9 +177,6 @@ void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
 void x4_engine_fire(struct x4_engine *e, u64 now_ns);
 void x4_engine_written(struct x4_engine *e, u64 t_ns);
 
-int x4_profile_check(const struct x4_profile *p);
-/* A reference run's own arguments (not its axis, switch or output mode). */
-int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref);
 int x4_engine_set_profile(struct x4_engine *e, s32 axis,
 			  const struct x4_profile *p);
 /* Host only: the module plans outside its lock (below). */
@@ -388,9 +239,5 @@ static inline bool x4_engine_rise_watched(const struct x4_engine *e)
 
 /* What the port shows at rest: 1 byte, or one per SMC motor (3). */
 int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes);
-
-/* Exposed for the unit tests. */
-u64 x4_isqrt(u64 x);
-u64 x4_plan_time(const struct x4_plan *p, u64 n);
 
 #endif /* X4_ENGINE_H */

@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: GPL-2.0 */
+/*
+ * x4step engine: what its files share with each other and with nobody
+ * else (the glue and the tests use x4_engine.h).
+ */
+#ifndef X4_INTERNAL_H
+#define X4_INTERNAL_H
+
+#include "x4_engine.h"
+
+static inline bool x4_phase_mode(const struct x4_engine *e)
+{
+	return e->mode != X4_MODE_CLOCK_DIR;
+}
+
+/* The direction bits of the axes in `axes`. */
+static inline u8 x4_dir_bits(u8 axes)
+{
+	u8 bits = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (axes & (1u << i))
+			bits |= X4_DIR_BIT(i);
+	return bits;
+}
+
+/* The clock bits of the axes in `axes`. */
+static inline u8 x4_clk_bits(u8 axes)
+{
+	return (u8)(x4_dir_bits(axes) << 1);
+}
+
+/* Axis i's coordinate. */
+static inline s32 x4_position(const struct x4_engine *e, int i)
+{
+	return (s32)(e->pos_base[i] + (u32)e->steps[i]);
+}
+
+static inline u32 x4_abs_s32(s32 v)
+{
+	return v < 0 ? (u32)-(s64)v : (u32)v;
+}
+
+/* x4_sched.c: channels */
+void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
+void x4_cut(struct x4_chan *c);
+void x4_end(struct x4_engine *e, struct x4_chan *c);
+u8 x4_mode_axes(const struct x4_engine *e);
+u8 x4_busy_axes(const struct x4_engine *e);
+u32 x4_writes_per_step(const struct x4_engine *e, u8 axes);
+int x4_budget_check(const struct x4_engine *e, u64 add);
+int x4_freq_check(const struct x4_engine *e, s32 freq_hz);
+
+/* x4_switch.c: switches and reference runs */
+void x4_arm_switches(struct x4_engine *e, struct x4_chan *c);
+void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit);
+
+/* x4_phase.c: the SMC phase output */
+void x4_phase_move(struct x4_engine *e, struct x4_chan *c, u64 t);
+void x4_phase_rest(struct x4_engine *e, struct x4_chan *c);
+void x4_phase_step(struct x4_engine *e, struct x4_chan *c, u64 t);
+void x4_phase_queued(struct x4_engine *e, struct x4_chan *c);
+
+#endif /* X4_INTERNAL_H */

@@ -1,0 +1,754 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * x4step engine: the channels. The commands that start, brake and stop
+ * moves; the event state machine that turns a running plan into clock,
+ * direction and control edges (SETUP, RISE, FALL, END); Bresenham for the
+ * minor axes; the write budget; and the rule that a late event moves the
+ * rest of its channel's schedule instead of shortening a pulse or space.
+ * Calls the plan maths (x4_plan.c), the switches (x4_switch.c) at a step
+ * a switch forbids, and the phase output (x4_phase.c) in SMC mode.
+ */
+#include "x4_internal.h"
+
+#ifdef __KERNEL__
+#include <linux/string.h>
+#else
+#include <string.h>
+/* noinline: defined by the build (CMakeLists.txt), as the kernel does */
+#endif
+
+void x4_engine_init(struct x4_engine *e)
+{
+	static const struct x4_profile prof = { 0, 0, 1000, 1000, 1000 };
+	int i;
+
+	memset(e, 0, sizeof(*e));
+	e->cur = e->ch;
+	e->timing.dir_setup_ns = X4_DIR_SETUP_NS;
+	e->budget = X4_WRITE_BUDGET;
+	for (i = 0; i < X4_AXES; i++)
+		e->prof[i] = prof;
+}
+
+int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
+			u8 mode)
+{
+	if (x4_timing_check(t, mode))
+		return X4_ERR_PARAM_FAIL;
+	if (x4_engine_busy(e))
+		return X4_ERR_IS_ACTIVE;
+	e->timing = *t;
+	e->mode = mode;
+	return X4_OK;
+}
+
+/*
+ * Whether steps at freq_hz fit the port's timing: a fixed pulse plus the
+ * minimum space, or half a period each for the symmetric clock.
+ */
+int x4_freq_check(const struct x4_engine *e, s32 freq_hz)
+{
+	u64 period = x4_div(X4_NSEC_PER_SEC, (u64)freq_hz);
+	const struct x4_timing *t = &e->timing;
+
+	if (e->mode != X4_MODE_CLOCK_DIR)
+		return X4_OK; /* phase patterns have no pulse */
+	if (t->pulse_ns ? t->pulse_ns + t->space_ns > period :
+			  t->space_ns > period / 2)
+		return X4_ERR_FREQ_TOO_HIGH;
+	return X4_OK;
+}
+
+/* The axes an output mode drives, as a mask. */
+u8 x4_mode_axes(const struct x4_engine *e)
+{
+	return x4_phase_mode(e) ? 0x07 : 0x0f;
+}
+
+/* The axes of the running moves. */
+u8 x4_busy_axes(const struct x4_engine *e)
+{
+	u8 axes = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (e->busy & (1u << i))
+			axes |= e->ch[i].run.axes;
+	return axes;
+}
+
+/* Port writes of one leader step: clock up and down, or a phase pattern per motor. */
+u32 x4_writes_per_step(const struct x4_engine *e, u8 axes)
+{
+	u32 n = 0;
+
+	if (!x4_phase_mode(e))
+		return 2;
+	for (; axes; axes &= axes - 1)
+		n++;
+	return n;
+}
+
+/*
+ * Port writes per second of plan p at its top speed: the cruise interval
+ * (2 c_num / c_den ns) is the shortest of every shape.
+ */
+static u32 plan_rate(const struct x4_engine *e, const struct x4_plan *p)
+{
+	u64 steps = x4_div(p->c_den * X4_NSEC_PER_SEC + 2 * p->c_num - 1,
+			   2 * p->c_num);
+
+	return (u32)(steps * x4_writes_per_step(e, p->axes));
+}
+
+/* Whether moves needing `add` more writes per second fit the budget. */
+int x4_budget_check(const struct x4_engine *e, u64 add)
+{
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (e->busy & (1u << i))
+			add += e->ch[i].rate;
+	return e->budget && add > e->budget ? X4_ERR_RATE_BUDGET : X4_OK;
+}
+
+/* Start counting the axes' steps afresh; their coordinates stay. */
+static void fold_steps(struct x4_engine *e, u8 axes)
+{
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(axes & (1u << i)))
+			continue;
+		e->pos_base[i] += (u32)e->steps[i];
+		e->steps[i] = 0;
+	}
+}
+
+/* The earliest event of all channels is the next; the outputs of all. */
+static void schedule_all(struct x4_engine *e)
+{
+	u64 due = X4_NO_STEP;
+	u8 busy = 0, ctl = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		const struct x4_chan *c = &e->ch[i];
+
+		if (c->phase == X4_IDLE)
+			continue;
+		busy |= 1u << i;
+		ctl |= c->ctl;
+		if (c->t_pending < due) {
+			due = c->t_pending;
+			e->cur = &e->ch[i];
+		}
+	}
+	e->busy = busy;
+	e->solo = busy && !(busy & (busy - 1));
+	e->due = due;
+	e->ctl = (u8)((e->ctl & (X4_CTL_SIGNAL1 | X4_CTL_SIGNAL2)) | ctl);
+}
+
+/* After an event of channel e->cur: the common case is that it runs alone. */
+static inline void schedule(struct x4_engine *e, const struct x4_chan *c)
+{
+	if (e->solo && c->phase != X4_IDLE) {
+		e->due = c->t_pending;
+		e->ctl = (u8)((e->ctl & (X4_CTL_SIGNAL1 | X4_CTL_SIGNAL2)) |
+			      c->ctl);
+		return;
+	}
+	schedule_all(e);
+}
+
+/* Begin the move in c->run: directions go out at now_ns. */
+void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+{
+	int i;
+
+	c->phase = X4_SETUP;
+	c->no_steps = false;
+	c->n = 0;
+	c->t_cur = 0;
+	c->ctl = 0;
+	c->t_pending = now_ns;
+	c->origin = now_ns + e->timing.dir_setup_ns;
+	c->rate = plan_rate(e, &c->run);
+	for (i = 0; i < X4_AXES; i++)
+		c->bres[i] = c->run.bres_2l / 2;
+	x4_arm_switches(e, c);
+	for (i = 0; i < X4_AXES; i++)
+		if (c->run.axes & (1u << i))
+			e->err[i] = 0; /* a new command to the axis */
+	fold_steps(e, c->run.axes);
+	schedule_all(e);
+}
+
+/* Channel i runs the moves whose lowest axis is i. */
+static struct x4_chan *chan_of(struct x4_engine *e, u8 axes)
+{
+	return &e->ch[__builtin_ctz(axes)];
+}
+
+int x4_engine_load(struct x4_engine *e, const struct x4_move *m)
+{
+	int ret = x4_move_check(m);
+	s64 steps[X4_AXES];
+	int i;
+
+	if (!ret)
+		ret = x4_freq_check(e, m->freq_hz);
+	if (!ret && x4_phase_mode(e) && m->steps[3])
+		ret = X4_ERR_PARAM_FAIL; /* the SMC boards drive 3 motors */
+	if (ret)
+		return ret;
+	if (e->loaded)
+		return X4_ERR_IS_LOADED;
+	for (i = 0; i < X4_AXES; i++)
+		steps[i] = m->steps[i];
+	x4_plan_axes(&e->next, steps);
+	x4_plan_x4step(&e->next, e->next.abs_steps[e->next.leader],
+		     (u32)m->freq_hz, (u32)m->ramp_ms);
+	e->loaded = true;
+	return X4_OK;
+}
+
+int x4_engine_start(struct x4_engine *e, u64 now_ns)
+{
+	struct x4_chan *c;
+
+	if (!e->loaded)
+		return X4_ERR_NOT_LOADED;
+	if (x4_busy_axes(e) & e->next.axes)
+		return X4_ERR_IS_ACTIVE;
+	if (x4_budget_check(e, plan_rate(e, &e->next)))
+		return X4_ERR_RATE_BUDGET;
+	c = chan_of(e, e->next.axes);
+	c->run = e->next;
+	c->home = 0;
+	e->loaded = false;
+	fold_steps(e, 0x0f); /* X4Start clears every step counter */
+	x4_begin(e, c, now_ns);
+	return X4_OK;
+}
+
+int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
+		      s32 freq_hz, s32 ramp_ms, u64 now_ns)
+{
+	s64 steps[X4_AXES] = { 0 };
+	struct x4_chan *c;
+	int ret;
+
+	if (axis < 1 || axis > X4_AXES || !(x4_mode_axes(e) & (1u << (axis - 1))))
+		return X4_ERR_PARAM_FAIL;
+	ret = x4_ramp_check(freq_hz, ramp_ms);
+	if (!ret)
+		ret = x4_freq_check(e, freq_hz);
+	if (ret)
+		return ret;
+	if (e->loaded)
+		return X4_ERR_IS_LOADED;
+	if (x4_busy_axes(e) & (1u << (axis - 1)))
+		return X4_ERR_IS_ACTIVE;
+	if (x4_budget_check(e, (u64)freq_hz * x4_writes_per_step(e, 1)))
+		return X4_ERR_RATE_BUDGET;
+	c = &e->ch[axis - 1];
+	steps[axis - 1] = negative ? -1 : 1;
+	x4_plan_axes(&c->run, steps);
+	x4_plan_x4step(&c->run, 0, (u32)freq_hz, (u32)ramp_ms);
+	c->home = 0;
+	fold_steps(e, 0x0f);
+	x4_begin(e, c, now_ns);
+	return X4_OK;
+}
+
+int x4_engine_set_profile(struct x4_engine *e, s32 axis,
+			  const struct x4_profile *p)
+{
+	if (axis < 1 || axis > X4_AXES || x4_profile_check(p))
+		return X4_ERR_PARAM_FAIL;
+	e->prof[axis - 1] = *p; /* for the axis' next move */
+	return X4_OK;
+}
+
+int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
+			const s32 *target, bool relative, struct x4_goto *g)
+{
+	s64 steps[X4_AXES];
+	int i, ret;
+
+	if (!axes || axes & ~x4_mode_axes(e))
+		return X4_ERR_PARAM_FAIL;
+	g->axes = axes;
+	g->moving = 0;
+	g->rate = 0;
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(axes & (1u << i)))
+			continue;
+		ret = x4_freq_check(e, (s32)e->prof[i].vm);
+		if (ret)
+			return ret;
+	}
+	if (x4_busy_axes(e) & axes)
+		return X4_ERR_IS_ACTIVE;
+	for (i = 0; i < X4_AXES; i++) {
+		g->from[i] = x4_position(e, i);
+		steps[i] = relative ? (s64)target[i] :
+				      (s64)target[i] - g->from[i];
+		if (!(axes & (1u << i)) || !steps[i])
+			continue; /* not commanded, or there already */
+		g->moving |= 1u << i;
+		/* A profile move's top speed is at most vm. */
+		g->rate += (u64)e->prof[i].vm * x4_writes_per_step(e, 1);
+	}
+	if (x4_budget_check(e, g->rate))
+		return X4_ERR_RATE_BUDGET;
+	for (i = 0; i < X4_AXES; i++) {
+		s64 one[X4_AXES] = { 0 };
+
+		if (!(g->moving & (1u << i)))
+			continue;
+		one[i] = steps[i];
+		x4_plan_axes(&g->plan[i], one);
+		x4_plan_profile(&g->plan[i], g->plan[i].abs_steps[i], &e->prof[i]);
+	}
+	return X4_OK;
+}
+
+int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
+			 u64 now_ns)
+{
+	int i;
+
+	if (x4_busy_axes(e) & g->axes)
+		return X4_ERR_IS_ACTIVE;
+	if (x4_budget_check(e, g->rate))
+		return X4_ERR_RATE_BUDGET;
+	for (i = 0; i < X4_AXES; i++)
+		if (g->axes & (1u << i) && x4_position(e, i) != g->from[i])
+			return X4_ERR_PARAM_FAIL; /* planned from elsewhere */
+	for (i = 0; i < X4_AXES; i++) {
+		struct x4_chan *c = &e->ch[i];
+
+		if (!(g->axes & (1u << i)))
+			continue;
+		if (!(g->moving & (1u << i))) {
+			e->err[i] = 0;
+			continue;
+		}
+		c->run = g->plan[i];
+		c->home = 0;
+		x4_begin(e, c, now_ns);
+	}
+	return X4_OK;
+}
+
+#ifndef __KERNEL__ /* the module plans on a copy: x4_port_goto() */
+int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
+		   bool relative, u64 now_ns)
+{
+	struct x4_goto g;
+	int ret = x4_engine_plan_goto(e, axes, target, relative, &g);
+
+	return ret ? ret : x4_engine_start_goto(e, &g, now_ns);
+}
+#endif
+
+/*
+ * Channel c makes no step from leader step nb (due at t_nb) on but those
+ * of a brake along its plan's ramp (ramp), or none at all. The pending
+ * event keeps its time, so the glue never has to re-arm its timer: only
+ * what happens at that time changes.
+ */
+static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
+{
+	if (ramp && x4_plan_brake(&c->run, nb, t_nb))
+		return;
+	/* No ramp to follow: step nb - 1 was the last. */
+	if (c->phase == X4_SETUP)
+		c->no_steps = true;
+	else if (c->phase == X4_RISE)
+		c->phase = X4_END; /* at the time step nb was due */
+	else
+		c->run.last = nb - 1;
+}
+
+/* Brake channel c along its ramp (ramp), or end it at its pending event. */
+static void halt_chan(struct x4_chan *c, bool ramp)
+{
+	switch (c->phase) {
+	case X4_IDLE:
+	case X4_END:
+		break;
+	case X4_SETUP:
+		stop_from(c, 0, 0, ramp);
+		break;
+	case X4_RISE:
+		stop_from(c, c->n, c->t_cur, ramp);
+		break;
+	case X4_FALL:
+		if (c->n < c->run.last)
+			stop_from(c, c->n + 1, c->t_next, ramp);
+		break;
+	case X4_QUEUED: /* what comes after this instant's writes */
+		c->phase = c->phase_after;
+		halt_chan(c, ramp);
+		c->phase_after = c->phase;
+		c->phase = X4_QUEUED;
+		break;
+	}
+}
+
+/* No further step of channel c: it ends at its pending event. */
+void x4_cut(struct x4_chan *c)
+{
+	c->home = 0;
+	halt_chan(c, false);
+}
+
+void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high)
+{
+	if (high)
+		e->ctl |= signal_bit;
+	else
+		e->ctl &= (u8)~signal_bit;
+}
+
+/*
+ * Rounded Bresenham for axis i: never more than 1/2 step off the line.
+ * The leader and the axes that do not move add 0 and never step.
+ */
+static inline u8 minor_step(struct x4_engine *e, struct x4_chan *c, int i)
+{
+	const struct x4_plan *p = &c->run;
+
+	c->bres[i] += p->bres_inc[i];
+	if (c->bres[i] < p->bres_2l)
+		return 0;
+	c->bres[i] -= p->bres_2l;
+	e->steps[i] += p->sign[i];
+	return X4_CLK_BIT(i);
+}
+
+/* Clock bits of leader step n: the leader and the minors due now. */
+static u8 step_axes(struct x4_engine *e, struct x4_chan *c)
+{
+	const struct x4_plan *p = &c->run;
+
+	e->steps[p->leader] += p->sign[p->leader];
+	/* Unrolled: this runs at every step. */
+	_Static_assert(X4_AXES == 4, "four minor_step() calls");
+	return X4_CLK_BIT(p->leader) | minor_step(e, c, 0) |
+	       minor_step(e, c, 1) | minor_step(e, c, 2) | minor_step(e, c, 3);
+}
+
+/*
+ * The SETUP event: the directions (phase mode: the patterns) go out, the
+ * first step follows after the setup time.
+ */
+static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
+				 u64 now_ns)
+{
+	const struct x4_plan *p = &c->run;
+
+	c->ctl = p->n_cruise ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
+	/* Count the setup time from when the directions really go out. */
+	if (now_ns > c->t_pending)
+		c->origin = now_ns + e->timing.dir_setup_ns;
+	c->phase = c->no_steps ? X4_END : X4_RISE;
+	c->t_pending = c->origin;
+	if (x4_phase_mode(e))
+		x4_phase_move(e, c, now_ns);
+	else /* axes that do not move keep their direction level */
+		e->data = (u8)((e->data & ~x4_dir_bits(p->axes)) | p->dirs);
+}
+
+/* Channel c's move has ended. */
+void x4_end(struct x4_engine *e, struct x4_chan *c)
+{
+	c->ctl = 0;
+	c->phase = X4_IDLE;
+	c->halt_mask = 0;
+	c->deferred = 0;
+	e->ends++;
+	if (x4_phase_mode(e))
+		x4_phase_rest(e, c);
+}
+
+/*
+ * Channel c's next step is due before `earliest`, the first instant that
+ * keeps its low time (or phase step) at the minimum: the event before was
+ * late. Move the rest of its schedule, rather than catch up with a burst
+ * of short pulses that a driver would lose.
+ */
+static bool keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
+{
+	u64 d;
+
+	if (c->phase != X4_RISE || c->t_pending >= earliest)
+		return false;
+	d = earliest - c->t_pending;
+	c->origin += d;
+	c->t_pending += d;
+	if (!e->edge_shifted)
+		e->shifts++; /* an edge counts once (x4_engine_written) */
+	e->edge_shifted = true;
+	e->shifted_ns += d;
+	return true;
+}
+
+/* After the last step: end now, or after the hold (and settle) time. */
+static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
+				    u64 t)
+{
+	if (!e->timing.dir_hold_ns && !x4_phase_mode(e)) {
+		x4_end(e, c);
+		return;
+	}
+	/* Phase mode: give the motor its last step period to settle. */
+	c->phase = X4_END;
+	c->t_pending = t + e->timing.dir_hold_ns +
+		       (x4_phase_mode(e) ? 2 * c->half_ns : 0);
+}
+
+/* Step n + 1 rises next. */
+static inline void next_step(struct x4_chan *c)
+{
+	c->n++;
+	c->t_cur = c->t_next;
+	c->phase = X4_RISE;
+	c->t_pending = c->origin + c->t_cur;
+}
+
+/* After step n's clock fell (or its pattern went out): what comes next. */
+static inline void step_done(struct x4_engine *e, struct x4_chan *c, u64 t)
+{
+	if (c->n >= c->run.last)
+		last_step_done(e, c, t);
+	else
+		next_step(c);
+}
+
+/*
+ * The shortest a time planned `planned` ns long may become when its start
+ * was late: `min`, or half the plan where the plan is shorter than that (a
+ * move faster than the X4Step clock: timer jitter must not shift it all).
+ */
+static u64 min_of(u64 planned, u64 min)
+{
+	return planned >= min ? min : planned / 2;
+}
+
+/*
+ * The fall of the step that rose at now_ns (planned at t_step), and the
+ * shortest low time after it. Minimums count from the real edges: a
+ * configured pulse or space as configured; otherwise min_of() the plan and
+ * X4_CLOCK_MIN_NS (or the configured pulse, for the space).
+ */
+static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
+			      u64 t_step, u64 now_ns)
+{
+	const struct x4_timing *t = &e->timing;
+	u64 high = t->pulse_ns ? t->pulse_ns : c->half_ns;
+	u64 interval = 2 * c->half_ns;
+
+	c->high_min = t->pulse_ns ? high : min_of(high, X4_CLOCK_MIN_NS);
+	if (c->n < c->run.last)
+		interval = c->t_next - c->t_cur;
+	c->t_pending = t_step + high;
+	if (c->t_pending < now_ns + c->high_min)
+		c->t_pending = now_ns + c->high_min;
+	c->space_min = t->space_ns ? t->space_ns :
+		min_of(interval > high ? interval - high : 0,
+		       t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
+}
+
+static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+{
+	const struct x4_plan *p = &c->run;
+	u64 t_step = c->origin + c->t_cur;
+	u8 hit = (e->inputs ^ c->halt_flip) & c->halt_mask;
+	bool ramp;
+
+	if (hit) {
+		x4_halted(e, c, hit);
+		return;
+	}
+	if (c->n >= p->last && c->home) {
+		/*
+		 * A reference run plans sref + 1 steps: sref travelled
+		 * without finding the switch.
+		 */
+		e->err[p->leader] |= X4_AXERR_REF_TRAVEL;
+		x4_cut(c);
+		return;
+	}
+	c->stepping = step_axes(e, c);
+	if (c->n < p->last) {
+		c->t_next = x4_plan_next(&c->run, c->n + 1, c->t_cur, &ramp);
+		c->ctl = ramp ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
+		c->half_ns = (c->t_next - c->t_cur) / 2;
+	} else if (!c->n) {
+		c->half_ns = p->single_half_ns;
+	}
+	/* (The last step keeps the step time of the one before.) */
+
+	if (now_ns < t_step)
+		now_ns = t_step;
+	e->fired = c;
+	e->edge_shifted = false;
+	if (x4_phase_mode(e)) {
+		step_done(e, c, now_ns);
+		c->space_min = min_of(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
+		keep_min(e, c, now_ns + c->space_min);
+		x4_phase_step(e, c, t_step);
+		return;
+	}
+	e->data |= c->stepping;
+	c->phase = X4_FALL;
+	rise_times(e, c, t_step, now_ns);
+}
+
+/* Step n's clock falls and step n + 1 follows (the hot path, with rise()). */
+static inline void fall(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+{
+	e->data &= (u8)~c->stepping;
+	next_step(c);
+	e->fired = c;
+	e->edge_shifted = false;
+	keep_min(e, c, now_ns + c->space_min);
+}
+
+/*
+ * Every event but the fall of a step that another step follows (the hot
+ * path in x4_engine_fire()), and what runs next.
+ */
+static noinline void fire_event(struct x4_engine *e, struct x4_chan *c,
+				u64 now_ns)
+{
+	switch (c->phase) {
+	case X4_RISE:
+		rise(e, c, now_ns);
+		break;
+	case X4_FALL: /* of the last step: the hold counts from the real edge */
+		e->data &= (u8)~c->stepping;
+		last_step_done(e, c, now_ns > c->t_pending ? now_ns : c->t_pending);
+		break;
+	case X4_SETUP:
+		begin_setup(e, c, now_ns);
+		break;
+	case X4_END:
+		x4_end(e, c);
+		break;
+	case X4_QUEUED:
+		x4_phase_queued(e, c);
+		break;
+	case X4_IDLE:
+		break;
+	}
+	schedule(e, c);
+}
+
+/*
+ * Apply the pending event (due at x4_engine_due(), fired at now_ns) and
+ * plan the next.
+ */
+void x4_engine_fire(struct x4_engine *e, u64 now_ns)
+{
+	struct x4_chan *c = e->cur;
+
+	if (c->phase != X4_FALL || c->n >= c->run.last) {
+		fire_event(e, c, now_ns);
+		return;
+	}
+	fall(e, c, now_ns);
+	/* A lone move's next step: its ramp state (ctl) is unchanged. */
+	if (e->solo)
+		e->due = c->t_pending;
+	else
+		schedule_all(e);
+}
+
+/*
+ * The step edge just fired reached the port at t_ns, a little after the
+ * time x4_engine_fire() was given: its pulse or space counts from here.
+ */
+void x4_engine_written(struct x4_engine *e, u64 t_ns)
+{
+	struct x4_chan *c = e->fired;
+
+	if (!c)
+		return;
+	e->fired = NULL;
+	if (c->phase == X4_FALL && c->t_pending < t_ns + c->high_min)
+		c->t_pending = t_ns + c->high_min;
+	else if (!keep_min(e, c, t_ns + c->space_min))
+		return;
+	schedule(e, c);
+}
+
+/*
+ * Emergency stop of channel c: no further step, its clocks drop now, its
+ * axes lose their synchronization. The caller writes the port, then fires
+ * what x4_engine_busy() still has.
+ */
+static void stop_chan(struct x4_engine *e, struct x4_chan *c)
+{
+	e->data &= (u8)~(c->run.axes ? x4_clk_bits(c->run.axes) : 0);
+	e->sync &= (u8)~c->run.axes;
+	c->home = 0;
+	c->t_pending = 0;
+	x4_end(e, c); /* phase mode: the rest patterns are queued, due at once */
+}
+
+/* Brake (or stop) the moves of the axes in `axes`. */
+int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
+{
+	int ret = X4_ERR_NOT_ACTIVE;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		struct x4_chan *c = &e->ch[i];
+
+		if (c->phase == X4_IDLE || !(c->run.axes & axes))
+			continue;
+		ret = X4_OK;
+		if (stop) {
+			stop_chan(e, c);
+		} else {
+			c->home = 0;
+			halt_chan(c, true);
+		}
+	}
+	schedule_all(e);
+	return ret;
+}
+
+int x4_engine_brake(struct x4_engine *e)
+{
+	return x4_engine_halt(e, 0x0f, false);
+}
+
+int x4_engine_stop(struct x4_engine *e)
+{
+	return x4_engine_halt(e, 0x0f, true);
+}
+
+int x4_engine_set_position(struct x4_engine *e, u8 axes, const s32 *pos)
+{
+	int i;
+
+	if (!axes || axes > 0x0f)
+		return X4_ERR_PARAM_FAIL;
+	x4_engine_halt(e, axes, true);
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(axes & (1u << i)))
+			continue;
+		e->steps[i] = 0;
+		e->pos_base[i] = (u32)pos[i];
+		e->err[i] = 0;
+		e->sync |= (u8)(1u << i);
+	}
+	return X4_OK;
+}

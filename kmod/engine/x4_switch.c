@@ -1,0 +1,210 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * x4step engine: reference and limit switches, and reference runs
+ * (ProStep4). Which inputs end a channel's move, what a hit does to the
+ * axes (errors, sync, ambiguity on shared inputs), and the two phases of
+ * a reference run. Calls the channels (x4_sched.c) to start and cut moves.
+ */
+#include "x4_internal.h"
+
+/* The input bit of an input number 1..5, 0 for none. */
+static u8 input_bit(u8 input)
+{
+	return input ? (u8)(1u << (input - 1)) : 0;
+}
+
+/* The limit switch input that axis i of plan p moves toward. */
+static u8 limit_bit(const struct x4_engine *e, const struct x4_plan *p, int i)
+{
+	return input_bit(p->sign[i] > 0 ? e->sw.plus[i] : e->sw.minus[i]);
+}
+
+/*
+ * Which switches end the move of channel c: the limits its axes move
+ * toward, and in a reference run the REF input. A limit that is active
+ * already while the axis backs off the opposite limit on the same input
+ * (switches in parallel) is armed once it has been released.
+ */
+void x4_arm_switches(struct x4_engine *e, struct x4_chan *c)
+{
+	const struct x4_plan *p = &c->run;
+	int i;
+
+	c->halt_mask = 0;
+	c->halt_flip = 0;
+	c->deferred = 0;
+	for (i = 0; i < X4_AXES; i++) {
+		u8 bit = limit_bit(e, p, i), back;
+
+		if (!(p->axes & (1u << i)) || !bit)
+			continue;
+		back = p->sign[i] > 0 ? e->err[i] & X4_AXERR_LIMIT_NEG &&
+					input_bit(e->sw.minus[i]) == bit :
+					e->err[i] & X4_AXERR_LIMIT_POS &&
+					input_bit(e->sw.plus[i]) == bit;
+		if (back && (e->inputs & bit))
+			c->deferred |= bit;
+		else
+			c->halt_mask |= bit;
+	}
+	if (!c->home)
+		return;
+	c->halt_mask |= c->ref_bit;
+	c->deferred &= (u8)~c->ref_bit;
+	/* Phase 1 ends when REF is active, phase 2 when it changes. */
+	if (c->home == X4_HOME_PHASE2)
+		c->halt_flip = e->inputs & c->ref_bit;
+}
+
+/* The limit input that axis i of running channel c watches, or 0. */
+static u8 watched_limit(const struct x4_engine *e, const struct x4_chan *c,
+			int i)
+{
+	if (c->phase == X4_IDLE || !(c->run.axes & (1u << i)))
+		return 0;
+	return limit_bit(e, &c->run, i) & c->halt_mask;
+}
+
+/*
+ * A limit switch is active: every running move toward it ends before its
+ * next step, on this very tick. The hit goes to each axis that was moving
+ * toward that input; ambiguous when there were several.
+ */
+static noinline void limits_hit(struct x4_engine *e, u8 hit)
+{
+	u8 watchers[X4_INPUTS] = { 0 };
+	struct x4_chan *c;
+	u8 bit;
+	int i;
+
+	for (c = e->ch; c < e->ch + X4_AXES; c++) {
+		for (i = 0; i < X4_AXES; i++) {
+			bit = watched_limit(e, c, i);
+			if (bit)
+				watchers[__builtin_ctz(bit)]++;
+		}
+	}
+	for (c = e->ch; c < e->ch + X4_AXES; c++) {
+		for (i = 0; i < X4_AXES; i++) {
+			bit = watched_limit(e, c, i) & hit;
+			if (!bit)
+				continue;
+			e->err[i] |= c->run.sign[i] > 0 ? X4_AXERR_LIMIT_POS :
+							  X4_AXERR_LIMIT_NEG;
+			if (watchers[__builtin_ctz(bit)] > 1)
+				e->err[i] |= X4_AXERR_AMBIGUOUS;
+			/* The partners stop too, without a ramp. */
+			e->sync &= (u8)~c->run.axes;
+			x4_cut(c);
+		}
+	}
+}
+
+/* Start reference run phase `phase` of the axis of channel c. */
+static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
+		       u8 phase, s32 vref, u64 now_ns)
+{
+	s64 steps[X4_AXES] = { 0 };
+
+	steps[axis] = vref < 0 ? -(s64)c->sref : (s64)c->sref;
+	x4_plan_axes(&c->run, steps);
+	x4_plan_x4step(&c->run, (u64)c->sref + 1, x4_abs_s32(vref), 0);
+	c->home = phase;
+	x4_begin(e, c, now_ns);
+	/* The budget holds the faster phase for the whole reference run. */
+	if (c->rate < c->home_rate)
+		c->rate = c->home_rate;
+}
+
+/* Switches that channel c watches (hit) are active at its step tick. */
+void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
+{
+	int axis = c->run.leader;
+
+	if (!(hit & c->ref_bit) || !c->home) {
+		limits_hit(e, hit & (u8)~(c->home ? c->ref_bit : 0));
+		return;
+	}
+	if (c->home == X4_HOME_PHASE1 && c->home_next) {
+		home_phase(e, c, axis, X4_HOME_PHASE2, c->vref2, c->t_pending);
+		return;
+	}
+	if (c->home == X4_HOME_PHASE2) {
+		e->steps[axis] = 0;
+		e->pos_base[axis] = 0;
+		e->sync |= (u8)(1u << axis);
+	}
+	x4_cut(c);
+}
+
+int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
+		   s32 vref2, u32 sref, u64 now_ns)
+{
+	struct x4_chan *c;
+	u32 vmax, rate;
+	int ret;
+
+	if (axis < 1 || axis > X4_AXES ||
+	    !(x4_mode_axes(e) & (1u << (axis - 1))) ||
+	    x4_home_check(phases, vref1, vref2, sref) || !e->sw.ref[axis - 1])
+		return X4_ERR_PARAM_FAIL;
+	ret = x4_freq_check(e, phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 1);
+	if (!ret)
+		ret = x4_freq_check(e, phases & X4_HOME_PHASE2 ? x4_abs_s32(vref2) : 1);
+	if (ret)
+		return ret;
+	if (x4_busy_axes(e) & (1u << (axis - 1)))
+		return X4_ERR_IS_ACTIVE;
+	vmax = phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 0;
+	if (phases & X4_HOME_PHASE2 && x4_abs_s32(vref2) > vmax)
+		vmax = x4_abs_s32(vref2);
+	rate = vmax * x4_writes_per_step(e, 1);
+	if (x4_budget_check(e, rate))
+		return X4_ERR_RATE_BUDGET;
+	c = &e->ch[axis - 1];
+	c->home_rate = rate;
+	c->sref = sref;
+	c->vref2 = vref2;
+	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
+	c->home_next = phases == (X4_HOME_PHASE1 | X4_HOME_PHASE2);
+	e->sync &= (u8)~(1u << (axis - 1));
+	if (phases & X4_HOME_PHASE1)
+		home_phase(e, c, axis - 1, X4_HOME_PHASE1, vref1, now_ns);
+	else
+		home_phase(e, c, axis - 1, X4_HOME_PHASE2, vref2, now_ns);
+	return X4_OK;
+}
+
+int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw)
+{
+	int i;
+
+	if (sw->nc >= 1u << X4_INPUTS)
+		return X4_ERR_PARAM_FAIL;
+	for (i = 0; i < X4_AXES; i++)
+		if (sw->ref[i] > X4_INPUTS || sw->plus[i] > X4_INPUTS ||
+		    sw->minus[i] > X4_INPUTS)
+			return X4_ERR_PARAM_FAIL;
+	if (x4_engine_busy(e))
+		return X4_ERR_IS_ACTIVE;
+	e->sw = *sw;
+	return X4_OK;
+}
+
+/*
+ * The input pin levels (X4GetIn bits, 1 = HIGH), sampled by the glue on
+ * every tick while a move watches switches, and before a move starts.
+ */
+void x4_engine_sense(struct x4_engine *e, u8 levels)
+{
+	int i;
+
+	e->inputs = (levels ^ e->sw.nc) & ((1u << X4_INPUTS) - 1);
+	for (i = 0; i < X4_AXES; i++) {
+		struct x4_chan *c = &e->ch[i];
+		u8 released = c->deferred & (u8)~e->inputs;
+
+		c->halt_mask |= released; /* backed off: armed again */
+		c->deferred &= (u8)~released;
+	}
+}

@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: GPL-2.0 */
+/*
+ * x4step engine: the fixed-width types and the 64-bit division of the
+ * kernel, also in user space. The engine is plain C with no floating
+ * point and no allocation, compiled into the module, libx4step and the
+ * host tests.
+ */
+#ifndef X4_TYPES_H
+#define X4_TYPES_H
+
+#ifdef __KERNEL__
+#include <linux/math64.h>
+#include <linux/types.h>
+/* 32-bit kernels have no 64-bit '/': every u64 division goes through here. */
+#define x4_div(a, b) div64_u64((a), (b))
+#else
+#include <stdbool.h>
+#include <stdint.h>
+typedef uint8_t u8;
+typedef int8_t s8;
+typedef uint32_t u32;
+typedef int32_t s32;
+typedef uint64_t u64;
+typedef int64_t s64;
+#ifdef X4_DIV_EXTERN
+/*
+ * The 32-bit link check (tests/check-style.sh): x4_div out of line, so
+ * that a raw u64 '/' left in the engine shows as __udivdi3.
+ */
+u64 x4_div64_u64(u64 a, u64 b);
+#define x4_div(a, b) x4_div64_u64((a), (b))
+#else
+#define x4_div(a, b) ((u64)(a) / (u64)(b))
+#endif
+#endif
+
+#define X4_NSEC_PER_SEC 1000000000ull
+
+#endif /* X4_TYPES_H */
