@@ -194,10 +194,12 @@ void x4_plan_profile(struct x4_plan *p, u64 steps, const struct x4_profile *f)
  * freq_hz with ramp_ms ramps. Four shapes:
  *  - no ramp: constant frequency from the first step;
  *  - trapezoid: ramps of freq*ramp/2000 steps around a cruise at freq;
- *  - short: too short for freq: accelerate over (D - P) / 2 steps, run
- *    X4_PLATEAU_STEPS (P) steps at the speed reached, brake mirrored;
- *  - tiny: D <= P steps run at min(freq, sqrt(a)), the speed the ramp
- *    reaches after half a step, so short jogs never start with a jerk.
+ *  - short: too short for freq: accelerate over R = floor((D - P) / 2)
+ *    whole steps, run the D - 2R >= P (P or P + 1) intervals between the
+ *    ramps at the speed reached, brake mirrored; P = X4_PLATEAU_STEPS;
+ *  - tiny: D <= P + 1 intervals (too few for a ramp of a whole step on
+ *    each side) run at min(freq, sqrt(a)), the speed the ramp reaches
+ *    after half a step, so short jogs never start with a jerk.
  * D = steps - 1 is the number of step intervals.
  */
 void x4_plan_x4step(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
@@ -235,8 +237,9 @@ void x4_plan_x4step(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 			p->t_last = x4_div(d * X4_NSEC_PER_SEC, freq) +
 				    1000000ull * ramp;
 		}
-	} else if (d > X4_PLATEAU_STEPS) {
-		x2 = d - X4_PLATEAU_STEPS;
+	} else if (d >= X4_PLATEAU_STEPS + 2) {
+		/* Both ramps of whole steps: an odd rest lengthens the plateau. */
+		x2 = (d - X4_PLATEAU_STEPS) & ~1ull;
 		t_a = x4_isqrt(x2 * p->acc.k / 2);
 		p->n_cruise = x2 / 2 + 1;
 		p->n_decel = d - x2 / 2;
@@ -245,7 +248,7 @@ void x4_plan_x4step(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 		p->c_num = t_a;
 		p->c_den = 2 * x2;
 		p->t_last = x4_div(t_a * (d + x2), x2);
-		p->brake_steps = (u32)((x2 + 1) / 2);
+		p->brake_steps = (u32)(x2 / 2);
 	} else {
 		interval = x4_isqrt(p->acc.k / 2);
 		if (interval < x4_div(X4_NSEC_PER_SEC, freq))

@@ -17,7 +17,8 @@
  * this many step intervals at constant speed between the ramps (manual,
  * chapter 2): two full steps of a half-stepping drive, enough for the rotor
  * to follow the change from accelerating to braking torque without being
- * torn off.
+ * torn off. One more where the rest of the distance is odd, so that both
+ * ramps take whole steps and mirror each other.
  */
 #define X4_PLATEAU_STEPS 4
 #define X4_NO_STEP (~(u64)0)

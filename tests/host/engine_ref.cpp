@@ -24,8 +24,9 @@ double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n) {
     if (x <= d - na) return x / f + r / 2;
     return t_end - std::sqrt(2 * (d - x) / a);
   }
-  if (d > p) {
-    const double xa = (d - p) / 2;
+  if (d >= p + 2) {
+    // Ramps of whole steps; an odd rest lengthens the plateau to p + 1.
+    const double xa = std::floor((d - p) / 2);
     const double ta = std::sqrt(2 * xa / a);
     const double v = a * ta;
     const double t_end = 2 * ta + (d - 2 * xa) / v;
