@@ -163,8 +163,9 @@ enum class halt_mode {
 };
 
 /// A reference run (ProStep4 section 3): phase 1 at vref1 until the REF
-/// input becomes active, phase 2 at vref2 until it changes again; phase 2
-/// ends by zeroing the coordinate and synchronizing the axis. Each phase
+/// input becomes active, then braking along the axis' profile ae (none if
+/// ae is 0); phase 2 from rest at vref2 until it changes again, where it
+/// stops, zeroing the coordinate and synchronizing the axis. Each phase
 /// travels at most sref steps. Speeds are signed (the sign is the
 /// direction), 1..vel_max steps/s; sref 1..2^31 - 1; at least one phase.
 struct homing {

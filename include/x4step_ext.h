@@ -84,10 +84,12 @@ int X4MoveTo(int axis, long target);
 int X4MoveBy(int axis, long distance);
 
 /**
- * Reference run of axis (ProStep4 section 3), without ramps: phase 1 at
- * vref1 steps/s until the reference switch becomes active, phase 2 at
- * vref2 until it changes again, then the coordinate is 0 and the axis
- * synchronized. Speeds are signed (the sign is the direction),
+ * Reference run of axis (ProStep4 section 3): phase 1 at vref1 steps/s
+ * until the reference switch becomes active, then it brakes along the
+ * axis' profile deceleration ae (X4SetProfile; none if 0, and vref1 / ae
+ * at most 3600 s), phase 2 at vref2 from rest until the switch changes
+ * again, then the coordinate is 0 and the axis synchronized. Both phases
+ * start without a ramp. Speeds are signed (the sign is the direction),
  * 1..45000 steps/s; each phase travels at most sref (1..2^31-1) steps,
  * else the axis stops with X4AXERR_REF_TRAVEL. phases: X4HOME_PHASE1,
  * X4HOME_PHASE2 or X4HOME_AUTO. Needs the axis' reference input

@@ -105,6 +105,7 @@ struct x4_chan {
 	u8 deferred; /* limits left behind: armed once they are released */
 	u8 home; /* X4_HOME_PHASE1/2 running, 0: no reference run */
 	u8 home_next; /* phase 2 follows phase 1 */
+	bool ref_found; /* phase 1 found REF and brakes past it */
 	u8 ref_bit;
 	u64 origin; /* engine time of leader step 0 */
 	u64 n; /* current leader step index */
@@ -230,11 +231,15 @@ static inline bool x4_engine_pulse_pending(const struct x4_engine *e,
 	return e->cur == fired && fired->phase == X4_FALL;
 }
 
-/* The pending event is a step that a switch may forbid: sample first. */
+/*
+ * The pending event is a step that a switch may forbid, or one of a
+ * reference run (whose phase 2 starts from the REF level the brake of
+ * phase 1 ended at): sample first.
+ */
 static inline bool x4_engine_rise_watched(const struct x4_engine *e)
 {
 	return e->cur->phase == X4_RISE &&
-	       (e->cur->halt_mask | e->cur->deferred);
+	       (e->cur->halt_mask | e->cur->deferred | e->cur->home);
 }
 
 /* What the port shows at rest: 1 byte, or one per SMC motor (3). */

@@ -45,6 +45,7 @@ static inline u32 x4_abs_s32(s32 v)
 /* x4_sched.c: channels */
 void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
 void x4_cut(struct x4_chan *c);
+void x4_halt_chan(struct x4_chan *c, bool ramp);
 void x4_end(struct x4_engine *e, struct x4_chan *c);
 u8 x4_mode_axes(const struct x4_engine *e);
 u8 x4_busy_axes(const struct x4_engine *e);
@@ -55,6 +56,7 @@ int x4_freq_check(const struct x4_engine *e, s32 freq_hz);
 /* x4_switch.c: switches and reference runs */
 void x4_arm_switches(struct x4_engine *e, struct x4_chan *c);
 void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit);
+bool x4_home_next(struct x4_engine *e, struct x4_chan *c);
 
 /* x4_phase.c: the SMC phase output */
 void x4_phase_move(struct x4_engine *e, struct x4_chan *c, u64 t);

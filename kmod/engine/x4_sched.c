@@ -375,7 +375,7 @@ static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
 }
 
 /* Brake channel c along its ramp (ramp), or end it at its pending event. */
-static void halt_chan(struct x4_chan *c, bool ramp)
+void x4_halt_chan(struct x4_chan *c, bool ramp)
 {
 	switch (c->phase) {
 	case X4_IDLE:
@@ -393,7 +393,7 @@ static void halt_chan(struct x4_chan *c, bool ramp)
 		break;
 	case X4_QUEUED: /* what comes after this instant's writes */
 		c->phase = c->phase_after;
-		halt_chan(c, ramp);
+		x4_halt_chan(c, ramp);
 		c->phase_after = c->phase;
 		c->phase = X4_QUEUED;
 		break;
@@ -404,7 +404,7 @@ static void halt_chan(struct x4_chan *c, bool ramp)
 void x4_cut(struct x4_chan *c)
 {
 	c->home = 0;
-	halt_chan(c, false);
+	x4_halt_chan(c, false);
 }
 
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high)
@@ -464,9 +464,11 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 		e->data = (u8)((e->data & ~x4_dir_bits(p->axes)) | p->dirs);
 }
 
-/* Channel c's move has ended. */
+/* Channel c's move has ended (a reference run may go on to phase 2). */
 void x4_end(struct x4_engine *e, struct x4_chan *c)
 {
+	if (c->home && x4_home_next(e, c))
+		return;
 	c->ctl = 0;
 	c->phase = X4_IDLE;
 	c->halt_mask = 0;
@@ -575,7 +577,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		x4_halted(e, c, hit);
 		return;
 	}
-	if (c->n >= p->last && c->home) {
+	if (c->n >= p->last && c->home && !c->ref_found) {
 		/*
 		 * A reference run plans sref + 1 steps: sref travelled
 		 * without finding the switch.
@@ -718,7 +720,7 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 			stop_chan(e, c);
 		} else {
 			c->home = 0;
-			halt_chan(c, true);
+			x4_halt_chan(c, true);
 		}
 	}
 	schedule_all(e);

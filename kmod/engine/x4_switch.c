@@ -100,16 +100,41 @@ static noinline void limits_hit(struct x4_engine *e, u8 hit)
 	}
 }
 
+/*
+ * Phase 1 of a reference run searches at the constant speed v (reference
+ * runs have no acceleration ramp, as in ProStep4) and ends along the axis'
+ * deceleration ae (to its ve, then rest): having found REF it brakes past
+ * it, so that phase 2 reverses from rest, never from full speed.
+ */
+static void search_profile(const struct x4_engine *e, int axis, u32 v,
+			   struct x4_profile *f)
+{
+	const struct x4_profile *ax = &e->prof[axis];
+
+	f->v0 = v;
+	f->vm = v;
+	f->a0 = 0;
+	f->ae = ax->ae;
+	f->ve = ax->ve < v ? ax->ve : v;
+}
+
 /* Start reference run phase `phase` of the axis of channel c. */
 static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 		       u8 phase, s32 vref, u64 now_ns)
 {
 	s64 steps[X4_AXES] = { 0 };
+	struct x4_profile f;
 
 	steps[axis] = vref < 0 ? -(s64)c->sref : (s64)c->sref;
 	x4_plan_axes(&c->run, steps);
-	x4_plan_x4step(&c->run, (u64)c->sref + 1, x4_abs_s32(vref), 0);
+	if (phase == X4_HOME_PHASE1) {
+		search_profile(e, axis, x4_abs_s32(vref), &f);
+		x4_plan_profile(&c->run, (u64)c->sref + 1, &f);
+	} else {
+		x4_plan_x4step(&c->run, (u64)c->sref + 1, x4_abs_s32(vref), 0);
+	}
 	c->home = phase;
+	c->ref_found = false;
 	x4_begin(e, c, now_ns);
 	/* The budget holds the faster phase for the whole reference run. */
 	if (c->rate < c->home_rate)
@@ -125,21 +150,33 @@ void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 		limits_hit(e, hit & (u8)~(c->home ? c->ref_bit : 0));
 		return;
 	}
-	if (c->home == X4_HOME_PHASE1 && c->home_next) {
-		home_phase(e, c, axis, X4_HOME_PHASE2, c->vref2, c->t_pending);
+	if (c->home == X4_HOME_PHASE1) {
+		/* Brake past REF, this step first; x4_home_next() follows. */
+		c->ref_found = true;
+		c->halt_mask &= (u8)~c->ref_bit;
+		x4_halt_chan(c, true);
 		return;
 	}
-	if (c->home == X4_HOME_PHASE2) {
-		e->steps[axis] = 0;
-		e->pos_base[axis] = 0;
-		e->sync |= (u8)(1u << axis);
-	}
+	/* Phase 2: REF changed at this step: the coordinate's zero. */
+	e->steps[axis] = 0;
+	e->pos_base[axis] = 0;
+	e->sync |= (u8)(1u << axis);
 	x4_cut(c);
+}
+
+/* Channel c's move ended: phase 2 follows phase 1 that found REF. */
+bool x4_home_next(struct x4_engine *e, struct x4_chan *c)
+{
+	if (c->home != X4_HOME_PHASE1 || !c->ref_found || !c->home_next)
+		return false;
+	home_phase(e, c, c->run.leader, X4_HOME_PHASE2, c->vref2, c->t_pending);
+	return true;
 }
 
 int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns)
 {
+	struct x4_profile search;
 	struct x4_chan *c;
 	u32 vmax, rate;
 	int ret;
@@ -147,6 +184,10 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	if (axis < 1 || axis > X4_AXES ||
 	    !(x4_mode_axes(e) & (1u << (axis - 1))) ||
 	    x4_home_check(phases, vref1, vref2, sref) || !e->sw.ref[axis - 1])
+		return X4_ERR_PARAM_FAIL;
+	/* Phase 1's brake must fit the ramp limits (at most an hour). */
+	search_profile(e, axis - 1, x4_abs_s32(vref1), &search);
+	if (phases & X4_HOME_PHASE1 && x4_profile_check(&search))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_freq_check(e, phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 1);
 	if (!ret)

@@ -737,6 +737,9 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       if ((p1 && !vref_ok(h.vref1)) || (p2 && !vref_ok(h.vref2))) return bad_arg(XR_PARAM, "vref");
       if (!h.sref || h.sref > INT32_MAX) return bad_arg(XR_PARAM, "sref not 1..2^31-1");
       if (k.state_known && !k.sw.ref[h.axis - 1]) return bad_arg(XR_PARAM, "no reference switch");
+      if (k.state_known && p1 && k.prof[h.axis - 1].ae &&
+          uint64_t(std::abs(h.vref1)) > 3600ull * k.prof[h.axis - 1].ae)
+        return bad_arg(XR_PARAM, "phase 1's brake along ae longer than an hour");
       if (k.state_known && ((p1 && fit_code(k, std::abs(h.vref1))) || (p2 && fit_code(k, std::abs(h.vref2)))))
         return bad_arg(XR_FREQ_HIGH, "vref vs step timing");
       return valid(((k.run & (1u << (h.axis - 1))) ? bit(EBUSY) : 0) | unknown | budget);

@@ -1103,8 +1103,11 @@ const HomeCase kHomeCases[] = {
     {"phase 1 slow, phase 2 fast", 250, kFar, 0, 500, -45000, 250, 249},
 };
 
-// Axis 1 with its REF switch on input 2 (and a spare E+ on input 5).
+// Axis 1 with its REF switch on input 2 (and a spare E+ on input 5),
+// and no deceleration ramp (ae = 0): phase 1 stops where it sees REF, as
+// in ProStep4, and the cases' positions are exact.
 void HomeRig(Rig &rig, const HomeCase &c) {
+  ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, 0)), X4_OK);
   rig.switches = {{0, 2, c.ref_lo, c.ref_hi}};
   rig.machine[0] = c.start;
   x4_switches sw = NoSwitches();
@@ -1191,6 +1194,53 @@ TEST(Homing, SemiAutomaticPhaseByPhase) {
     rig.Run();
     ExpectHomed(rig, c);
   }
+}
+
+TEST(Homing, Phase1BrakesAlongTheAxisDecelerationBeforeItReverses) {
+  // ae = 90 000 steps/s^2 from 3000 steps/s: ceil(3000^2 / 2 ae) = 50
+  // steps of brake after the step at which REF is seen, then phase 2
+  // reverses from rest (not from 3000 steps/s 150 us later).
+  const int32_t ae = 90000, v1 = 3000;
+  for (const HomeCase &c : {kHomeCases[0], kHomeCases[1]}) {
+    Rig rig;
+    HomeRig(rig, c);
+    ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, ae)), X4_OK);
+    ASSERT_EQ(rig.Home(0, X4_HOME_PHASE1 | X4_HOME_PHASE2, c.vref1, c.vref2, 100000), X4_OK);
+    const HomeTrace tr = RunTraced(rig);
+    ExpectHomed(rig, c);
+    // Phase 1 runs on 51 steps past where it saw REF, braking.
+    const int dir = c.vref1 > 0 ? 1 : -1;
+    const size_t n1 = size_t(std::llabs(c.phase1_end - c.start)) + 51;
+    ASSERT_GT(tr.pos.size(), n1) << c.name;
+    EXPECT_EQ(tr.pos[n1 - 1], c.phase1_end + dir * 51) << c.name;
+    EXPECT_NE(tr.pos[n1] - tr.pos[n1 - 1], dir) << c.name << ": reversed after the brake";
+    // The brake's mean speeds (1 / interval) fall, and never faster than
+    // ae: under constant deceleration two neighbouring intervals' mean
+    // speeds differ by ae times the time between their midpoints.
+    const auto &t = tr.rec.rises[0];
+    const size_t hit = n1 - 51;
+    double dt_prev = double(t[hit - 1] - t[hit - 2]) / 1e9, v_prev = 1 / dt_prev;
+    EXPECT_NEAR(v_prev, v1, 0.01) << c.name;
+    for (size_t i = hit; i < n1; i++) {
+      const double dt = double(t[i] - t[i - 1]) / 1e9, v = 1 / dt;
+      EXPECT_LE(v, v_prev * (1 + 1e-5)) << c.name << " step " << i;  // 1 ns rounding
+      EXPECT_LE((v_prev - v) / ((dt + dt_prev) / 2), ae * 1.001) << c.name << " step " << i;
+      v_prev = v;
+      dt_prev = dt;
+    }
+    EXPECT_LT(v_prev, 2 * std::sqrt(2.0 * ae)) << c.name << ": the brake ends near rest";
+    // The reversal: from rest, at least the direction setup later.
+    EXPECT_GE(t[n1] - t[n1 - 1], uint64_t(X4_DIR_SETUP_NS) + uint64_t(1e9 / v_prev / 2))         << c.name;
+  }
+}
+
+TEST(Homing, Phase1BrakeMustFitTheRampLimits) {
+  // Braking 45 000 steps/s with ae = 1 would take 12.5 hours.
+  Rig rig;
+  HomeRig(rig, kHomeCases[0]);
+  ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, 1)), X4_OK);
+  EXPECT_EQ(rig.Home(0, X4_HOME_PHASE1 | X4_HOME_PHASE2, -45000, 400, 100000), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(rig.Home(0, X4_HOME_PHASE2, 0, 400, 100000), X4_OK) << "phase 2 has no brake";
 }
 
 TEST(Homing, Phase2AloneFromOffTheSwitchEndsWhenItBecomesActive) {

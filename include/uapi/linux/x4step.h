@@ -233,9 +233,12 @@ struct x4step_goto {
 #define X4STEP_HOME_AUTO (X4STEP_HOME_PHASE1 | X4STEP_HOME_PHASE2)
 
 /*
- * X4STEP_HOME: a reference run of one axis, without ramps (ProStep4
- * section 3). Phase 2, alone or after phase 1, ends by zeroing the
- * coordinate and synchronizing the axis. Each phase travels at most sref
+ * X4STEP_HOME: a reference run of one axis (ProStep4 section 3). Both
+ * phases start at their speed without a ramp. Phase 1, having found REF,
+ * brakes along the axis' profile deceleration ae (none if ae is 0) before
+ * phase 2 starts from rest; REF must stay active over that distance, and
+ * vref1 / ae may be at most 3600 s. Phase 2, alone or after phase 1, stops
+ * where REF changes, zeroing the coordinate and synchronizing the axis. Each phase travels at most sref
  * steps, else the axis stops with X4STEP_AXERR_REF_TRAVEL. Needs a REF
  * input for the axis (X4STEP_SET_SWITCHES).
  */
