@@ -2,6 +2,8 @@
 // Engine benchmark: a 4-axis 20 kHz move with 50 ms ramps.
 //   engine_bench            edge-time error against the reference, state size
 //   engine_bench --per-step under callgrind: one stats dump per leader step
+//   engine_bench --limit-hit under callgrind: the event at which a shared
+//                limit stops four independent moves (the worst event)
 // Run under `valgrind --tool=callgrind --toggle-collect=x4_engine_*` so that
 // only the engine's own instructions are counted.
 #include <valgrind/callgrind.h>
@@ -12,7 +14,33 @@
 
 #include "engine_ref.h"
 
+// Four axes' own moves toward E+ limits that share input 1; the input
+// becomes active after 400 events: the event that sees it ends all four.
+static int limit_hit() {
+  x4_engine e;
+  x4_engine_init(&e);
+  x4_switches sw{};
+  for (int i = 0; i < X4_AXES; i++) sw.plus[i] = 1;
+  const x4_profile prof = {0, 0, 10000, 100000, 100000};
+  const int32_t target[X4_AXES] = {100000, 90000, 80000, 70000};
+  int ret = x4_engine_set_switches(&e, &sw);
+  for (int i = 0; i < X4_AXES; i++) ret |= x4_engine_set_profile(&e, i + 1, &prof);
+  x4_engine_sense(&e, 0);
+  ret |= x4_engine_goto(&e, 0x0f, target, false, 0);
+  if (ret) return 1;
+  for (int n = 0; n < 400; n++) x4_engine_fire(&e, x4_engine_due(&e));
+  x4_engine_sense(&e, 1);
+  while (e.cur->phase != X4_RISE) x4_engine_fire(&e, x4_engine_due(&e));
+  CALLGRIND_ZERO_STATS;
+  x4_engine_fire(&e, x4_engine_due(&e));
+  CALLGRIND_DUMP_STATS_AT("limit hit");
+  for (int i = 0; i < X4_AXES; i++)
+    if (e.ch[i].phase != X4_IDLE && e.ch[i].phase != X4_END) return 1;
+  return 0;
+}
+
 int main(int argc, char **argv) {
+  if (argc > 1 && !std::strcmp(argv[1], "--limit-hit")) return limit_hit();
   const bool per_step = argc > 1 && !std::strcmp(argv[1], "--per-step");
   const x4_move move = {{20000, 15000, -10000, 5000}, 20000, 50};
   const uint64_t start = 0;

@@ -22,6 +22,10 @@ $cg --callgrind-out-file="$tmp/step" "$bench" --per-step >/dev/null 2>&1
 cat "$tmp"/step.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
 	awk '{v[NR]=$1} END {printf "per leader step: median %d, p99 %d, max %d instructions (goal max <= 400)\n", v[int(NR/2)], v[int(NR*0.99)], v[NR]}'
 
+$cg --callgrind-out-file="$tmp/hit" "$bench" --limit-hit >/dev/null 2>&1 || echo "(the limit-hit run failed)"
+hit=$(cat "$tmp"/hit.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n | tail -n1)
+echo "worst single event: a shared limit ending four axes' moves: $hit instructions"
+
 # The module's timer in QEMU under -icount (reproducible guest time), next
 # to a bare hrtimer in the same boot: tests/guest/timing_bench.cpp.
 echo
