@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <random>
+#include <string>
 
 #include "engine_ref.h"
 
@@ -14,6 +16,18 @@ using namespace x4test;
 namespace {
 
 constexpr uint64_t kStart = 1000;  // engine time of X4Start in the tests
+// Edge times against the double-precision reference. The engine computes
+// every edge from the step index in integer ns (floors of square roots and
+// divisions): it achieves <= 2 ns, printed by each test ("max error"). The
+// bound is that plus a margin, so that an edge a few hundred ns off fails
+// the physics, not only an interval test.
+constexpr double kTolNs = 20;
+
+// Prints a test's largest edge-time error, for the record, and checks it.
+void ExpectEdgeError(double err_ns, const std::string &what) {
+  std::printf("[ edges    ] %-60s max error %6.1f ns\n", what.c_str(), err_ns);
+  EXPECT_LT(err_ns, kTolNs) << what;
+}
 
 struct Engine {
   x4_engine e;
@@ -135,13 +149,15 @@ TEST(Profile, ManualExampleMatchesReference) {
   const x4_move m = Move(1000, 800, 600, 400, 1000, 50);
   const Recording r = RunMove(m);
   for (int a = 0; a < 4; a++) EXPECT_EQ(r.rises[a].size(), size_t(std::abs(m.steps[a])));
-  EXPECT_LT(MaxErrorNs(m, r), 1000.0);
+  ExpectEdgeError(MaxErrorNs(m, r), "the manual's example");
 }
 
-TEST(Profile, EdgeTimesWithin1usAcrossTheRange) {
+TEST(Profile, EdgeTimesMatchTheReferenceAcrossTheRange) {
   const int freqs[] = {10, 11, 99, 1000, 4999, 13331, 20000};
   const int ramps[] = {0, 1, 7, 50, 333, 1000};
   const int32_t lengths[] = {1, 2, 3, 5, 6, 7, 10, 100, 1001, 25000};
+  double worst = 0;
+  std::string where;
   for (int f : freqs)
     for (int rp : ramps) {
       if (rp > f) continue;
@@ -149,9 +165,15 @@ TEST(Profile, EdgeTimesWithin1usAcrossTheRange) {
         const x4_move m = Move(len, len / 3, -len / 2, 0, f, rp);
         const Recording r = RunMove(m);
         ASSERT_EQ(r.rises[0].size(), size_t(len));
-        EXPECT_LT(MaxErrorNs(m, r), 1000.0) << f << " Hz " << rp << " ms " << len;
+        const double err = MaxErrorNs(m, r);
+        if (err >= worst) {
+          worst = err;
+          where = std::to_string(len) + " steps, " + std::to_string(f) + " Hz, " + std::to_string(rp) + " ms";
+        }
+        EXPECT_LT(err, kTolNs) << f << " Hz " << rp << " ms " << len;
       }
     }
+  ExpectEdgeError(worst, "across the range, worst at " + where);
 }
 
 TEST(Profile, LongestMoveSampledDirectly) {
@@ -163,11 +185,16 @@ TEST(Profile, LongestMoveSampledDirectly) {
       Engine eng;
       ASSERT_EQ(eng.Load(Move(X4_STEPS_MAX, 0, 0, 0, f, rp)), X4_OK);
       std::mt19937_64 rng(f + rp);
+      double worst = 0;
       for (int i = 0; i < 20000; i++) {
         const uint64_t n = i < 100 ? i : (i < 200 ? X4_STEPS_MAX - 1 - (i - 100) : rng() % X4_STEPS_MAX);
         const double ideal = ref_step_time(X4_STEPS_MAX, f, rp, n) * 1e9;
-        ASSERT_NEAR(double(x4_plan_time(&eng.e.next, n)), ideal, 1000.0) << f << " " << rp << " n=" << n;
+        const double err = std::fabs(double(x4_plan_time(&eng.e.next, n)) - ideal);
+        worst = std::max(worst, err);
+        ASSERT_LT(err, kTolNs) << f << " " << rp << " n=" << n;
       }
+      ExpectEdgeError(worst,
+                      "16777216 steps sampled, " + std::to_string(f) + " Hz, " + std::to_string(rp) + " ms");
     }
 }
 
@@ -175,7 +202,7 @@ TEST(Profile, LongestMoveFullRun) {
   const x4_move m = Move(X4_STEPS_MAX, X4_STEPS_MAX / 3, 7, -X4_STEPS_MAX, 20000, 1000);
   const Recording r = RunMove(m);
   for (int a = 0; a < 4; a++) ASSERT_EQ(r.rises[a].size(), size_t(std::abs(m.steps[a])));
-  EXPECT_LT(MaxErrorNs(m, r), 1000.0);
+  ExpectEdgeError(MaxErrorNs(m, r), "16777216 steps run, 20 kHz, 1000 ms");
 }
 
 TEST(Profile, ShortMoveKeepsPlateau) {
@@ -400,8 +427,13 @@ TEST(Brake, EndlessMatchesReference) {
   ASSERT_EQ(x4_engine_endless(&eng.e, 1, false, 20000, 1000, kStart), X4_OK);
   const Recording r = eng.Run(1 + 2 * 300000);
   const uint64_t origin = kStart + X4_DIR_SETUP_NS;
-  for (size_t n = 0; n < r.rises[0].size(); n += 7)
-    ASSERT_NEAR(double(r.rises[0][n] - origin), ref_step_time(0, 20000, 1000, n) * 1e9, 1000.0) << n;
+  double worst = 0;
+  for (size_t n = 0; n < r.rises[0].size(); n++) {
+    const double err = std::fabs(double(r.rises[0][n] - origin) - ref_step_time(0, 20000, 1000, n) * 1e9);
+    worst = std::max(worst, err);
+    ASSERT_LT(err, kTolNs) << n;
+  }
+  ExpectEdgeError(worst, "endless, 20 kHz, 1000 ms, 300000 steps");
 }
 
 TEST(Stop, NoFurtherEdge) {
