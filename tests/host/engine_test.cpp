@@ -424,6 +424,62 @@ TEST(Brake, AtEveryEventOfAShortMove) {
   for (size_t ev = 0; ev < 56; ev++) BrakeAfter(Move(25, 12, 0, -25, 5000, 100), ev, -1);
 }
 
+namespace {
+
+// Brake while leader step nb is next (its rise pending, or the fall of step
+// nb - 1) and check the stop against the physics. From the reference's
+// speed v at step nb, the ramp's deceleration a = freq / ramp needs
+// v^2 / 2a more steps to stop: the engine must take the next whole number
+// of them, as fewer would need more deceleration than a. The edges say the
+// same: from step nb to the last interval the speed falls by no more than
+// a per second (on a ramp, an interval's speed is the ramp's speed at its
+// middle, exactly).
+void ExpectStopWithinTheRamp(const x4_move &m, uint64_t nb, bool fall_pending) {
+  SCOPED_TRACE(std::to_string(m.steps[0]) + " steps, " + std::to_string(m.freq_hz) + " Hz, " +
+               std::to_string(m.ramp_ms) + " ms, braked at step " + std::to_string(nb) +
+               (fall_pending ? " (fall pending)" : " (rise pending)"));
+  Engine eng;
+  ASSERT_EQ(eng.Load(m), X4_OK);
+  ASSERT_EQ(eng.Start(), X4_OK);
+  Recording r = eng.Run(fall_pending ? 2 * nb : 1 + 2 * nb);
+  ASSERT_EQ(r.rises[0].size(), nb);
+  ASSERT_EQ(x4_engine_brake(&eng.e), X4_OK);
+  record(eng.e, r);
+  const auto &t = r.rises[0];
+  ASSERT_GE(t.size(), nb + 2) << "a stop from speed takes steps";
+  const double a = m.freq_hz * 1000.0 / m.ramp_ms;
+  const double v = ref_speed(uint64_t(m.steps[0]), m.freq_hz, m.ramp_ms, double(nb));
+  const double dist = v * v / (2 * a);
+  const uint64_t more = t.size() - 1 - nb;
+  EXPECT_EQ(more, uint64_t(std::ceil(dist - 1e-9))) << "v^2 / 2a = " << dist << " steps";
+  EXPECT_LE(v * v / (2.0 * more), a * (1 + 1e-9)) << "the deceleration the stop needs";
+  const double last_iv = double(t.back() - t[t.size() - 2]);
+  const double mid = (double(t.back()) + double(t[t.size() - 2])) / 2;
+  EXPECT_LE((v - 1e9 / last_iv) / ((mid - double(t[nb])) * 1e-9), a * (1 + 1e-6)) << "measured on the edges";
+}
+
+}  // namespace
+
+TEST(Brake, StopDistanceRoundsUp) {
+  // The brake tests above stop after whole numbers of ramp steps (v^2 / 2a
+  // = 100, 250, 500); here v^2 / 2a has a fraction: 10.5, 46.66, 124.975,
+  // 9999.5 and 1.0005 steps in the cruise.
+  const struct { int freq, ramp; } ramps[] = {{1000, 21}, {13331, 7}, {4999, 50}, {19999, 1000}, {2001, 1}};
+  for (const auto &rp : ramps) {
+    const uint64_t na = uint64_t(rp.freq) * rp.ramp / 2000;  // whole steps of one ramp
+    const x4_move m = Move(30000, 7001, 0, -12345, rp.freq, rp.ramp);
+    for (bool fall : {false, true}) {
+      for (uint64_t nb : {std::max<uint64_t>(na / 2, 1), na, na + 1, na + 7, uint64_t(15000)})
+        ExpectStopWithinTheRamp(m, nb, fall);
+    }
+  }
+  // Short moves: ramps of (d - 4) / 2 steps around the plateau, a fraction
+  // when d is odd; braked on the plateau.
+  for (int32_t len : {101, 102, 20, 21})
+    for (uint64_t nb : {uint64_t(len / 2 - 1), uint64_t(len / 2)})
+      ExpectStopWithinTheRamp(Move(len, 0, 0, 0, 20000, 1000), nb, false);
+}
+
 TEST(Brake, WithoutRampEndsAfterTheCurrentPulse) {
   BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 1 + 2 * 10, 10);  // rise 10 pending
   BrakeAfter(Move(1000, 0, 0, 0, 1000, 0), 2 * 10, 10);      // fall 9 pending

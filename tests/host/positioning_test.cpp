@@ -104,6 +104,13 @@ class ProfileRef {
     return ta_ + (x - sa_) / vm_;
   }
 
+  // The speed at position x (in steps from step 0), steps/s.
+  double Speed(double x) const {
+    if (HasAcc() && x <= sa_) return std::sqrt(v0_ * v0_ + 2 * a0_ * x);
+    if (HasDec() && d_ - x <= sd_) return std::sqrt(ve_ * ve_ + 2 * ae_ * (d_ - x));
+    return vm_;
+  }
+
   // The speed of the interval from step n to n + 1, steps/s.
   double IntervalSpeed(uint64_t n) const { return 1 / (Time(n + 1) - Time(n)); }
 
@@ -282,6 +289,9 @@ const ProfileCase kProfileCases[] = {
     {"trapezoid from/to rest", Prof(0, 0, 2000, 4000, 4000), 3000, ProfileRef::kTrapezoid},
     {"triangle", Prof(100, 300, 20000, 10000, 30000), 2000, ProfileRef::kTriangle},
     {"tiny triangle", Prof(0, 0, 1000, 1000, 3000), 5, ProfileRef::kTriangle},
+    // sa + sd = 260.87 + 231.88 = 492.75 > d = 492, where rounding either
+    // ramp down would make room for vm.
+    {"triangle a step short of vm", Prof(0, 0, 2043, 8000, 9000), 493, ProfileRef::kTriangle},
     {"too short to brake from v0", Prof(5000, 100, 10000, 5000, 2000), 3000, ProfileRef::kBrakeOnly},
     {"too short to reach ve", Prof(100, 5000, 10000, 2000, 5000), 3000, ProfileRef::kAccelOnly},
     {"a0 = 0", Prof(700, 0, 3000, 0, 6000), 2000, ProfileRef::kTrapezoid},
@@ -578,6 +588,79 @@ TEST(ProfileTiming, BrakeFollowsTheDecelerationRamp) {
                     "braked at step " + std::to_string(k) + ": last interval");
     EXPECT_TRUE(rig.Axis(0).state & X4_AX_SYNC) << "brake keeps the synchronization";
     EXPECT_EQ(rig.Axis(0).position, int32_t(k + more + 1));
+  }
+}
+
+TEST(ProfileTiming, BrakeStopDistanceRoundsUp) {
+  // As above, where (v^2 - ve^2) / 2 ae has a fraction (the test above
+  // divides exactly): the stop takes the next whole number of steps, as
+  // fewer would need more deceleration than ae. The edges say the same:
+  // from the brake step to the last interval the speed falls by no more
+  // than ae per second (on a ramp, an interval's speed is the ramp's speed
+  // at its middle, exactly).
+  const x4_profile profiles[] = {
+      Prof(300, 100, 4000, 10000, 7000),   // ramps of 795.5 and 1142.14 steps
+      Prof(0, 0, 3001, 7001, 6997),        // 643.19 and 643.56
+      Prof(2500, 0, 9000, 40000, 33333),   // 934.38 and 1215.01
+      Prof(0, 1000, 45000, 333333, 99999)  // 3037.5 and 10120.1
+  };
+  const uint32_t steps = 100000;
+  for (const x4_profile &p : profiles) {
+    const ProfileRef ref(p, steps);
+    ASSERT_EQ(ref.shape(), ProfileRef::kTrapezoid);
+    const uint64_t sa = (uint64_t(p.vm) * p.vm - uint64_t(p.v0) * p.v0) / (2ull * p.a0);  // whole ramp steps
+    for (uint64_t k : {uint64_t(7), uint64_t(200), sa, sa + 1, uint64_t(30000)})
+      for (bool fall : {false, true}) {
+        SCOPED_TRACE(Str(p) + ": braked at step " + std::to_string(k) + (fall ? " (fall pending)" : ""));
+        Rig rig;
+        ASSERT_EQ(rig.SetProfile(0, p), X4_OK);
+        ASSERT_EQ(rig.GotoAxis(0, int32_t(steps)), X4_OK);
+        const Recording r = rig.Run(fall ? 2 * k : 1 + 2 * k);
+        ASSERT_EQ(r.rises[0].size(), k);
+        ASSERT_EQ(x4_engine_halt(&rig.e, 1, false), X4_OK);
+        const Recording rest = rig.Run();
+        const auto &t = rest.rises[0];  // step k, then the stop
+        ASSERT_GE(t.size(), 2u);
+        const uint64_t more = t.size() - 1;
+        const double v = ref.Speed(double(k)), ve = p.ve;
+        const double dist = (v * v - ve * ve) / (2.0 * p.ae);
+        EXPECT_EQ(more, uint64_t(std::ceil(dist - 1e-9))) << "(v^2 - ve^2) / 2 ae = " << dist << " steps";
+        EXPECT_LE((v * v - ve * ve) / (2.0 * more), p.ae * (1 + 1e-9)) << "the deceleration the stop needs";
+        const double last_iv = double(t.back() - t[t.size() - 2]);
+        const double mid = (double(t.back()) + double(t[t.size() - 2])) / 2;
+        EXPECT_LE((v - 1e9 / last_iv) / ((mid - double(t[0])) * 1e-9), p.ae * (1 + 1e-6))
+            << "measured on the edges";
+        EXPECT_EQ(rig.Axis(0).position, int32_t(k + more + 1));
+      }
+  }
+}
+
+TEST(ProfileTiming, LengthsAroundTheTrapezoidLimit) {
+  // A move needs sa = (vm^2 - v0^2) / 2 a0 steps to reach vm and sd =
+  // (vm^2 - ve^2) / 2 ae to come down: shorter than sa + sd it turns below
+  // vm. With fractions in sa and sd, the lengths around that limit against
+  // the physics: every edge, and no interval faster than vm.
+  const x4_profile profiles[] = {
+      Prof(300, 100, 4000, 10000, 7000),  // sa + sd = 795.5 + 1142.14
+      Prof(0, 0, 3001, 7001, 6997),       // 643.19 + 643.56
+      Prof(2500, 0, 9000, 40000, 33333),  // 934.38 + 1215.01
+  };
+  for (const x4_profile &p : profiles) {
+    const double sa = (double(p.vm) * p.vm - double(p.v0) * p.v0) / (2.0 * p.a0);
+    const double sd = (double(p.vm) * p.vm - double(p.ve) * p.ve) / (2.0 * p.ae);
+    for (uint64_t d = uint64_t(sa) + uint64_t(sd) - 2; d <= uint64_t(sa) + uint64_t(sd) + 3; d++) {
+      const uint32_t steps = uint32_t(d + 1);
+      const ProfileRun run = RunProfile(p, steps);
+      const auto &rises = run.rec.rises[0];
+      ASSERT_EQ(rises.size(), steps) << Str(p);
+      const ProfileRef ref(p, steps);
+      EXPECT_LT(MaxErrorNs(ref, rises, kOrigin), kTolNs)
+          << Str(p) << ", " << steps << " steps ("
+          << (ref.shape() == ProfileRef::kTrapezoid ? "trapezoid" : "triangle") << ")";
+      const std::vector<int64_t> iv = Intervals(rises);
+      EXPECT_GE(*std::min_element(iv.begin(), iv.end()), int64_t(1e9 / p.vm) - 2)
+          << Str(p) << ", " << steps << " steps";
+    }
   }
 }
 
