@@ -338,9 +338,37 @@ ProfileRun RunProfile(const x4_profile &p, uint32_t steps, int axis = 0) {
 
 }  // namespace
 
+namespace {
+
+constexpr int kOverlap = -1;  // a plan whose ramps overlap: no shape
+
+// The shape the engine planned for a goto of `steps` steps, from its plan:
+// leader step n accelerates while n < n_cruise, brakes from n_decel on and
+// cruises in between (x4_engine.h, struct x4_plan).
+int PlannedShape(const x4_profile &p, uint32_t steps) {
+  x4_engine e;
+  x4_engine_init(&e);
+  EXPECT_EQ(x4_engine_set_profile(&e, 1, &p), X4_OK);
+  const int32_t target[X4_AXES] = {int32_t(steps)};
+  x4_goto g;
+  EXPECT_EQ(x4_engine_plan_goto(&e, 0x1, target, true, &g), X4_OK);
+  const x4_plan &plan = g.plan[0];
+  EXPECT_EQ(plan.last, steps - 1u);
+  if (plan.n_decel == 0) return ProfileRef::kBrakeOnly;
+  if (plan.n_cruise > plan.last && plan.n_decel > plan.last) return ProfileRef::kAccelOnly;
+  if (plan.n_cruise == plan.n_decel) return ProfileRef::kTriangle;
+  return plan.n_cruise < plan.n_decel ? ProfileRef::kTrapezoid : kOverlap;
+}
+
+}  // namespace
+
 TEST(ProfileTiming, ReferenceShapesAreTheIntendedOnes) {
-  // Guards the table: each case exercises the shape its name says.
-  for (const auto &c : kProfileCases) EXPECT_EQ(ProfileRef(c.p, c.steps).shape(), c.shape) << c.name;
+  // Each case of the table exercises the shape its name says, in the
+  // physics and in the engine's plan.
+  for (const auto &c : kProfileCases) {
+    EXPECT_EQ(ProfileRef(c.p, c.steps).shape(), c.shape) << c.name << ": the reference";
+    EXPECT_EQ(PlannedShape(c.p, c.steps), c.shape) << c.name << ": the engine's plan";
+  }
 }
 
 TEST(ProfileTiming, EveryRisingEdgeMatchesThePhysics) {
