@@ -227,20 +227,68 @@ TEST(Profile, LongestMoveFullRun) {
   ExpectEdgeError(worst, "16777216 steps run, 20 kHz, 1000 ms");
 }
 
-TEST(Profile, ShortMoveKeepsPlateau) {
-  // 20 kHz with 1 s ramps needs 10,000 steps per ramp: 101 steps cannot
-  // reach it, so 48 up, 4 at constant speed, 48 down.
-  const x4_move m = Move(101, 0, 0, 0, 20000, 1000);
-  const Recording r = RunMove(m);
-  ASSERT_EQ(r.rises[0].size(), 101u);
+namespace {
+
+// The leader's intervals of a short move at 20 kHz with 1 s ramps (10,000
+// steps per ramp: none of these reaches 20 kHz), and the plateau: the run
+// of intervals within 2 ns of the shortest.
+struct Plateau {
   std::vector<int64_t> iv;
-  for (size_t i = 1; i < r.rises[0].size(); i++) iv.push_back(r.rises[0][i] - r.rises[0][i - 1]);
-  int constant = 0;
-  for (size_t i = 1; i < iv.size(); i++)
-    if (std::llabs(iv[i] - iv[i - 1]) <= 2) constant++;
-  EXPECT_EQ(constant, X4_PLATEAU_STEPS - 1) << "intervals equal to their predecessor";
-  EXPECT_GT(iv.front(), iv[50]);
-  EXPECT_GT(iv.back(), iv[50]);
+  size_t first = 0, count = 0;
+};
+
+Plateau PlateauOf(int32_t len) {
+  const Recording r = RunMove(Move(len, 0, 0, 0, 20000, 1000));
+  Plateau p;
+  EXPECT_EQ(r.rises[0].size(), size_t(len));
+  for (size_t i = 1; i < r.rises[0].size(); i++) p.iv.push_back(r.rises[0][i] - r.rises[0][i - 1]);
+  const int64_t top = *std::min_element(p.iv.begin(), p.iv.end());
+  while (p.iv[p.first] > top + 2) p.first++;
+  while (p.first + p.count < p.iv.size() && p.iv[p.first + p.count] <= top + 2) p.count++;
+  return p;
+}
+
+// Ramps up to the plateau and down from it, each interval shorter (longer)
+// than the one before, mirrored: interval i as long as interval D - 1 - i.
+void ExpectMirroredRamps(const Plateau &p, int32_t len) {
+  const size_t n = p.iv.size();
+  for (size_t i = 0; i + 1 < n; i++) {
+    if (i + 1 <= p.first) {
+      EXPECT_GT(p.iv[i], p.iv[i + 1] + 2) << len << " steps: accelerating, interval " << i;
+    }
+    if (i + 1 >= p.first + p.count) {
+      EXPECT_LT(p.iv[i] + 2, p.iv[i + 1]) << len << " steps: braking, interval " << i;
+    }
+    EXPECT_LE(std::llabs(p.iv[i] - p.iv[n - 1 - i]), 2) << len << " steps: interval " << i << " not mirrored";
+  }
+}
+
+}  // namespace
+
+TEST(Profile, ShortMoveKeepsPlateau) {
+  // Moves too short to reach their frequency run X4_PLATEAU_STEPS steps at
+  // constant speed between mirrored ramps (README, "Motion, in short"): 101
+  // steps are 48 up, 4 at constant speed, 48 down; 21 steps 8, 4, 8.
+  for (int32_t len : {101, 21}) {
+    const Plateau p = PlateauOf(len);
+    EXPECT_EQ(p.count, size_t(X4_PLATEAU_STEPS)) << len << " steps: intervals at the top speed";
+    EXPECT_EQ(p.first, size_t(len - 1 - X4_PLATEAU_STEPS) / 2) << len << " steps: ramp steps";
+    ExpectMirroredRamps(p, len);
+  }
+}
+
+// KNOWN FAILURE on the engine of issue 16, by design: fails until the
+// lead's fix of the short-move plateau for odd distances lands.
+TEST(Profile, ShortMoveKeepsPlateauOddDistance) {
+  // The same with an odd number of intervals D (102 and 20 steps). Mirrored
+  // ramps leave an odd number of equal intervals in the middle, so the
+  // documented 4 steps at constant speed are at least 4 here (5); the
+  // engine ramps over (D - 4) / 2 = 48.5 (7.5) steps, which leaves 3.
+  for (int32_t len : {102, 20}) {
+    const Plateau p = PlateauOf(len);
+    EXPECT_GE(p.count, size_t(X4_PLATEAU_STEPS)) << len << " steps: intervals at the top speed";
+    ExpectMirroredRamps(p, len);
+  }
 }
 
 TEST(Profile, RampZeroIsFullFrequencyFromTheStart) {
