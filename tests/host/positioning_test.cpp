@@ -1319,6 +1319,57 @@ TEST(Homing, BothDirectionsAndPhaseOrders) {
   }
 }
 
+// KNOWN FAILURE on the engine of issue 16, by design: phase 2 starts at
+// the time phase 1's next step was due, plus the direction setup, however
+// much slower it is: until the lead's fix (phase 1 decelerates to rest
+// before the reversal, or the reversal speeds are capped).
+TEST(Homing, ReversalIsAStopAndAStartFromRest) {
+  // Homing runs without ramps: a reversal between the phases must look to
+  // the motor like a stop and a start from rest, no speed jump larger than
+  // a start from rest. So between the last step of phase 1 and the first
+  // step of phase 2 in the other direction there is at least the longer
+  // of the two phases' step periods, 1 / vref, plus the direction setup
+  // time. (Not the intervals as run: phase 2 backs off the switch in one
+  // step, and a phase 1 that ramps down to rest ends with long ones.)
+  const struct {
+    int32_t vref1, vref2;
+    uint32_t dir_setup_ns;
+  } cases[] = {
+      {20000, -20000, X4_DIR_SETUP_NS}, {-20000, 20000, X4_DIR_SETUP_NS},
+      {45000, -45000, X4_DIR_SETUP_NS}, {3000, -400, X4_DIR_SETUP_NS},
+      {-3000, 400, X4_DIR_SETUP_NS},    {20000, -5000, 20000},
+      {500, -45000, X4_DIR_SETUP_NS},   {-400, 3000, 0},
+  };
+  for (const auto &c : cases) {
+    const std::string name = std::to_string(c.vref1) + " then " + std::to_string(c.vref2) +
+                             " steps/s, setup " + std::to_string(c.dir_setup_ns) + " ns";
+    Rig rig;
+    const x4_timing t = {0, 0, c.dir_setup_ns, 0};
+    ASSERT_EQ(x4_engine_configure(&rig.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
+    // REF on input 2, active from 800 steps on (phase 1 forward) or up to -800.
+    rig.switches = {c.vref1 > 0 ? Switch{0, 2, 800, kFar} : Switch{0, 2, -kFar, -800}};
+    x4_switches sw = NoSwitches();
+    sw.ref[0] = 2;
+    ASSERT_EQ(rig.SetSwitches(sw), X4_OK);
+    ASSERT_EQ(rig.Home(0, X4_HOME_PHASE1 | X4_HOME_PHASE2, c.vref1, c.vref2, 100000), X4_OK) << name;
+    const HomeTrace tr = RunTraced(rig);
+    EXPECT_EQ(rig.Axis(0).state, uint32_t(X4_AX_SYNC)) << name << ": homed";
+    // The turn: the first step whose direction differs from the one before.
+    const auto &rises = tr.rec.rises[0];
+    ASSERT_EQ(rises.size(), tr.pos.size()) << name;
+    size_t turn = 2;
+    while (turn < tr.pos.size() && (tr.pos[turn] - tr.pos[turn - 1]) == (tr.pos[turn - 1] - tr.pos[turn - 2]))
+      turn++;
+    ASSERT_LT(turn, tr.pos.size()) << name << ": no reversal";
+    const uint64_t period1 = 1000000000u / std::abs(c.vref1), period2 = 1000000000u / std::abs(c.vref2);
+    const uint64_t gap = rises[turn] - rises[turn - 1];
+    std::printf("[ homing   ] %-46s turn after %7llu ns; step periods %7llu and %7llu ns\n", name.c_str(),
+                (unsigned long long)gap, (unsigned long long)period1, (unsigned long long)period2);
+    EXPECT_GE(gap, std::max(period1, period2) + c.dir_setup_ns)
+        << name << ": step periods " << period1 << " and " << period2 << " ns";
+  }
+}
+
 TEST(Homing, SemiAutomaticPhaseByPhase) {
   for (const auto &c : kHomeCases) {
     Rig rig;
