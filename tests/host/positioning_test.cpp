@@ -669,9 +669,11 @@ TEST(ProfileTiming, LengthsAroundTheTrapezoidLimit) {
   // vm. With fractions in sa and sd, the lengths around that limit against
   // the physics: every edge, and no interval faster than vm.
   const x4_profile profiles[] = {
-      Prof(300, 100, 4000, 10000, 7000),  // sa + sd = 795.5 + 1142.14
-      Prof(0, 0, 3001, 7001, 6997),       // 643.19 + 643.56
-      Prof(2500, 0, 9000, 40000, 33333),  // 934.38 + 1215.01
+      Prof(300, 100, 4000, 10000, 7000),   // sa + sd = 795.5 + 1142.14
+      Prof(0, 0, 3001, 7001, 6997),        // 643.19 + 643.56
+      Prof(2500, 0, 9000, 40000, 33333),   // 934.38 + 1215.01
+      Prof(0, 0, 2043, 8000, 9000),        // 260.87 + 231.88: either rounded down fits in 492
+      Prof(500, 300, 6000, 20000, 30000),  // 893.75 + 598.5
   };
   for (const x4_profile &p : profiles) {
     const double sa = (double(p.vm) * p.vm - double(p.v0) * p.v0) / (2.0 * p.a0);
