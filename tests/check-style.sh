@@ -45,6 +45,56 @@ for hdr in $(ls -d /usr/src/linux-headers-*-amd64 | sort -V); do
 	result $st "module builds with W=1, sparse-clean on $kver"
 done
 
+# 32-bit kernels have no 64-bit division in their libgcc: a raw '/' or '%'
+# on u64 in the engine makes the module fail to link there (__udivdi3). The
+# engine divides through x4_div() (div64_u64 in the kernel). Each engine
+# file is compiled as user space for i386, where such divisions call the
+# helpers below, with X4_DIV_EXTERN defined: under it the engine declares
+# its user-space x4_div() as an external function (u64 x4_div(u64, u64)),
+# so that only raw divisions call a helper. Functions named x4_div* may
+# (a user-space x4_div defined in the engine itself); -fno-inline keeps it
+# out of its callers and -ffunction-sections names the functions that do.
+# (An engine whose user-space x4_div is still the macro a / b fails here
+# for every x4_div() too.)
+m32=$out/m32
+rm -rf "$m32"
+mkdir -p "$m32"
+if [ -d "$top/kmod/engine" ]; then
+	efiles=$(ls "$top"/kmod/engine/*.c)
+else
+	efiles=$top/kmod/x4_engine.c
+fi
+if ! printf '#include <stdint.h>\n#include <string.h>\n' |
+	gcc -m32 -x c -c -o /dev/null - >"$m32/probe.log" 2>&1; then
+	cat "$m32/probe.log"
+	echo "gcc -m32 cannot compile user space for i386: install gcc-multilib (tools/deps.sh test)"
+	result 1 "32-bit: gcc -m32 unavailable, engine's 64-bit divisions not checked"
+else
+	st=0
+	for f in $efiles; do
+		o=$m32/$(basename "$f" .c).o
+		if ! gcc -m32 -O2 -fno-inline -ffunction-sections -DX4_DIV_EXTERN \
+			'-Dnoinline=__attribute__((noinline))' -I"$(dirname "$f")" -I"$top/kmod" \
+			-c "$f" -o "$o" >"$m32/build.log" 2>&1; then
+			cat "$m32/build.log"
+			echo "${f#"$top"/}: does not compile with gcc -m32"
+			st=1
+			continue
+		fi
+		helpers=$(nm -u "$o" | awk '$2 ~ /^__(u?div|u?mod)di3$/ { print $2 }' | sort -u | tr '\n' ' ' | sed 's/ $//')
+		[ -n "$helpers" ] || continue
+		# The functions whose code calls them (relocation section .rel.text.FN).
+		fns=$(readelf -rW "$o" | awk '
+			/^Relocation section/ { s = $3; gsub(/[\047]/, "", s); sub(/^\.rela?\.text\.?/, "", s) }
+			/__(u?div|u?mod)di3/ && s !~ /^x4_div/ { print (s == "" ? "?" : s) }' | sort -u | tr '\n' ' ' | sed 's/ $//')
+		[ -n "$fns" ] || continue
+		echo "${f#"$top"/}: 64-bit division ($helpers) in: $fns"
+		st=1
+	done
+	[ $st -eq 0 ] || echo "divide u64 with x4_div(), never with '/' or '%' (they need libgcc's helpers on 32-bit kernels)"
+	result $st "32-bit: the engine calls no 64-bit division helper (gcc -m32, __udivdi3 and co.)"
+fi
+
 # User space follows .clang-format.
 files=$(cd "$top" && git ls-files 'lib/*.cpp' 'include/*.hpp' 'tools/*.cpp' 'tests/*.cpp' 'tools/*.hpp' 'tests/*.h')
 (cd "$top" && clang-format --dry-run -Werror $files) >"$out/clang-format.log" 2>&1

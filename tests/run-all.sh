@@ -1,8 +1,8 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
-# `make check`: host unit tests, static checks, then the QEMU suite on
-# the Debian kernels and the debug kernel. Ends with one line `N passed, M failed` counting
-# every test case of all three parts.
+# `make check`: host unit tests, static checks and the engine's mutation
+# run, then the QEMU suite on the Debian kernels and the debug kernel. Ends
+# with one line `N passed, M failed` counting every test case of all parts.
 set -u
 top=$(cd "$(dirname "$0")/.." && pwd)
 cd "$top" || exit 2
@@ -43,6 +43,20 @@ tests/check-style.sh >"$log/style.log" 2>&1
 grep -E '^(PASS|FAIL)' "$log/style.log"
 grep -q '^FAIL' "$log/style.log" && cat "$log/style.log"
 count "$log/style.log"
+
+# The engine's mutation run (about a minute): every one-line mutation of
+# tests/mutation/mutations.txt must fail a host test. One PASS/FAIL line.
+BUILD="$build" tests/mutation/run.sh >"$log/mutation.log" 2>&1
+st=$?
+score=$(tail -n 1 "$log/mutation.log" | sed "s/^mutation score: //")
+if [ $st -eq 0 ]; then
+	echo "PASS mutation run: $score"
+else
+	echo "FAIL mutation run: $score (see $log/mutation.log)"
+fi >"$log/mutation.results"
+cat "$log/mutation.results"
+grep -E '^(SURVIVED|INVALID)' "$log/mutation.log"
+count "$log/mutation.results"
 
 echo "== debug kernel: build or reuse (tests/debugkernel)"
 # Lockdep, KASAN, UBSAN, atomic-sleep and debugobjects: the QEMU suite runs

@@ -122,6 +122,21 @@ static u64 ramp_frac(const struct x4_ramp *r, u64 num, u64 den)
 }
 
 /*
+ * Whether d step intervals leave room for vm: d >= up2 / 2 a0 + down2 / 2 ae,
+ * exactly. The ceilings sa and sd of the two terms settle it but where the
+ * fractions add up; there the products stay below 2^52 (d < sa + sd).
+ */
+static bool room_for_vm(u64 d, u64 sa, u64 sd, u64 up2, u64 down2, u64 a0,
+			u64 ae)
+{
+	if (d >= sa + sd)
+		return true;
+	if (!a0 || !ae)
+		return false; /* one ramp: d >= sa + sd is exact for whole d */
+	return 2 * a0 * ae * d >= ae * up2 + a0 * down2;
+}
+
+/*
  * Plan a profile move (ProStep4) of `steps` >= 1 steps. Four shapes:
  *  - trapezoid: v0 up to vm with a0, cruise, down to ve with ae;
  *  - triangle: too short for vm: turn where the ramps meet (vp);
@@ -157,7 +172,7 @@ void x4_plan_profile(struct x4_plan *p, u64 steps, const struct x4_profile *f)
 	/* A single step: at v0, or what the ramp reaches in half a step. */
 	v1 = v0 ? v0 : x4_isqrt(a0);
 	p->single_half_ns = x4_div(X4_NSEC_PER_SEC, 2 * (v1 < vm ? v1 : vm));
-	if (d >= sa + sd) {
+	if (room_for_vm(d, sa, sd, up2, down2, a0, ae)) {
 		p->n_cruise = v0 < vm ? x4_div(up2, 2 * a0) + 1 : 0;
 		p->n_decel = ve < vm ? d - x4_div(down2, 2 * ae) : d + 1;
 		p->t_last = x4_plan_cruise_time(p, d) + ramp_lag(vm, ve, ae, vm);

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0
 # Engine benchmark: prints instructions per leader step (callgrind counts
 # instructions, so the figure is reproducible), edge-time error and state
-# size for a 4-axis 20 kHz move with 50 ms ramps.
+# size for a 4-axis 20 kHz move with 50 ms ramps, and the mutation score.
 set -eu
 build=${BUILD:-build}
 bench=$build/tests/engine_bench
@@ -25,6 +25,14 @@ cat "$tmp"/step.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
 $cg --callgrind-out-file="$tmp/hit" "$bench" --limit-hit >/dev/null 2>&1 || echo "(the limit-hit run failed)"
 hit=$(cat "$tmp"/hit.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n | tail -n1)
 echo "worst single event: a shared limit ending four axes' moves: $hit instructions"
+
+# The host tests against one-line mutations of the engine: every one must
+# fail a test (tests/mutation/run.sh, about a minute on 2 cores).
+echo
+echo "== engine: mutation run (tests/mutation/mutations.txt against the host tests)"
+BUILD=$build tests/mutation/run.sh >"$tmp/mutation.log" 2>&1 || true
+grep -E '^(baseline|SURVIVED|INVALID)' "$tmp/mutation.log" || true
+tail -n 1 "$tmp/mutation.log"
 
 # The module's timer in QEMU under -icount (reproducible guest time), next
 # to a bare hrtimer in the same boot: tests/guest/timing_bench.cpp.

@@ -38,6 +38,24 @@ double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n) {
   return x / v;
 }
 
+double ref_speed(uint64_t steps, int freq_hz, int ramp_ms, double x) {
+  const double f = freq_hz;
+  const double r = ramp_ms / 1000.0;
+  if (ramp_ms == 0) return f;
+  const double a = f / r;
+  const double na = f * r / 2;
+  const double p = X4_PLATEAU_STEPS;
+  if (steps == 0) return x <= na ? std::sqrt(2 * a * x) : f;
+  const double d = static_cast<double>(steps - 1);
+  // The ramps' length: full, or the short move's floor((d - p) / 2) (its
+  // plateau runs at the speed reached).
+  const double xa = d >= 2 * na + p ? na : d >= p + 2 ? std::floor((d - p) / 2) : -1;
+  if (xa < 0) return std::min(f, std::sqrt(a));
+  if (x <= xa) return std::sqrt(2 * a * x);
+  if (x <= d - xa) return std::sqrt(2 * a * xa);
+  return std::sqrt(2 * a * (d - x));
+}
+
 x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int freq, int ramp) {
   x4_move m{};
   m.steps[0] = s1;

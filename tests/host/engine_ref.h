@@ -27,6 +27,10 @@ namespace x4test {
 // move of `steps` leader steps (0: endless) at freq_hz with ramp_ms ramps.
 double ref_step_time(uint64_t steps, int freq_hz, int ramp_ms, uint64_t n);
 
+// Ideal speed in steps/s of the same move at position x (in steps from
+// step 0): what a brake at step x starts from.
+double ref_speed(uint64_t steps, int freq_hz, int ramp_ms, double x);
+
 struct Edge {
   uint64_t t_ns;
   int bit;     // data bit 0..7 (clock of axis i = 2i + 1)
