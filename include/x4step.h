@@ -14,6 +14,8 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+/* The library builds with hidden symbols: what is declared here is its API. */
+#pragma GCC visibility push(default)
 
 /* Error codes (manual 4.1). */
 #define X4NoErr 0            /**< no error */
@@ -125,6 +127,7 @@ int X4GetIn(void);
  *  @return X4NoErr; X4ErrInitNotDone, X4ErrParamFail (other values) */
 int X4SetOut(int sig);
 
+#pragma GCC visibility pop
 #ifdef __cplusplus
 }
 #endif

@@ -47,6 +47,8 @@
 #include <system_error>
 #include <vector>
 
+// The library builds with hidden symbols: what is declared here is its API.
+#pragma GCC visibility push(default)
 namespace x4step {
 
 /// X4Step error numbers (chapter 4.1 of the manual), as in x4step.h.
@@ -333,6 +335,8 @@ class monitor {
 };
 
 }  // namespace x4step
+
+#pragma GCC visibility pop
 
 namespace std {
 template <>

@@ -12,6 +12,7 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+#pragma GCC visibility push(default)
 
 /**
  * Step signal timing of the open port, in nanoseconds, each 0..1000000:
@@ -139,6 +140,7 @@ int X4BrakeAxis(int axis);
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNotActive */
 int X4StopAxis(int axis);
 
+#pragma GCC visibility pop
 #ifdef __cplusplus
 }
 #endif
