@@ -7,6 +7,21 @@
  * usable from C and C++. One port at a time, as in the manual; for several
  * ports use the C++ API (x4step.hpp). Link with -lx4step
  * (pkg-config x4step). Not thread-safe, like the original.
+ *
+ * One move at a time, as in the DOS library: X4Start, X4MovePos and
+ * X4MoveNeg are X4ErrIsActive while any axis runs. (Independent
+ * concurrent moves are the positioning extension's, x4step_ext.h.)
+ *
+ * Where the manual lists no code for a case, these are the answers:
+ * - before X4Init, every function with a result: X4ErrInitNotDone;
+ * - a negative ramp, more than 20 brake codes: X4ErrParamFail ("a
+ *   parameter is not in its valid range", manual 4.1), nothing changed;
+ * - a frequency within 10..20000 Hz that the port's configured step
+ *   timing (x4step_ext.h) cannot run: X4ErrFreqTooHigh, checked after the
+ *   paths (X4ErrStepsTooHigh, X4ErrNoSteps come first), as the port's state;
+ * - a failure the manual has no code for: errno holds it, and the result
+ *   is X4ErrLPTNotFound where the port cannot be used (EACCES, EPERM,
+ *   EIO, ENODEV, ENXIO, EBADF, ENOTTY), else X4ErrParamFail.
  */
 #ifndef X4STEP_H
 #define X4STEP_H
@@ -48,14 +63,19 @@ extern "C" {
 
 /**
  * Open port lpt (LPT1..LPT4) and clear the 1 ms timer. If a port is open
- * already it is released first, as by X4ReInit.
+ * already it is released first, as by X4ReInit. The port starts from the
+ * DOS library's state, whatever an earlier program (x4ctl, the C++ API)
+ * configured: clock and direction outputs without inversions, the
+ * module's default step timing, only ESC brakes, no limit or reference
+ * switches, the default profiles.
  * @return X4NoErr, X4ErrParamFail (lpt not 1..4), X4ErrLPTNotFound (no
  *         /dev/x4stepN, or the port is taken: another program controls
  *         it, the module still brakes the motors of a program that ended
  *         while they ran, or another parport driver (lp; ppdev for a
  *         program using /dev/parportN) has claimed it. The holder's name
  *         is in /proc/sys/dev/parport/parport(lpt-1)/devices/active; the
- *         C++ API's exception says it.)
+ *         C++ API's exception says it; or the user may not open it:
+ *         not in group lp, errno EACCES.)
  */
 int X4Init(int lpt);
 
@@ -75,7 +95,8 @@ int X4ReInit(void);
 int X4Load(long w1, long w2, long w3, long w4, int freq, int ramp);
 
 /** Start the loaded move; clears the step counters.
- *  @return X4NoErr, X4ErrInitNotDone, X4ErrNotLoaded, X4ErrIsActive */
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrNotLoaded, X4ErrIsActive (any
+ *          axis runs) */
 int X4Start(void);
 
 /** Brake the running move along its ramp.
@@ -98,7 +119,8 @@ long X4GetSteps(int axis);
  * X4Brake, X4Stop or a brake key.
  * @return in this order of checks: X4ErrInitNotDone, X4ErrParamFail
  *         (axis), X4ErrFreqTooHigh, X4ErrFreqTooLow, X4ErrRampTooHigh,
- *         X4ErrRampFreq, X4ErrIsLoaded, X4ErrIsActive; else X4NoErr
+ *         X4ErrRampFreq, X4ErrIsLoaded, X4ErrIsActive (any axis runs);
+ *         else X4NoErr
  */
 int X4MovePos(int axis, int freq, int ramp);
 int X4MoveNeg(int axis, int freq, int ramp);

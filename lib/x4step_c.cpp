@@ -4,9 +4,12 @@
 #include <linux/x4step.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <climits>
 #include <cstring>
+#include <fstream>
+#include <new>
 #include <optional>
 #include <vector>
 
@@ -27,6 +30,23 @@ namespace {
 std::optional<x4step::controller> port;
 std::chrono::steady_clock::time_point timer_start = std::chrono::steady_clock::now();
 
+// A failure the manual has no code for: errno says what it was (x4step.h).
+int unforeseen(int err) noexcept {
+  errno = err;
+  switch (err) {
+    case EACCES:
+    case EPERM:
+    case EIO:
+    case ENODEV:
+    case ENXIO:
+    case EBADF:
+    case ENOTTY:
+      return X4ErrLPTNotFound;  // the port cannot be used
+    default:
+      return X4ErrParamFail;
+  }
+}
+
 template <typename F>
 int guarded(F &&f) noexcept {
   try {
@@ -34,10 +54,47 @@ int guarded(F &&f) noexcept {
     return X4NoErr;
   } catch (const x4step::error &e) {
     if (e.code().category() == x4step::category()) return e.code().value();
-    return X4ErrParamFail;  // the kernel refused in a way we did not foresee
+    return unforeseen(e.code().value());
+  } catch (const std::bad_alloc &) {
+    return unforeseen(ENOMEM);
   } catch (...) {
-    return X4ErrParamFail;
+    return unforeseen(EINVAL);
   }
+}
+
+[[noreturn]] void fail(x4step::errc e) { throw x4step::error(x4step::make_error_code(e)); }
+
+// The manual's functions run one move at a time (X4ErrIsActive, manual
+// 4.1); concurrent moves are the positioning extension's.
+void refuse_while_active(const x4step::status &s) {
+  if (s.active) fail(x4step::errc::is_active);
+}
+
+// The default step timing of the module (its parameters), else X4Step's.
+x4step::step_timing module_step_timing() {
+  x4step::step_timing t;
+  auto param = [](const char *name, std::chrono::nanoseconds &out) {
+    std::ifstream f(std::string("/sys/module/x4step/parameters/") + name);
+    long ns;
+    if (f >> ns) out = std::chrono::nanoseconds(ns);
+  };
+  param("pulse_ns", t.pulse);
+  param("space_ns", t.space);
+  param("dir_setup_ns", t.dir_setup);
+  param("dir_hold_ns", t.dir_hold);
+  return t;
+}
+
+// X4Init starts from the DOS library's state, whatever an earlier
+// controller (x4ctl, a C++ program) left configured: clock and direction
+// outputs without inversions, the module's default step timing, only ESC
+// brakes, no switches, the default profiles.
+void dos_state(x4step::controller &c) {
+  c.set_config({});
+  c.set_step_timing(module_step_timing());
+  c.set_brake_codes({});
+  c.set_switches({});
+  for (int axis = 1; axis <= x4step::axes; axis++) c.set_profile(axis, {});
 }
 
 int with_port(void (*op)(x4step::controller &)) noexcept {
@@ -85,7 +142,15 @@ int halt_axis(int axis, x4step::halt_mode how) noexcept {
 
 int move_endless(int axis, int freq, int ramp, x4step::direction dir) noexcept {
   if (!port) return X4ErrInitNotDone;
-  return guarded([&] { port->move_endless(axis, dir, freq, std::chrono::milliseconds(ramp)); });
+  const std::chrono::milliseconds r(ramp);
+  if (const x4step::errc e = x4step::check_endless(axis, freq, r); e != x4step::errc::ok)
+    return static_cast<int>(e);
+  return guarded([&] {
+    const x4step::status s = port->get_status();
+    if (s.loaded) fail(x4step::errc::is_loaded);
+    refuse_while_active(s);
+    port->move_endless(axis, dir, freq, r);
+  });
 }
 
 }  // namespace
@@ -96,7 +161,12 @@ int X4Init(int lpt) {
   if (lpt < LPT1 || lpt > LPT4) return X4ErrParamFail;
   port.reset();
   X4ClearTimer();
-  return guarded([lpt] { port.emplace(lpt); });
+  const int ret = guarded([lpt] {
+    port.emplace(lpt);
+    dos_state(*port);
+  });
+  if (ret != X4NoErr) port.reset();
+  return ret;
 }
 
 int X4ReInit(void) {
@@ -111,7 +181,12 @@ int X4Load(long w1, long w2, long w3, long w4, int freq, int ramp) {
 }
 
 int X4Start(void) {
-  return with_port([](x4step::controller &c) { c.start(); });
+  return with_port([](x4step::controller &c) {
+    const x4step::status s = c.get_status();
+    if (!s.loaded) fail(x4step::errc::not_loaded);
+    refuse_while_active(s);
+    c.start();
+  });
 }
 
 int X4Brake(void) {

@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // libx4step on the host, without the kernel module: every error the
 // library decides itself.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/x4step.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdarg>
@@ -531,4 +533,146 @@ TEST_F(FakeKernel, ClosedControllerSaysInitNotDone) {
   EXPECT_EQ(thrown([&] { c.wait_axes(0); }), x4step::errc::init_not_done);
   EXPECT_EQ(thrown([&] { c.zero(1); }), x4step::errc::init_not_done);
   EXPECT_TRUE(k.calls.empty());
+}
+
+// ---- the C API against the fake kernel -------------------------------------------------
+//
+// open() is interposed too: while x4step_is_fake is set, /dev/x4stepN
+// opens /dev/zero (or fails with open_errno), so that X4Init reaches the
+// fake kernel.
+
+bool x4step_is_fake = false;
+int open_errno = 0;
+
+extern "C" int open(const char *path, int flags, ...) {
+  mode_t mode = 0;
+  if (flags & (O_CREAT | O_TMPFILE)) {
+    va_list ap;
+    va_start(ap, flags);
+    mode = va_arg(ap, mode_t);
+    va_end(ap);
+  }
+  if (x4step_is_fake && std::strncmp(path, "/dev/x4step", 11) == 0) {
+    if (open_errno) {
+      errno = open_errno;
+      return -1;
+    }
+    path = "/dev/zero";
+  }
+  return static_cast<int>(::syscall(SYS_openat, AT_FDCWD, path, flags, mode));
+}
+
+class FakeCApi : public FakeKernel {
+ protected:
+  void SetUp() override {
+    FakeKernel::SetUp();
+    x4step_is_fake = true;
+    open_errno = 0;
+  }
+  void TearDown() override {
+    X4ReInit();
+    x4step_is_fake = false;
+    FakeKernel::TearDown();
+  }
+  // GET_STATUS answers with these flags; other ioctls succeed and are logged.
+  void status_flags(uint32_t flags) {
+    k.answer = [flags](unsigned long cmd, void *arg) {
+      if (cmd == X4STEP_GET_STATUS) static_cast<x4step_status *>(arg)->flags = flags;
+      return 0;
+    };
+  }
+  bool called(unsigned long cmd) const { return std::count(k.calls.begin(), k.calls.end(), cmd) > 0; }
+};
+
+TEST_F(FakeCApi, X4InitStartsFromTheDosState) {
+  // Whatever an earlier controller configured (x4ctl mode, limits, ...).
+  std::vector<x4step_config> cfg;
+  std::vector<x4step_step_timing> timing;
+  std::vector<x4step_brake_codes> codes;
+  std::vector<x4step_switches> sw;
+  std::vector<x4step_profile> prof;
+  k.answer = [&](unsigned long cmd, void *arg) {
+    if (cmd == X4STEP_SET_CONFIG) cfg.push_back(*static_cast<x4step_config *>(arg));
+    if (cmd == X4STEP_SET_STEP_TIMING) timing.push_back(*static_cast<x4step_step_timing *>(arg));
+    if (cmd == X4STEP_SET_BRAKE_CODES) codes.push_back(*static_cast<x4step_brake_codes *>(arg));
+    if (cmd == X4STEP_SET_SWITCHES) sw.push_back(*static_cast<x4step_switches *>(arg));
+    if (cmd == X4STEP_SET_PROFILE) prof.push_back(*static_cast<x4step_profile *>(arg));
+    return 0;
+  };
+  ASSERT_EQ(X4Init(LPT4), X4NoErr);
+  ASSERT_EQ(cfg.size(), 1u);
+  EXPECT_EQ(cfg[0].clock_invert | cfg[0].dir_invert | cfg[0].flags, 0u);
+  EXPECT_EQ(cfg[0].output_mode, uint32_t(X4STEP_MODE_CLOCK_DIR));
+  ASSERT_EQ(timing.size(), 1u);  // the module's defaults; none loaded here: X4Step's
+  EXPECT_EQ(timing[0].pulse_ns, 0u);
+  EXPECT_EQ(timing[0].dir_setup_ns, 100000u);
+  ASSERT_EQ(codes.size(), 1u);
+  EXPECT_EQ(codes[0].count, 0u) << "only ESC";
+  ASSERT_EQ(sw.size(), 1u);
+  const x4step_switches none{};
+  EXPECT_EQ(std::memcmp(&sw[0], &none, sizeof none), 0) << "no switches";
+  ASSERT_EQ(prof.size(), 4u);
+  for (uint32_t a = 0; a < 4; a++) {
+    EXPECT_EQ(prof[a].axis, a + 1);
+    EXPECT_EQ(prof[a].vm, 1000u);
+    EXPECT_EQ(prof[a].a0 + prof[a].ae + prof[a].v0 + prof[a].ve, 2000u);
+  }
+}
+
+TEST_F(FakeCApi, X4StartAndEndlessMovesOneAtATime) {
+  ASSERT_EQ(X4Init(LPT4), X4NoErr);
+  // Manual 4.1: while any axis runs (a positioning move too), X4Start and
+  // X4MovePos/Neg are X4ErrIsActive; nothing reaches the kernel.
+  status_flags(X4STEP_ST_ACTIVE | X4STEP_ST_LOADED);
+  k.calls.clear();
+  EXPECT_EQ(X4Start(), X4ErrIsActive);
+  EXPECT_FALSE(called(X4STEP_START));
+  status_flags(X4STEP_ST_ACTIVE);
+  EXPECT_EQ(X4MovePos(2, 1000, 50), X4ErrIsActive);
+  EXPECT_EQ(X4MoveNeg(2, 1000, 50), X4ErrIsActive);
+  EXPECT_FALSE(called(X4STEP_MOVE_ENDLESS));
+  EXPECT_EQ(X4Start(), X4ErrNotLoaded) << "nothing loaded comes first";
+  // Arguments before state, as documented.
+  EXPECT_EQ(X4MovePos(5, 1000, 50), X4ErrParamFail);
+  EXPECT_EQ(X4MovePos(1, 20001, 50), X4ErrFreqTooHigh);
+  EXPECT_EQ(X4MoveNeg(1, 1000, 1001), X4ErrRampTooHigh);
+  status_flags(X4STEP_ST_ACTIVE | X4STEP_ST_LOADED);
+  EXPECT_EQ(X4MovePos(1, 1000, 50), X4ErrIsLoaded);
+  // Idle: they go through.
+  status_flags(X4STEP_ST_LOADED);
+  EXPECT_EQ(X4Start(), X4NoErr);
+  EXPECT_TRUE(called(X4STEP_START));
+  status_flags(0);
+  EXPECT_EQ(X4MovePos(1, 1000, 50), X4NoErr);
+  EXPECT_TRUE(called(X4STEP_MOVE_ENDLESS));
+  EXPECT_EQ(X4Start(), X4ErrNotLoaded);
+}
+
+TEST_F(FakeCApi, ErrnosTheManualHasNoCodeFor) {
+  // Not in group lp: the port is not to be had, not a bad parameter.
+  open_errno = EACCES;
+  EXPECT_EQ(X4Init(LPT2), X4ErrLPTNotFound);
+  EXPECT_EQ(X4Start(), X4ErrInitNotDone) << "a failed X4Init leaves no port";
+  try {
+    x4step::controller c(2);
+    FAIL() << "no throw";
+  } catch (const x4step::error &e) {
+    EXPECT_EQ(e.code(), x4step::errc::lpt_not_found);
+    EXPECT_NE(std::string(e.what()).find("group lp"), std::string::npos) << e.what();
+  }
+  open_errno = 0;
+  ASSERT_EQ(X4Init(LPT2), X4NoErr);
+  // Failures without an X4 code: errno says which; the port-level ones
+  // are X4ErrLPTNotFound, the rest X4ErrParamFail.
+  errno = 0;
+  refuse(X4STEP_BRAKE, EIO);
+  EXPECT_EQ(X4Brake(), X4ErrLPTNotFound);
+  EXPECT_EQ(errno, EIO);
+  refuse(X4STEP_STOP, ENOMEM);
+  EXPECT_EQ(X4Stop(), X4ErrParamFail);
+  EXPECT_EQ(errno, ENOMEM);
+  refuse(X4STEP_SET_OUTPUT, EFAULT);
+  EXPECT_EQ(X4SetOut(SIGNAL1ON), X4ErrParamFail);
+  EXPECT_EQ(errno, EFAULT);
+  k.answer = [](unsigned long, void *) { return 0; };
 }
