@@ -108,9 +108,15 @@ struct status {
   bool controlled = false;              ///< a controller has the port
   std::array<long long, axes> steps{};  ///< since the last start
   unsigned inputs = 0;                  ///< X4GetIn bits
-  unsigned outputs = 0;                 ///< bit0 pin 1, bit1 pin 14, bit2 BOOST, bit3 AKTIV
-  unsigned data = 0;                    ///< pin levels of pins 2..9
-  int last_brake_code = 0;              ///< key code that braked the last move
+  /// The inputs were not read now: no controller has the port (another
+  /// parport driver may own it, and the module leaves it alone), so they
+  /// are the levels last read while one had it, at inputs_time. Never set
+  /// for a controller's own reads.
+  bool inputs_stale = false;
+  std::chrono::steady_clock::time_point inputs_time{};  ///< when the inputs were read (epoch: never)
+  unsigned outputs = 0;                                 ///< bit0 pin 1, bit1 pin 14, bit2 BOOST, bit3 AKTIV
+  unsigned data = 0;                                    ///< pin levels of pins 2..9
+  int last_brake_code = 0;                              ///< key code that braked the last move
   std::uint64_t moves_ended = 0;
 };
 std::ostream &operator<<(std::ostream &os, const status &s);
@@ -210,6 +216,7 @@ struct axes_status {
   std::array<axis_status, axes> axis{};
   unsigned inputs = 0;           ///< X4GetIn bits
   unsigned switches_active = 0;  ///< bit k: input k + 1 is active (after NO/NC)
+  bool inputs_stale = false;     ///< inputs and switches_active as last read (see status::inputs_stale)
 };
 std::ostream &operator<<(std::ostream &os, const axes_status &s);
 

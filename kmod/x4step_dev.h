@@ -38,7 +38,14 @@ struct x4_port {
 	struct x4_engine eng;
 	struct hrtimer timer;
 	ktime_t epoch; /* engine time 0 */
-	bool claimed; /* the registers are ours: write them */
+	bool claimed; /* the registers are ours: write them, read them */
+	/*
+	 * The input pins as last read while the port was ours, and when
+	 * (CLOCK_MONOTONIC, 0: never): status reads report these, marked
+	 * stale, while another driver may own the port.
+	 */
+	u8 inputs;
+	u64 inputs_ns;
 	bool written_valid; /* the registers hold data_written, ctl_written */
 	u8 data_written;
 	u8 ctl_written;

@@ -184,6 +184,9 @@ static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
 		return -ENODEV;
 	}
 	st->inputs = x4_port_inputs_locked(x4);
+	st->inputs_time_ns = x4->inputs_ns;
+	if (!x4->claimed)
+		st->flags |= X4STEP_ST_INPUTS_STALE;
 	if (x4_engine_busy(&x4->eng))
 		st->flags |= X4STEP_ST_ACTIVE;
 	if (x4->eng.loaded)
@@ -488,6 +491,8 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 		return -ENODEV;
 	}
 	ua.inputs = x4_port_inputs_locked(x4);
+	if (!x4->claimed)
+		ua.flags = X4STEP_ST_INPUTS_STALE;
 	ua.switches = (ua.inputs ^ x4->eng.sw.nc) & 0x1f;
 	for (i = 0; i < X4_AXES; i++) {
 		x4_engine_axis(&x4->eng, i, &st);

@@ -130,15 +130,24 @@ void x4_port_gone(struct x4_port *x4)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
-/* The input pin levels; the caller has checked that the port is not gone. */
+/*
+ * The input pin levels (X4GetIn bits). Read from the port only while it is
+ * ours: otherwise lp or ppdev may own it, and the last levels read are
+ * returned (x4->claimed says which).
+ */
 u32 x4_port_inputs_locked(struct x4_port *x4)
 {
 	u8 status;
 
 	lockdep_assert_held(&x4->slock);
-	status = x4->port->ops->read_status(x4->port) ^ X4_STATUS_HW_INVERT;
-	/* S3..S7 are pins 15, 13, 12, 10, 11: X4GetIn bits 0..4. */
-	return (status >> 3) & 0x1f;
+	if (x4->claimed && !x4->gone) {
+		status = x4->port->ops->read_status(x4->port) ^
+			 X4_STATUS_HW_INVERT;
+		/* S3..S7 are pins 15, 13, 12, 10, 11: X4GetIn bits 0..4. */
+		x4->inputs = (status >> 3) & 0x1f;
+		x4->inputs_ns = ktime_get_ns();
+	}
+	return x4->inputs;
 }
 
 /* Count how late an event is written, `late` ns after it was due. */
@@ -308,6 +317,7 @@ void x4_port_claimed(struct x4_port *x4)
 	x4->claimed = true;
 	x4->written_valid = false; /* the claim restored some other state */
 	x4_port_write_rest_locked(x4);
+	x4_port_inputs_locked(x4); /* for status reads after the release */
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
@@ -326,6 +336,7 @@ void x4_port_quiesce(struct x4_port *x4)
 	x4->eng.loaded = false;
 	x4->eng.ctl = 0;
 	x4_port_write_rest_locked(x4);
+	x4_port_inputs_locked(x4); /* the last levels while the port is ours */
 	x4->claimed = false;
 	x4->moves_ended = x4->eng.ends;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);

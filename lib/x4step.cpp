@@ -205,6 +205,10 @@ struct device {
     s.controlled = st.flags & X4STEP_ST_CONTROLLED;
     std::copy(std::begin(st.steps), std::end(st.steps), s.steps.begin());
     s.inputs = st.inputs;
+    s.inputs_stale = st.flags & X4STEP_ST_INPUTS_STALE;
+    s.inputs_time =
+        std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::nanoseconds(st.inputs_time_ns)));
     s.outputs = st.outputs;
     s.data = st.data;
     s.last_brake_code = static_cast<int>(st.last_brake_code);
@@ -251,6 +255,7 @@ struct device {
     }
     s.inputs = ka.inputs;
     s.switches_active = ka.switches;
+    s.inputs_stale = ka.flags & X4STEP_ST_INPUTS_STALE;
     return s;
   }
 
@@ -349,14 +354,15 @@ std::ostream &operator<<(std::ostream &os, const axes_status &s) {
     if (a.decelerating) os << " decel";
     if (a.error) os << " error 0x" << std::hex << a.error << std::dec;
   }
-  return os << " | inputs 0x" << std::hex << s.inputs << " switches 0x" << s.switches_active << std::dec;
+  return os << " | inputs 0x" << std::hex << s.inputs << " switches 0x" << s.switches_active << std::dec
+            << (s.inputs_stale ? " (stale)" : "");
 }
 
 std::ostream &operator<<(std::ostream &os, const status &s) {
   os << (s.active ? "active" : "idle") << (s.loaded ? " loaded" : "") << " steps";
   for (long long v : s.steps) os << ' ' << v;
-  return os << " inputs 0x" << std::hex << s.inputs << " outputs 0x" << s.outputs << std::dec
-            << " brake-code " << s.last_brake_code;
+  return os << " inputs 0x" << std::hex << s.inputs << (s.inputs_stale ? " (stale)" : "") << " outputs 0x"
+            << s.outputs << std::dec << " brake-code " << s.last_brake_code;
 }
 
 // ---- controller -------------------------------------------------------------

@@ -770,9 +770,11 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
 
 bool status_sane(const x4step_status &st, std::string &why) {
   char buf[200];
-  const uint32_t known = X4STEP_ST_ACTIVE | X4STEP_ST_LOADED | X4STEP_ST_CONTROLLED;
+  const uint32_t known = X4STEP_ST_ACTIVE | X4STEP_ST_LOADED | X4STEP_ST_CONTROLLED | X4STEP_ST_INPUTS_STALE;
   if (st.flags & ~known)
     why = "unknown flags";
+  else if (!(st.flags & X4STEP_ST_INPUTS_STALE) != !!(st.flags & X4STEP_ST_CONTROLLED))
+    why = "inputs stale while controlled, or live without a controller";
   else if (st.last_brake_code > 255)
     why = "last_brake_code > 255";
   else if (st.inputs & ~0x1fu)
@@ -781,7 +783,7 @@ bool status_sane(const x4step_status &st, std::string &why) {
     why = "outputs beyond 4 bits";
   else if (st.data > 0xff)
     why = "data beyond 8 bits";
-  else if (st.reserved0 || st.reserved[0] || st.reserved[1])
+  else if (st.reserved0)
     why = "reserved != 0";
   else if ((st.flags & X4STEP_ST_ACTIVE) && !(st.flags & X4STEP_ST_CONTROLLED))
     why = "active without controller";
@@ -812,8 +814,8 @@ bool axes_sane(const x4step_axes &ax, std::string &why) {
   char buf[200];
   if ((ax.inputs | ax.switches) >> kInputs)
     why = "inputs/switches beyond 5 bits";
-  else if (ax.reserved[0] || ax.reserved[1])
-    why = "reserved != 0";
+  else if (ax.reserved || (ax.flags & ~X4STEP_ST_INPUTS_STALE))
+    why = "reserved != 0 or unknown flags";
   for (int i = 0; why.empty() && i < X4STEP_AXES; i++) {
     const x4step_axis &a = ax.axis[i];
     int ramp = !!(a.state & X4STEP_AX_ACCEL) + !!(a.state & X4STEP_AX_CRUISE) + !!(a.state & X4STEP_AX_DECEL);

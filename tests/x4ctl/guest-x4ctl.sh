@@ -128,6 +128,11 @@ check status 0 '^state *idle' '' x4ctl status
 check status-json 0 '^{"device":"/dev/x4step0","active":false,' '' x4ctl status --json
 check status-lpt1 0 '^device *\/dev\/x4step0' '' x4ctl -p 1 status
 check in 0 '^pin15=[01] pin13=[01] pin12=[01] pin10=[01] pin11=[01] ([0-9]*)$' '' x4ctl in
+# The module reads the port only while it has claimed it: read-only, with no
+# controller, the levels are the last ones read, and x4ctl says so.
+check in-read-only 0 '^pin15=[01] .* ([0-9]*) (stale: no controller has the port; read [0-9.]* s ago)$' '' \
+	x4ctl in --read-only
+check status-stale 0 '^inputs *pin15=[01] .* (stale: no controller has the port; read ' '' x4ctl status
 
 # ---- move --------------------------------------------------------------------------
 check move-wait 0 '^done: 200 100 50 -25$' '' x4ctl move 200 100 50 -25 --freq 2000 --ramp 20 --wait

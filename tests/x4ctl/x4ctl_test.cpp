@@ -241,6 +241,9 @@ TEST(Cli, OutKeysMonitorRunStatus) {
 
   EXPECT_TRUE(parse({"status", "--json"}).json);
   EXPECT_TRUE(parse({"in", "-w"}).watch);
+  EXPECT_TRUE(parse({"in", "--read-only"}).read_only);
+  EXPECT_TRUE(parse({"in", "-r", "-w"}).read_only);
+  EXPECT_FALSE(parse({"in"}).read_only);
   EXPECT_EQ(parse({"help", "jog"}).topic, subcommand::jog);
   EXPECT_EQ(usage_message({"help", "fly"}), "help: no command 'fly'");
 }
@@ -468,7 +471,8 @@ TEST(Cli, HelpTexts) {
       {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::status, {"--json", "--port", "--device", "--help", "coordinate", "synchronized"}},
-      {subcommand::in, {"--watch", "--port", "--device", "--help", "pins 15, 13, 12, 10"}},
+      {subcommand::in,
+       {"--watch", "--read-only", "--port", "--device", "--help", "pins 15, 13, 12, 10", "stale"}},
       {subcommand::out, {"--time", "--port", "--device", "--help", "pin 14"}},
       {subcommand::keys, {"--port", "--device", "--help", "ESC (1)"}},
       {subcommand::sweep, {"--ramp", "--port", "--device", "--help"}},
@@ -1561,6 +1565,12 @@ TEST(Show, Texts) {
             "      412         0         0         0 [########------------] 41%");
   EXPECT_EQ(inputs_text(0x1f), "pin15=1 pin13=1 pin12=1 pin10=1 pin11=1");
   EXPECT_EQ(inputs_text(0x02), "pin15=0 pin13=1 pin12=0 pin10=0 pin11=0");
+  x4step::status st;
+  st.inputs_stale = true;
+  const auto now = std::chrono::steady_clock::now();
+  EXPECT_EQ(stale_text(st, now), "(stale: no controller has the port; never read)");
+  st.inputs_time = now - std::chrono::milliseconds(2500);
+  EXPECT_EQ(stale_text(st, now), "(stale: no controller has the port; read 2.5 s ago)");
   EXPECT_EQ(key_name(1), "ESC");
   EXPECT_EQ(key_name(28), "key code 28");
   EXPECT_EQ(key_name(156), "key code 156 (release of 28)");
@@ -1585,21 +1595,21 @@ TEST(Show, StatusJson) {
   a.axis[1].cruising = true;
   a.axis[3].error = x4step::axis_error::limit_neg | x4step::axis_error::ambiguous;
   a.switches_active = 0x5;
-  EXPECT_EQ(
-      status_json(s, a, "/dev/x4step0"),
-      "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
-      "\"steps\":[1,-2,3,0],\"inputs\":17,\"input_pins\":{\"15\":1,\"13\":0,\"12\":0,\"10\":0,\"11\":1},"
-      "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
-      "\"moves_ended\":7,\"axes\":["
-      "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
-      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
-      "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
-      "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
-      "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
-      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
-      "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
-      "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
-      "\"switches_active\":5}");
+  EXPECT_EQ(status_json(s, a, "/dev/x4step0"),
+            "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
+            "\"steps\":[1,-2,3,0],\"inputs\":17,\"inputs_stale\":false,\"input_pins\":{\"15\":1,\"13\":0,"
+            "\"12\":0,\"10\":0,\"11\":1},"
+            "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
+            "\"moves_ended\":7,\"axes\":["
+            "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
+            "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+            "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
+            "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
+            "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+            "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+            "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+            "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
+            "\"switches_active\":5}");
   EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
   const std::string text = status_text(s, a, "/dev/x4step0");
   EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;

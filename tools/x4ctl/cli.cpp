@@ -37,6 +37,7 @@ enum opt_id {
   opt_time,
   opt_json,
   opt_watch,
+  opt_read_only,
   opt_moves,
   opt_check,
   opt_echo,
@@ -377,6 +378,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       break;
     case subcommand::in:
       add("watch", 'w', false, opt_watch);
+      add("read-only", 'r', false, opt_read_only);
       break;
     case subcommand::out:
       add("time", 't', true, opt_time);
@@ -454,6 +456,9 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         break;
       case opt_watch:
         c.watch = true;
+        break;
+      case opt_read_only:
+        c.read_only = true;
         break;
       case opt_check:
         c.check = true;
@@ -880,10 +885,16 @@ std::string help_text(subcommand c) {
       return "Usage: x4ctl in [OPTIONS]\n"
              "\n"
              "Show the levels of the five inputs (X4GetIn), 1 = HIGH: pins 15, 13, 12, 10\n"
-             "and 11 are bits 0..4 of the value. Read-only.\n"
+             "and 11 are bits 0..4 of the value. The module reads the port only while it\n"
+             "has claimed it, for a controller: while another program controls the port\n"
+             "they are read through its claim; while none does, x4ctl takes the port for\n"
+             "as long as it runs (as 'x4ctl out' does). When another driver (lp, ppdev)\n"
+             "holds the port, or with --read-only, the levels shown are the last ones read,\n"
+             "marked 'stale' with their age.\n"
              "\n"
              "Options:\n"
-             "  -w, --watch          show them continuously until Ctrl-C\n" +
+             "  -w, --watch          show them continuously until Ctrl-C\n"
+             "  -r, --read-only      never take the port (stale levels if nobody controls it)\n" +
              std::string(port_help);
     case subcommand::out:
       return "Usage: x4ctl out [OPTIONS] SIGNAL on|off\n"

@@ -70,8 +70,9 @@ struct config {
   bool wait = false;
   int sweep_from = 0, sweep_to = 0, sweep_step = 0;
 
-  bool json = false;   ///< status, timing
-  bool watch = false;  ///< in
+  bool json = false;       ///< status, timing
+  bool watch = false;      ///< in
+  bool read_only = false;  ///< in: never take the port
   x4step::signal signal = x4step::signal::one;
   bool level = false;         ///< out
   std::vector<int> codes;     ///< keys

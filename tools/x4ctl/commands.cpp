@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -191,11 +192,39 @@ int cmd_status(const config &c) {
   return 0;
 }
 
+// The inputs as `x4ctl in` shows them. The module reads the port only
+// while it has claimed it: through another program's controller when there
+// is one, else x4ctl takes the port (kept until it ends), unless read_only.
+class input_reader {
+ public:
+  input_reader(std::string dev, bool read_only)
+      : dev_(std::move(dev)), read_only_(read_only), mon_(open_monitor(dev_)) {}
+
+  x4step::status read() {
+    if (ctl_) return ctl_->get_status();
+    const x4step::status s = mon_.get_status();
+    if (!s.inputs_stale || read_only_) return s;
+    try {
+      ctl_.emplace(dev_);
+    } catch (const x4step::error &) {
+      return s;  // another driver (or a controller that just opened) has it
+    }
+    return ctl_->get_status();
+  }
+
+ private:
+  std::string dev_;
+  bool read_only_;
+  x4step::monitor mon_;
+  std::optional<x4step::controller> ctl_;
+};
+
 int cmd_in(const config &c) {
-  const x4step::monitor mon = open_monitor(device_of(c));
+  input_reader in(device_of(c), c.read_only);
   auto line = [&] {
-    const unsigned v = mon.get_status().inputs;
-    return inputs_text(v) + " (" + std::to_string(v) + ")";
+    const x4step::status s = in.read();
+    return inputs_text(s.inputs) + " (" + std::to_string(s.inputs) + ")" +
+           (s.inputs_stale ? " " + stale_text(s, std::chrono::steady_clock::now()) : "");
   };
   if (!c.watch) {
     std::cout << line() << "\n";

@@ -44,6 +44,17 @@ std::string inputs_text(unsigned inputs) {
   return s;
 }
 
+std::string stale_text(const x4step::status &s, std::chrono::steady_clock::time_point now) {
+  std::string when = "never read";
+  if (s.inputs_time.time_since_epoch().count() > 0) {
+    const double age = std::chrono::duration<double>(now - s.inputs_time).count();
+    char t[40];
+    std::snprintf(t, sizeof t, "read %.1f s ago", age < 0 ? 0.0 : age);
+    when = t;
+  }
+  return "(stale: no controller has the port; " + when + ")";
+}
+
 std::string key_name(int code) {
   if (code == 1) return "ESC";
   if (code > 128)
@@ -147,7 +158,8 @@ std::string status_text(const x4step::status &s, const x4step::axes_status &a, c
     << "state        " << (s.active ? "running" : "idle") << (s.loaded ? ", a move is loaded" : "")
     << (s.controlled ? ", controlled" : ", no controller") << "\n"
     << "steps        " << steps_text(s.steps) << "\n"
-    << "inputs       " << inputs_text(s.inputs) << "\n"
+    << "inputs       " << inputs_text(s.inputs)
+    << (s.inputs_stale ? " " + stale_text(s, std::chrono::steady_clock::now()) : "") << "\n"
     << "outputs      pin1=" << bit(s.outputs, 0) << " pin14=" << bit(s.outputs, 1)
     << " pin16(BOOST)=" << bit(s.outputs, 2) << " pin17(AKTIV)=" << bit(s.outputs, 3) << "\n"
     << "braked by    " << (s.last_brake_code ? key_name(s.last_brake_code) : "no key") << "\n"
@@ -162,7 +174,7 @@ std::string status_json(const x4step::status &s, const x4step::axes_status &a, c
   o << "{\"device\":" << json_string(device) << ",\"active\":" << boolean(s.active)
     << ",\"loaded\":" << boolean(s.loaded) << ",\"controlled\":" << boolean(s.controlled) << ",\"steps\":[";
   for (int i = 0; i < x4step::axes; i++) o << (i ? "," : "") << s.steps[i];
-  o << "],\"inputs\":" << s.inputs << ",\"input_pins\":{";
+  o << "],\"inputs\":" << s.inputs << ",\"inputs_stale\":" << boolean(s.inputs_stale) << ",\"input_pins\":{";
   for (int i = 0; i < 5; i++) o << (i ? "," : "") << "\"" << input_pins[i] << "\":" << bit(s.inputs, i);
   o << "},\"outputs\":" << s.outputs << ",\"signal1\":" << bit(s.outputs, 0)
     << ",\"signal2\":" << bit(s.outputs, 1) << ",\"boost\":" << bit(s.outputs, 2)

@@ -4,6 +4,7 @@
 #define X4CTL_SHOW_HPP
 
 #include <array>
+#include <chrono>
 #include <string>
 
 #include "../json_string.hpp"
@@ -21,6 +22,9 @@ std::string bar(long long done, long long total, int width);
 std::string progress_line(const step_counts &steps, long long done, long long total);
 /// "pin15=1 pin13=0 pin12=0 pin10=1 pin11=0"
 std::string inputs_text(unsigned inputs);
+/// For inputs that were not read now (s.inputs_stale): "(stale: no
+/// controller has the port; read 2.5 s ago)", or "... never read)".
+std::string stale_text(const x4step::status &s, std::chrono::steady_clock::time_point now);
 /// "ESC" for 1, else "key code N" (release codes say so).
 std::string key_name(int code);
 /// Multi-line text of `x4ctl status`.

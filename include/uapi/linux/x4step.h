@@ -78,6 +78,15 @@ struct x4step_endless {
 #define X4STEP_ST_LOADED (1u << 1) /* a move is loaded */
 /* A controller has the device open, or its moves still brake after close. */
 #define X4STEP_ST_CONTROLLED (1u << 2)
+/*
+ * ABI 4: `inputs` were not read now but are the levels last read, at
+ * inputs_time_ns (0: never): the module reads the port's status register
+ * only while it has claimed the port, that is while a controller has the
+ * device open (or its moves still brake after close). The rest of the
+ * time another parport driver (lp, ppdev) may own the port, and x4step
+ * leaves its registers alone. Also in x4step_axes.flags.
+ */
+#define X4STEP_ST_INPUTS_STALE (1u << 3)
 
 /* Output pins in x4step_status.outputs and x4step_output.signal. */
 #define X4STEP_OUT_SIGNAL1 (1u << 0) /* pin 1 */
@@ -85,19 +94,23 @@ struct x4step_endless {
 #define X4STEP_OUT_BOOST (1u << 2) /* pin 16, driven by the engine */
 #define X4STEP_OUT_AKTIV (1u << 3) /* pin 17, driven by the engine */
 
-/* X4STEP_GET_STATUS: readable on any descriptor, never blocks. */
+/*
+ * X4STEP_GET_STATUS: readable on any descriptor, never blocks. Touches
+ * no port register unless x4step has claimed the port (see
+ * X4STEP_ST_INPUTS_STALE).
+ */
 struct x4step_status {
 	__u32 flags; /* X4STEP_ST_* */
 	__u32 last_brake_code; /* key code that braked the last move, or 0 */
 	/* X4GetIn: bit0 pin15, bit1 pin13, bit2 pin12, bit3 pin10, bit4 pin11 */
-	__u32 inputs; /* 1 = HIGH */
+	__u32 inputs; /* 1 = HIGH; see X4STEP_ST_INPUTS_STALE */
 	__u32 outputs; /* X4STEP_OUT_* levels (1 = HIGH) */
 	__s64 steps[X4STEP_AXES]; /* signed steps since the last start */
 	__u64 moves_ended; /* counts moves that came to an end */
 	__u32 data; /* data register pin levels (pins 2..9) */
 	__u32 reserved0;
 	__u64 brake_time_ns; /* CLOCK_MONOTONIC of the last brake request */
-	__u32 reserved[2];
+	__u64 inputs_time_ns; /* ABI 4: CLOCK_MONOTONIC the inputs were read */
 };
 
 /* X4STEP_SET_OUTPUT: X4SetOut. */
@@ -318,7 +331,8 @@ struct x4step_axes {
 	struct x4step_axis axis[X4STEP_AXES];
 	__u32 inputs; /* as x4step_status.inputs */
 	__u32 switches; /* bit k: input k + 1 is active (after NO/NC) */
-	__u32 reserved[2];
+	__u32 flags; /* ABI 4: X4STEP_ST_INPUTS_STALE, or 0 */
+	__u32 reserved;
 };
 
 #define X4STEP_IOC_MAGIC 0xB4
