@@ -505,20 +505,48 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 	return copy_to_user(uarg, &ua, sizeof(ua)) ? -EFAULT : 0;
 }
 
+/* Set the signals in `mask` to `levels`, in one control register write. */
+static void x4_set_outputs(struct x4_port *x4, u32 mask, u32 levels)
+{
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (mask & X4STEP_OUT_SIGNAL1)
+		x4_engine_set_signal(&x4->eng, X4_CTL_SIGNAL1,
+				     levels & X4STEP_OUT_SIGNAL1);
+	if (mask & X4STEP_OUT_SIGNAL2)
+		x4_engine_set_signal(&x4->eng, X4_CTL_SIGNAL2,
+				     levels & X4STEP_OUT_SIGNAL2);
+	x4_port_write_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+}
+
+/* X4STEP_SET_OUTPUT, ABI 1..3. */
 static int x4_ioctl_output(struct x4_port *x4, struct x4step_output __user *arg)
 {
 	struct x4step_output out;
-	unsigned long flags;
 
 	if (copy_from_user(&out, arg, sizeof(out)))
 		return -EFAULT;
 	if ((out.signal != X4STEP_OUT_SIGNAL1 &&
 	     out.signal != X4STEP_OUT_SIGNAL2) || out.level > 1)
 		return -EINVAL;
-	raw_spin_lock_irqsave(&x4->slock, flags);
-	x4_engine_set_signal(&x4->eng, out.signal, out.level);
-	x4_port_write_locked(x4);
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	x4_set_outputs(x4, out.signal, out.level ? out.signal : 0);
+	return 0;
+}
+
+static int x4_ioctl_outputs(struct x4_port *x4,
+			    struct x4step_outputs __user *arg)
+{
+	const u32 signals = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
+	struct x4step_outputs out;
+
+	if (copy_from_user(&out, arg, sizeof(out)))
+		return -EFAULT;
+	if (!out.mask || out.mask & ~signals || out.levels & ~out.mask ||
+	    out.flags || memchr_inv(out.reserved, 0, sizeof(out.reserved)))
+		return -EINVAL;
+	x4_set_outputs(x4, out.mask, out.levels);
 	return 0;
 }
 
@@ -694,6 +722,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_STOP:
 	case X4STEP_MOVE_ENDLESS:
 	case X4STEP_SET_OUTPUT:
+	case X4STEP_SET_OUTPUTS:
 	case X4STEP_SET_BRAKE_CODES:
 	case X4STEP_SET_CONFIG:
 	case X4STEP_SET_STEP_TIMING:
@@ -751,6 +780,9 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		break;
 	case X4STEP_SET_OUTPUT:
 		ret = x4_ioctl_output(x4, uarg);
+		break;
+	case X4STEP_SET_OUTPUTS:
+		ret = x4_ioctl_outputs(x4, uarg);
 		break;
 	case X4STEP_SET_BRAKE_CODES:
 		ret = x4_ioctl_brake_codes(x4, uarg);

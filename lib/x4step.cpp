@@ -433,8 +433,10 @@ unsigned controller::inputs() const { return get_status().inputs; }
 bool controller::wait(std::chrono::milliseconds timeout) const { return need().wait(timeout); }
 
 void controller::set_output(signal s, bool high) {
-  x4step_output out{s == signal::one ? X4STEP_OUT_SIGNAL1 : X4STEP_OUT_SIGNAL2, high ? 1u : 0u};
-  need().call(X4STEP_SET_OUTPUT, &out, "X4STEP_SET_OUTPUT");
+  x4step_outputs out{};
+  out.mask = s == signal::one ? X4STEP_OUT_SIGNAL1 : X4STEP_OUT_SIGNAL2;
+  out.levels = high ? out.mask : 0;
+  need().call(X4STEP_SET_OUTPUTS, &out, "X4STEP_SET_OUTPUTS");
 }
 
 void controller::set_brake_codes(const std::vector<int> &codes) {

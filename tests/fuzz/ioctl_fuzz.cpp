@@ -202,6 +202,7 @@ const Cmd kCmds[] = {
     {X4STEP_MOVE_ENDLESS, "MOVE_ENDLESS", sizeof(x4step_endless), true, offsetof(x4step_endless, result)},
     {X4STEP_GET_STATUS, "GET_STATUS", sizeof(x4step_status), false},
     {X4STEP_SET_OUTPUT, "SET_OUTPUT", sizeof(x4step_output), true},
+    {X4STEP_SET_OUTPUTS, "SET_OUTPUTS", sizeof(x4step_outputs), true},
     {X4STEP_SET_BRAKE_CODES, "SET_BRAKE_CODES", sizeof(x4step_brake_codes), true},
     {X4STEP_SET_CONFIG, "SET_CONFIG", sizeof(x4step_config), true},
     {X4STEP_GET_CONFIG, "GET_CONFIG", sizeof(x4step_config), false},
@@ -678,6 +679,15 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
         return invalid("signal/level");
       return valid(0);
     }
+    case X4STEP_SET_OUTPUTS: {
+      x4step_outputs o;
+      std::memcpy(&o, p.bytes, sizeof o);
+      const uint32_t sig = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
+      for (uint32_t r : o.reserved)
+        if (r) return invalid("reserved != 0");
+      if (!o.mask || (o.mask & ~sig) || (o.levels & ~o.mask) || o.flags) return invalid("mask/levels/flags");
+      return valid(0);
+    }
     case X4STEP_SET_BRAKE_CODES: {
       x4step_brake_codes b;
       std::memcpy(&b, p.bytes, sizeof b);
@@ -976,6 +986,11 @@ void check_effect(unsigned long cmd, const Payload &p, const Snapshot &a) {
     std::memcpy(&o, p.bytes, sizeof o);
     if (!!(a.st.outputs & o.signal) != !!o.level)
       violation("SET_OUTPUT signal %u level %u: outputs 0x%x", o.signal, o.level, a.st.outputs);
+  } else if (cmd == X4STEP_SET_OUTPUTS) {
+    x4step_outputs o;
+    std::memcpy(&o, p.bytes, sizeof o);
+    if ((a.st.outputs & o.mask) != o.levels)
+      violation("SET_OUTPUTS mask 0x%x levels 0x%x: outputs 0x%x", o.mask, o.levels, a.st.outputs);
   } else if (cmd == X4STEP_SET_PROFILE) {
     x4step_profile pr;
     std::memcpy(&pr, p.bytes, sizeof pr);
@@ -1311,6 +1326,15 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
     m.result = r.s32();
     std::memcpy(c, &m, sizeof m);
     return X4STEP_MOVE_ENDLESS;
+  }
+  if (x < 74 && r.chance(50)) {
+    x4step_outputs o{};
+    o.mask = r.chance(90) ? r.range(0, 4) : static_cast<uint32_t>(r.next());
+    o.levels = r.chance(90) ? r.range(0, 4) : static_cast<uint32_t>(r.next());
+    o.flags = maybe_nonzero(r, 8);
+    for (auto &res : o.reserved) res = maybe_nonzero(r, 3);
+    std::memcpy(c, &o, sizeof o);
+    return X4STEP_SET_OUTPUTS;
   }
   if (x < 74) {
     x4step_output o{};

@@ -113,10 +113,26 @@ struct x4step_status {
 	__u64 inputs_time_ns; /* ABI 4: CLOCK_MONOTONIC the inputs were read */
 };
 
-/* X4STEP_SET_OUTPUT: X4SetOut. */
+/*
+ * X4STEP_SET_OUTPUT: X4SetOut, ABI 1 to 3. Kept for the programs built
+ * for them; it cannot be extended: new programs use X4STEP_SET_OUTPUTS.
+ */
 struct x4step_output {
 	__u32 signal; /* X4STEP_OUT_SIGNAL1 or X4STEP_OUT_SIGNAL2 */
 	__u32 level; /* 0 or 1 */
+};
+
+/*
+ * X4STEP_SET_OUTPUTS (ABI 4): set the signals in `mask` to their bits in
+ * `levels`, both in one write of the control register. EINVAL for an
+ * empty mask, bits beyond the signals, levels outside the mask, or
+ * non-zero flags or reserved words (kept for later use).
+ */
+struct x4step_outputs {
+	__u32 mask; /* X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2, non-zero */
+	__u32 levels; /* 1 = HIGH */
+	__u32 flags; /* must be 0 */
+	__u32 reserved[5]; /* must be 0 */
 };
 
 /* X4STEP_SET_BRAKE_CODES: X4BrakeCodes. ESC (1) always brakes. */
@@ -351,7 +367,7 @@ struct x4step_axes {
 #define X4STEP_MOVE_ENDLESS _IOWR(X4STEP_IOC_MAGIC, 0x05, struct x4step_endless)
 /* Read the status. */
 #define X4STEP_GET_STATUS _IOR(X4STEP_IOC_MAGIC, 0x06, struct x4step_status)
-/* Set output signal 1 or 2. */
+/* Set output signal 1 or 2 (ABI 1..3; see X4STEP_SET_OUTPUTS). */
 #define X4STEP_SET_OUTPUT _IOW(X4STEP_IOC_MAGIC, 0x07, struct x4step_output)
 /* Set the brake keys. */
 #define X4STEP_SET_BRAKE_CODES _IOW(X4STEP_IOC_MAGIC, 0x08, struct x4step_brake_codes)
@@ -377,5 +393,7 @@ struct x4step_axes {
 #define X4STEP_SET_SWITCHES _IOW(X4STEP_IOC_MAGIC, 0x16, struct x4step_switches)
 #define X4STEP_GET_SWITCHES _IOR(X4STEP_IOC_MAGIC, 0x17, struct x4step_switches)
 #define X4STEP_GET_AXES _IOR(X4STEP_IOC_MAGIC, 0x18, struct x4step_axes)
+/* ABI 4: set output signals 1 and 2. */
+#define X4STEP_SET_OUTPUTS _IOW(X4STEP_IOC_MAGIC, 0x19, struct x4step_outputs)
 
 #endif /* _UAPI_LINUX_X4STEP_H */
