@@ -259,6 +259,42 @@ struct device {
     return s;
   }
 
+  // Events are POLLPRI (POLLIN means idle): poll, then read one.
+  std::optional<event> read_event(std::chrono::milliseconds timeout) const {
+    const deadline d(timeout);
+    for (;;) {
+      pollfd p{fd, POLLPRI, 0};
+      const int n = ::poll(&p, 1, d.poll_ms());
+      if (n < 0 && errno == EINTR) return std::nullopt;
+      if (n < 0) fail_errno(errno, "poll " + path);
+      if (n > 0 && (p.revents & POLLPRI)) {
+        x4step_event k{};
+        const ssize_t got = ::read(fd, &k, sizeof k);
+        if (got == static_cast<ssize_t>(sizeof k)) return to_event(k);
+        if (got < 0 && errno == ENODEV) fail(errc::lpt_not_found);
+        if (got < 0 && errno != EAGAIN && errno != EINTR) fail_errno(errno, "read " + path);
+        continue;  // another thread read it
+      }
+      if (n > 0 && (p.revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
+      if (d.expired()) return std::nullopt;
+    }
+  }
+
+  static event to_event(const x4step_event &k) {
+    event e;
+    e.seq = k.seq;
+    e.time =
+        std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::nanoseconds(k.timestamp_ns)));
+    e.type = static_cast<event_type>(k.type);
+    e.axis_mask = k.axes;
+    e.how = k.how;
+    e.value = k.value;
+    e.ambiguous = k.flags & X4STEP_EVF_AMBIGUOUS;
+    std::copy(std::begin(k.position), std::end(k.position), e.position.begin());
+    return e;
+  }
+
   // poll() reports POLLIN only while no move at all runs; the end of any
   // move wakes the pollers, but the kernel puts them back to sleep while
   // another move still runs. So this looks at the axes themselves and
@@ -356,6 +392,57 @@ std::ostream &operator<<(std::ostream &os, const axes_status &s) {
   }
   return os << " | inputs 0x" << std::hex << s.inputs << " switches 0x" << s.switches_active << std::dec
             << (s.inputs_stale ? " (stale)" : "");
+}
+
+namespace {
+
+const char *event_how(const event &e) {
+  static const char *const kinds[] = {"X4Step move", "endless move", "goto", "reference run"};
+  static const char *const ends[] = {
+      "completed", "braked", "stopped", "at a limit", "homed", "REF found", "reference travel exceeded"};
+  static const char *const sources[] = {"by request", "by key", "by the controller's close"};
+  static const char *const switches[] = {"E+", "E-", "REF"};
+  static const char *const changes[] = {"opened", "closed", "released the port"};
+  const unsigned h = e.how - 1;
+  switch (e.type) {
+    case event_type::move_started:
+      return h < 4 ? kinds[h] : "";
+    case event_type::move_ended:
+      return h < 7 ? ends[h] : "";
+    case event_type::brake:
+      return h < 3 ? sources[h] : "";
+    case event_type::switch_hit:
+      return h < 3 ? switches[h] : "";
+    case event_type::controller:
+      return h < 3 ? changes[h] : "";
+    default:
+      return "";
+  }
+}
+
+}  // namespace
+
+std::ostream &operator<<(std::ostream &os, const event &e) {
+  static const char *const names[] = {"move started", "move ended", "brake",
+                                      "switch",       "controller", "port gone"};
+  const unsigned t = static_cast<unsigned>(e.type) - 1;
+  os << '#' << e.seq << ' ';
+  if (t < 6)
+    os << names[t];
+  else
+    os << "event type " << static_cast<unsigned>(e.type);
+  if (e.axis_mask) {
+    os << ": axes";
+    for (int i = 0; i < axes; i++)
+      if (e.axis_mask >> i & 1u) os << ' ' << i + 1;
+  }
+  const char *how = event_how(e);
+  if (*how) os << (e.axis_mask ? ", " : ": ") << how;
+  if (e.type == event_type::brake && e.how == static_cast<unsigned>(brake_source::key)) os << ' ' << e.value;
+  if (e.type == event_type::switch_hit) os << " on input " << e.value << (e.ambiguous ? " (ambiguous)" : "");
+  os << ", at";
+  for (long p : e.position) os << ' ' << p;
+  return os;
 }
 
 std::ostream &operator<<(std::ostream &os, const status &s) {
@@ -601,6 +688,10 @@ bool controller::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout
   return need().wait_axes(axis_mask, timeout);
 }
 
+std::optional<event> controller::read_event(std::chrono::milliseconds timeout) const {
+  return need().read_event(timeout);
+}
+
 void controller::close() noexcept {
   if (!impl_) return;
   // Brake and wait here: the kernel brakes on its own when the device
@@ -649,6 +740,11 @@ axes_status monitor::get_axes() const {
 bool monitor::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) const {
   if (!impl_) fail(errc::init_not_done);
   return impl_->wait_axes(axis_mask, timeout);
+}
+
+std::optional<event> monitor::read_event(std::chrono::milliseconds timeout) const {
+  if (!impl_) fail(errc::init_not_done);
+  return impl_->read_event(timeout);
 }
 
 }  // namespace x4step

@@ -18,9 +18,9 @@
 //      (including config output modes, step timings, profiles, switches, goto
 //      targets at the 32-bit limits, reference runs, halts);
 //   c  several threads on the one controller descriptor with random valid and
-//      invalid sequences, read-only monitors (GET_STATUS, GET_AXES, poll), a
-//      thread opening and closing read-only and read-write descriptors
-//      (read-write: EBUSY);
+//      invalid sequences, read-only monitors (GET_STATUS, GET_AXES, poll,
+//      read() of events), a thread opening and closing read-only and
+//      read-write descriptors (read-write: EBUSY);
 //   c2 the controller closes; threads race to become the next one (at most one
 //      at a time; closing brakes moves with ramps of at most 20 ms: no close may
 //      take seconds);
@@ -50,7 +50,10 @@
 //    and error bits, step counters within 2 * 16777216, speeds within
 //    X4STEP_VEL_MAX, switch inputs 0..5, valid profiles, reserved fields zero,
 //    histogram adding up, clock pins low at rest);
-//  - poll() never reports an error; at most one controller at a time.
+//  - poll() never reports an error; at most one controller at a time;
+//  - read() of events (monitors, non-blocking descriptors, random sizes and
+//    memory) returns whole, sane events, seq increasing, time monotonic, or
+//    EINVAL (below one event), EFAULT (memory it cannot write), EAGAIN.
 // The controller descriptor is always closed at the end (the module brakes on
 // close): no motor keeps running after the fuzzer.
 //
@@ -1524,12 +1527,62 @@ long phase_b(int ctl, int ro, Rng &r, Arena &ar, double secs) {
 }
 
 // Phase c: threads.
+// ------------------------------------------------------------------ events
+
+// What one descriptor has read of the event stream so far.
+struct EventCursor {
+  uint64_t seq = 0;
+  uint64_t ns = 0;
+  long events = 0;
+};
+
+// One read() of events on a non-blocking descriptor, of a random size into
+// random memory: only whole, sane events (known type, flags and axes,
+// reserved fields zero), seq increasing and time never going back on the
+// descriptor (gaps are allowed: a reader may fall behind); EINVAL below one
+// event's size, EFAULT only where the kernel cannot write, else EAGAIN.
+void read_events(int fd, Rng &r, Arena &ar, EventCursor &cur) {
+  static const uint32_t sizes[] = {0, 1, 63, 64, 65, 127, 128, 200, 640, 4096};
+  const size_t ev = sizeof(x4step_event);
+  const size_t size = r.pick(sizes);
+  uint8_t content[kMaxPayload];
+  std::memset(content, 0xa5, sizeof content);
+  const Payload p = place(ar, r, random_ptr_kind(r, true), content, size);
+  const ssize_t n = read(fd, reinterpret_cast<void *>(p.arg), size);
+  const int err = errno;
+  if (n < 0) {
+    // The VFS refuses addresses beyond user space (access_ok) before the
+    // driver sees the call, whatever the size.
+    const bool beyond = p.kind == P_KERNEL || p.kind == P_NONCANON;
+    const bool ok = (err == EFAULT && (beyond || (size >= ev && p.writable < size))) ||
+                    (!beyond && (size < ev ? err == EINVAL : err == EAGAIN));
+    if (!ok) violation("read() of %zu bytes at %s: %s", size, kPtrNames[p.kind], std::strerror(err));
+    return;
+  }
+  if (size < ev || n % ev || static_cast<size_t>(n) > std::min(size, p.writable)) {
+    violation("read() of %zu bytes at %s returned %zd", size, kPtrNames[p.kind], n);
+    return;
+  }
+  for (ssize_t i = 0; i < n; i += ev) {
+    x4step_event e;
+    std::memcpy(&e, reinterpret_cast<const uint8_t *>(p.arg) + i, sizeof e);
+    if (e.type < X4STEP_EV_MOVE_STARTED || e.type > X4STEP_EV_PORT_GONE ||
+        (e.flags & ~X4STEP_EVF_AMBIGUOUS) || e.axes > 0xf || e.reserved[0] || e.reserved[1] ||
+        e.reserved[2] || e.seq <= cur.seq || e.timestamp_ns < cur.ns)
+      violation("event %s after #%llu at %llu ns", hex(&e, sizeof e).c_str(),
+                static_cast<unsigned long long>(cur.seq), static_cast<unsigned long long>(cur.ns));
+    cur.seq = e.seq;
+    cur.ns = e.timestamp_ns;
+    cur.events++;
+  }
+}
+
 struct Shared {
   std::atomic<bool> stop{false};
   std::atomic<bool> controller_open{true};  // the main controller descriptor is open
   std::atomic<int> controllers{0};
   std::atomic<long> iterations{0};
-  std::atomic<long> opens_ro{0}, opens_rw_busy{0}, controller_wins{0}, polls{0};
+  std::atomic<long> opens_ro{0}, opens_rw_busy{0}, controller_wins{0}, polls{0}, events{0};
   std::atomic<long> max_open_us{0}, max_close_us{0};  // racers: longest open(O_RDWR), close
   void keep_max(std::atomic<long> &m, Clock::time_point since) {
     long us = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - since).count();
@@ -1566,11 +1619,14 @@ void monitor(uint64_t seed, Shared &sh) {
   Rng r(seed);
   Arena ar;
   int fd = open_dev(O_RDONLY);
-  if (fd < 0) {
+  int evfd = open_dev(O_RDONLY | O_NONBLOCK);  // reads events
+  if (fd < 0 || evfd < 0) {
     violation("read-only open for a monitor failed: %s", std::strerror(errno));
+    if (fd >= 0) close(fd);
     return;
   }
   Ctx cx{fd, {false, false}, false};
+  EventCursor cur;
   uint64_t ended = 0;
   uint8_t content[kMaxPayload];
   while (!sh.stop) {
@@ -1590,6 +1646,10 @@ void monitor(uint64_t seed, Shared &sh) {
       violation("poll: %s", std::strerror(errno));
     else if (pfd.revents & ~(POLLIN | POLLRDNORM))
       violation("poll revents 0x%x", pfd.revents);
+    pollfd epfd{evfd, static_cast<short>(POLLIN | POLLPRI), 0};
+    if (poll(&epfd, 1, 0) < 0 || (epfd.revents & ~(POLLIN | POLLPRI)))
+      violation("poll (POLLPRI) revents 0x%x", epfd.revents);
+    for (int i = r.below(4); i > 0; i--) read_events(evfd, r, ar, cur);
     if (r.chance(30)) {  // anything on a read-only descriptor
       unsigned long cmd = r.chance(50) ? gen_structured(r, content, true) : random_cmd(r);
       if (cmd_index(cmd) >= kNumCmds || !kCmds[cmd_index(cmd)].state) random_bytes(r, content);
@@ -1598,6 +1658,8 @@ void monitor(uint64_t seed, Shared &sh) {
     }
     sh.iterations++;
   }
+  sh.events += cur.events;
+  close(evfd);
   close(fd);
 }
 
@@ -1605,9 +1667,11 @@ void monitor(uint64_t seed, Shared &sh) {
 // while the controller is open.
 void opener(uint64_t seed, Shared &sh) {
   Rng r(seed);
+  Arena ar;
   while (!sh.stop) {
     int mode = r.chance(50) ? O_RDONLY : r.chance(70) ? O_RDWR : O_WRONLY;
-    int fd = open_dev(mode | (r.chance(20) ? O_NONBLOCK : 0));
+    const bool nonblock = r.chance(20);
+    int fd = open_dev(mode | (nonblock ? O_NONBLOCK : 0));
     if (mode == O_RDONLY) {
       if (fd < 0)
         violation("read-only open failed: %s", std::strerror(errno));
@@ -1629,6 +1693,10 @@ void opener(uint64_t seed, Shared &sh) {
       if (r.chance(30)) {
         pollfd pfd{fd, POLLIN, 0};
         poll(&pfd, 1, 0);
+      }
+      if (nonblock && mode != O_WRONLY) {
+        EventCursor cur;
+        read_events(fd, r, ar, cur);
       }
       close(fd);
     }
@@ -1784,8 +1852,8 @@ int main(int argc, char **argv) {
     th.clear();
     note(
         "phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld "
-        "polls",
-        sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load());
+        "polls, %ld events read",
+        sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load(), sh.events.load());
     g_stats.print("c (threads on one controller)");
     g_stats.reset();
     total += sh.iterations;

@@ -38,6 +38,7 @@ enum opt_id {
   opt_json,
   opt_watch,
   opt_read_only,
+  opt_count,
   opt_moves,
   opt_check,
   opt_echo,
@@ -180,7 +181,7 @@ const command_entry commands[] = {
     {subcommand::monitor, "monitor"}, {subcommand::run, "run"},         {subcommand::timing, "timing"},
     {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
-    {subcommand::halt, "halt"},       {subcommand::help, "help"},
+    {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -386,6 +387,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
     case subcommand::monitor:
       add("moves", 'n', true, opt_moves);
       break;
+    case subcommand::watch:
+      add("json", 'j', false, opt_json);
+      add("count", 'n', true, opt_count);
+      break;
     case subcommand::run:
       add("check", 'c', false, opt_check);
       add("echo", 'e', false, opt_echo);
@@ -466,6 +471,12 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       case opt_echo:
         c.echo = true;
         break;
+      case opt_count: {
+        const long n = parse_number(o.value, prefix + "count");
+        if (n < 1) throw usage_error(prefix + "count " + o.value + " out of range: use 1 or more");
+        c.count = n;
+        break;
+      }
       case opt_moves: {
         const long n = parse_number(o.value, prefix + "moves");
         if (n < 1) throw usage_error(prefix + "moves " + o.value + " out of range: use 1 or more");
@@ -673,7 +684,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.topic = *t;
       }
       break;
-    default:  // brake, stop, status, in, monitor, timing
+    default:  // brake, stop, status, in, monitor, timing, watch
       need_operands(r, 0, 0, prefix);
       break;
   }
@@ -787,6 +798,7 @@ std::string help_text(subcommand c) {
              "  sweep AXIS STEPS FROM TO STEP\n"
              "                       frequency sweep of one axis, to find resonances\n"
              "  monitor              follow the moves on the port, read-only\n"
+             "  watch                print the port's events as they happen, read-only\n"
              "  run [FILE]           run test program commands from FILE or standard input\n"
              "  timing               show or set the step signal timing (pulse, space, ...)\n"
              "  mode [MODE]          show or set the output mode: clock-dir, or smc-phase and\n"
@@ -934,6 +946,24 @@ std::string help_text(subcommand c) {
              "Exit status: 0 every frequency ran; 1 the port refused or a move was braked;\n"
              "2 bad usage.\n"
              "Example: x4ctl sweep 2 1000 200 500 20\n";
+    case subcommand::watch:
+      return "Usage: x4ctl watch [OPTIONS]\n"
+             "\n"
+             "Print the events of the port as the module reports them, one line each,\n"
+             "until Ctrl-C (read-only): moves started (and their kind) and ended (completed,\n"
+             "braked, stopped, at a limit, homed, ...), brake requests and who made them\n"
+             "(a program, a brake key and its code, a controller's close), limit and\n"
+             "reference switches hit, controllers opening and closing, the port going\n"
+             "away. Each line starts with the event's number and its CLOCK_MONOTONIC\n"
+             "time in seconds. The module keeps the last 256 events: events a slow reader\n"
+             "missed show as 'missed N events'.\n"
+             "\n"
+             "Options:\n"
+             "  -j, --json           one JSON object per line instead of text\n"
+             "  -n, --count=N        end after N events\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 at Ctrl-C or after N events; 1 the port is missing or went away.\n";
     case subcommand::monitor:
       return "Usage: x4ctl monitor [OPTIONS]\n"
              "\n"

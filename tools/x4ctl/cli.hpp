@@ -48,6 +48,7 @@ enum class subcommand {
   zero,
   limits,
   halt,
+  watch,
   help
 };
 
@@ -77,6 +78,7 @@ struct config {
   bool level = false;         ///< out
   std::vector<int> codes;     ///< keys
   std::optional<long> moves;  ///< monitor: end after this many moves
+  std::optional<long> count;  ///< watch: end after this many events
   std::string file = "-";     ///< run; "-" is stdin
   bool check = false;         ///< run: check the script, move nothing
   bool echo = false;          ///< run: print each command

@@ -313,6 +313,30 @@ int cmd_monitor(const config &c) {
   return 0;
 }
 
+// The port's events, one line each, until Ctrl-C or --count of them.
+int cmd_watch(const config &c) {
+  const x4step::monitor mon = open_monitor(device_of(c));
+  std::uint64_t next = 0;  // the seq expected next; 0: any
+  long seen = 0;
+  while (take_signal() == key::none) {
+    std::optional<x4step::event> e;
+    try {
+      e = mon.read_event(tick);
+    } catch (const x4step::error &err) {
+      if (err.code() != x4step::errc::lpt_not_found) throw;
+      throw failure(device_of(c) + ": the port went away");
+    }
+    if (!e) continue;
+    if (next && e->seq > next)
+      std::cout << (c.json ? missed_json(e->seq - next) : missed_text(e->seq - next)) << "\n";
+    next = e->seq + 1;
+    std::cout << (c.json ? event_json(*e) : event_text(*e)) << "\n" << std::flush;
+    if (c.count && ++seen >= *c.count) return 0;
+    if (e->type == x4step::event_type::port_gone) throw failure(device_of(c) + ": the port went away");
+  }
+  return 0;
+}
+
 // timing, mode, profile, limits, zero: settings of an open port.
 int with_port(const config &c, void (*command)(port &, const config &, std::ostream &)) {
   controller_port p(open_controller(device_of(c)));
@@ -469,6 +493,8 @@ int dispatch(const config &c) {
       return with_port(c, limits_command);
     case subcommand::halt:
       return cmd_halt_axes(c);
+    case subcommand::watch:
+      return cmd_watch(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

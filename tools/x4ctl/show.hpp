@@ -5,6 +5,7 @@
 
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <string>
 
 #include "../json_string.hpp"
@@ -48,6 +49,14 @@ std::string limits_text(const x4step::switches &s, const x4step::axes_status &a)
 std::string input_name(int input);
 /// A JSON string literal.
 using x4tools::json_string;
+
+/// One line of `x4ctl watch`: "#12 105.001234 move ended: axes 1 2, braked, at 100 -50 0 0".
+std::string event_text(const x4step::event &e);
+/// The same as one line of JSON.
+std::string event_json(const x4step::event &e);
+/// What `x4ctl watch` says of events it missed (n > 0), as text or JSON.
+std::string missed_text(std::uint64_t n);
+std::string missed_json(std::uint64_t n);
 
 /// Every output mode, in the order the help lists them.
 constexpr x4step::output_mode output_modes[] = {

@@ -14,7 +14,8 @@
  * ramps and returns; the port is kept until the motors stand), or while
  * another parport driver (lp, ppdev) has claimed the port. poll() reports
  * POLLIN when no move runs and no such brake is pending, POLLERR | POLLHUP
- * when the port went away.
+ * when the port went away, and (ABI 4) POLLPRI when the descriptor has
+ * events to read() (struct x4step_event, below).
  *
  * Errors: every ioctl returns 0 or -1 with errno set.
  *   EINVAL  a parameter is out of range; for the ioctls with a
@@ -38,10 +39,12 @@
 #include <linux/types.h>
 
 /*
- * 2: positioning; 3: GET_TIMING counts every event, and shifts.
+ * 2: positioning; 3: GET_TIMING counts every event, and shifts;
+ * 4: events through read() (x4step_event, POLLPRI), X4STEP_SET_OUTPUTS,
+ * status reads that leave an unclaimed port alone (X4STEP_ST_INPUTS_STALE).
  * A version only adds: a program built for version N runs on any >= N.
  */
-#define X4STEP_ABI_VERSION 3
+#define X4STEP_ABI_VERSION 4
 #define X4STEP_AXES 4
 #define X4STEP_MAX_BRAKE_CODES 20
 
@@ -50,7 +53,8 @@ struct x4step_info {
 	__u32 abi_version; /* X4STEP_ABI_VERSION */
 	__u32 axes; /* X4STEP_AXES */
 	__u32 port; /* N of parportN */
-	__u32 reserved[5];
+	__u32 event_buffer; /* ABI 4: events kept per port (see x4step_event) */
+	__u32 reserved[4];
 };
 
 /* X4STEP_LOAD: an interpolated move (X4Load). */
@@ -349,6 +353,82 @@ struct x4step_axes {
 	__u32 switches; /* bit k: input k + 1 is active (after NO/NC) */
 	__u32 flags; /* ABI 4: X4STEP_ST_INPUTS_STALE, or 0 */
 	__u32 reserved;
+};
+
+/*
+ * Events (ABI 4). read() on any descriptor, read-only ones included,
+ * returns whole struct x4step_event records: as many as fit in the buffer
+ * and are there (EINVAL for a buffer smaller than one). With none to read
+ * it blocks, or fails with EAGAIN under O_NONBLOCK; once the port is gone
+ * and everything is read, with ENODEV. A descriptor reads what happens
+ * after its open(), from its own position: the module keeps the last
+ * x4step_info.event_buffer events of the port (256), and a reader that
+ * fell further behind resumes at the oldest one kept: the gap in `seq`
+ * says how many it missed.
+ *
+ * poll(): POLLPRI when there are events to read. POLLIN keeps its meaning
+ * (no move runs), so programs that wait for POLLIN, and libraries that
+ * share the descriptor, are not woken for events: wait for POLLPRI (or
+ * select()'s exceptfds, EPOLLPRI) to read them.
+ *
+ * A reader skips events of types it does not know, and treats `how`
+ * values it does not know as "other": later versions add both (a path
+ * queue's segments started and ended, hold and resume, starvation).
+ * Reserved fields are zero.
+ */
+#define X4STEP_EV_MOVE_STARTED 1 /* how: X4STEP_KIND_*; axes: its axes */
+#define X4STEP_EV_MOVE_ENDED 2 /* how: X4STEP_END_*; axes: its axes */
+/* A brake was asked for; how: X4STEP_SRC_*, value: the key's code */
+#define X4STEP_EV_BRAKE 3
+/* A switch stopped a move; how: X4STEP_SW_*, value: the input 1..5 */
+#define X4STEP_EV_SWITCH 4
+#define X4STEP_EV_CONTROLLER 5 /* how: X4STEP_CTL_* */
+#define X4STEP_EV_PORT_GONE 6 /* the last event of a port */
+
+/* Kinds of moves (how of X4STEP_EV_MOVE_STARTED). */
+#define X4STEP_KIND_LOADED 1 /* X4STEP_START: an interpolated move */
+#define X4STEP_KIND_ENDLESS 2 /* X4STEP_MOVE_ENDLESS */
+#define X4STEP_KIND_GOTO 3 /* X4STEP_GOTO: one per axis that moves */
+#define X4STEP_KIND_HOME 4 /* X4STEP_HOME */
+
+/* How moves end (how of X4STEP_EV_MOVE_ENDED). */
+#define X4STEP_END_COMPLETED 1 /* as planned */
+#define X4STEP_END_BRAKED 2 /* a brake was asked for while it ran */
+#define X4STEP_END_STOPPED 3 /* at once: X4STEP_STOP, HALT, SET_POSITION, */
+				/* the module's release, the port's removal */
+#define X4STEP_END_LIMIT 4 /* a limit switch (see X4STEP_EV_SWITCH) */
+#define X4STEP_END_HOMED 5 /* reference run done: at 0, synchronized */
+#define X4STEP_END_REF_FOUND 6 /* a phase-1-only run found REF */
+#define X4STEP_END_REF_TRAVEL 7 /* a reference phase went beyond sref */
+
+/* Who asked for a brake (how of X4STEP_EV_BRAKE). */
+#define X4STEP_SRC_IOCTL 1 /* X4STEP_BRAKE or X4STEP_HALT */
+#define X4STEP_SRC_KEY 2 /* a brake key; value: its set-1 code */
+#define X4STEP_SRC_CLOSE 3 /* the controller closed while moves ran */
+
+/* Switches (how of X4STEP_EV_SWITCH); one event per axis. */
+#define X4STEP_SW_LIMIT_POS 1 /* E+ */
+#define X4STEP_SW_LIMIT_NEG 2 /* E- */
+#define X4STEP_SW_REF 3 /* REF: a reference phase ended */
+
+/* Controllers (how of X4STEP_EV_CONTROLLER). */
+#define X4STEP_CTL_OPENED 1
+#define X4STEP_CTL_CLOSED 2 /* its moves, if any, brake (X4STEP_SRC_CLOSE) */
+#define X4STEP_CTL_RELEASED 3 /* the port is free: a controller may open */
+
+/* Flags of struct x4step_event. */
+#define X4STEP_EVF_AMBIGUOUS (1u << 0) /* the input serves other limits */
+
+struct x4step_event {
+	__u64 seq; /* 1, 2, 3, ... per port */
+	__u64 timestamp_ns; /* CLOCK_MONOTONIC; never decreases */
+	__u32 type; /* X4STEP_EV_* */
+	__u32 axes; /* axis mask (bit i: axis i + 1), or 0 */
+	__u32 how; /* by type, above */
+	__u32 value; /* by type, above; else 0 */
+	__s32 position[X4STEP_AXES]; /* every axis' coordinate then */
+	__u32 flags; /* X4STEP_EVF_* */
+	__u32 reserved[3];
 };
 
 #define X4STEP_IOC_MAGIC 0xB4
