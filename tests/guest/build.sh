@@ -18,6 +18,7 @@ $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/discipline_test" "$top/tests/guest/discipline_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/reliability_test" "$top/tests/guest/reliability_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/events_test" "$top/tests/guest/events_test.cpp"
+$cxx -I"$top/include/uapi" -o "$out/config_test" "$top/tests/guest/config_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/ioctl_fuzz" "$top/tests/fuzz/ioctl_fuzz.cpp"
 gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' \
 	-c -o "$out/x4_engine.o" "$top/kmod/x4_engine.c"

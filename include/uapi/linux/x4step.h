@@ -153,7 +153,12 @@ struct x4step_brake_codes {
 #define X4STEP_MODE_SMC_PHASE 1
 #define X4STEP_MODE_SMC_PHASE_HOLD 2 /* the same, reduced current at rest */
 
-/* X4STEP_SET_CONFIG / X4STEP_GET_CONFIG: per-port wiring. */
+/*
+ * X4STEP_SET_CONFIG / X4STEP_GET_CONFIG: per-port wiring. SET_CONFIG only
+ * while no move runs (EBUSY); it puts the port at rest for the new wiring
+ * in one data write (phase modes: the motors' rest patterns), so no clock
+ * makes an edge that a driver wired the new way counts as a step.
+ */
 /*
  * Brake keys reach applications too unless this is set: then, as in the
  * DOS library, a brake key pressed while a move runs is swallowed.
