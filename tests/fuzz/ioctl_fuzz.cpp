@@ -879,8 +879,10 @@ void check_read_result(unsigned long cmd, const uint8_t *out, uint32_t req) {
     std::memcpy(&in, out, sizeof in);
     bool res = false;
     for (uint32_t r : in.reserved) res |= r != 0;
-    if (in.abi_version != X4STEP_ABI_VERSION || in.axes != X4STEP_AXES || in.port > 15 || res)
-      violation("GET_INFO: abi %u axes %u port %u reserved %d", in.abi_version, in.axes, in.port, res);
+    const bool ring = in.event_buffer >= 16 && !(in.event_buffer & (in.event_buffer - 1));
+    if (in.abi_version != X4STEP_ABI_VERSION || in.axes != X4STEP_AXES || in.port > 15 || res || !ring)
+      violation("GET_INFO: abi %u axes %u port %u events %u reserved %d", in.abi_version, in.axes, in.port,
+                in.event_buffer, res);
   } else if (cmd == X4STEP_GET_CONFIG) {
     x4step_config cf;
     std::memcpy(&cf, out, sizeof cf);
