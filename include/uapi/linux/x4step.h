@@ -4,9 +4,10 @@
  *
  * One char device /dev/x4stepN per parallel port parportN. One process at
  * a time opens it read-write and controls the motors; any number may open
- * it read-only to watch (status, poll). Structures hold fixed-width fields
- * only, are padded to 64 bits, and their reserved fields must be zero, so
- * 32-bit programs use the same layout and later versions can extend them.
+ * it read-only to watch (status, poll, events through read()). Structures
+ * hold fixed-width fields only, are padded to 64 bits, and their reserved
+ * fields must be zero, so 32-bit programs use the same layout and later
+ * versions can extend them.
  *
  * The read-write open claims the parallel port; it fails with EBUSY while
  * another controller has the device, while the module still brakes the
