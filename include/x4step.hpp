@@ -43,6 +43,7 @@
 #include <cstdint>
 #include <iosfwd>
 #include <memory>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -110,9 +111,15 @@ struct status {
   bool controlled = false;              ///< a controller has the port
   std::array<long long, axes> steps{};  ///< since the last start
   unsigned inputs = 0;                  ///< X4GetIn bits
-  unsigned outputs = 0;                 ///< bit0 pin 1, bit1 pin 14, bit2 BOOST, bit3 AKTIV
-  unsigned data = 0;                    ///< pin levels of pins 2..9
-  int last_brake_code = 0;              ///< key code that braked the last move
+  /// The inputs were not read now: no controller has the port (another
+  /// parport driver may own it, and the module leaves it alone), so they
+  /// are the levels last read while one had it, at inputs_time. Never set
+  /// for a controller's own reads.
+  bool inputs_stale = false;
+  std::chrono::steady_clock::time_point inputs_time{};  ///< when the inputs were read (epoch: never)
+  unsigned outputs = 0;                                 ///< bit0 pin 1, bit1 pin 14, bit2 BOOST, bit3 AKTIV
+  unsigned data = 0;                                    ///< pin levels of pins 2..9
+  int last_brake_code = 0;                              ///< key code that braked the last move
   std::uint64_t moves_ended = 0;
 };
 std::ostream &operator<<(std::ostream &os, const status &s);
@@ -213,8 +220,53 @@ struct axes_status {
   std::array<axis_status, axes> axis{};
   unsigned inputs = 0;           ///< X4GetIn bits
   unsigned switches_active = 0;  ///< bit k: input k + 1 is active (after NO/NC)
+  bool inputs_stale = false;     ///< inputs and switches_active as last read (see status::inputs_stale)
 };
 std::ostream &operator<<(std::ostream &os, const axes_status &s);
+
+// ---- events ------------------------------------------------------------------
+
+/// What happened on a port (linux/x4step.h, x4step_event). A newer module
+/// may send types and `how` values this library does not name: the enums
+/// then hold the number, and a reader should skip what it does not know.
+enum class event_type {
+  move_started = 1,  ///< how: move_kind
+  move_ended = 2,    ///< how: end_reason
+  brake = 3,         ///< a brake was asked for; how: brake_source, value: the key's code
+  switch_hit = 4,    ///< a switch stopped a move; how: switch_kind, value: the input 1..5
+  controller = 5,    ///< how: controller_change
+  port_gone = 6,     ///< the port went away: the last event
+};
+enum class move_kind { loaded = 1, endless = 2, go_to = 3, home = 4 };
+enum class end_reason {
+  completed = 1,   ///< as planned
+  braked = 2,      ///< a brake was asked for while it ran
+  stopped = 3,     ///< at once (stop, halt, set_position, the port's removal)
+  limit = 4,       ///< a limit switch
+  homed = 5,       ///< reference run done: at 0, synchronized
+  ref_found = 6,   ///< a phase-1-only reference run found REF
+  ref_travel = 7,  ///< a reference phase went beyond sref
+};
+enum class brake_source {
+  request = 1,
+  key = 2,
+  close = 3
+};  ///< brake()/halt(), a brake key, the controller's close
+enum class switch_kind { limit_pos = 1, limit_neg = 2, ref = 3 };
+enum class controller_change { opened = 1, closed = 2, released = 3 };  ///< released: a controller may open
+
+struct event {
+  std::uint64_t seq = 0;                         ///< 1, 2, 3, ... per port: a gap is events missed
+  std::chrono::steady_clock::time_point time{};  ///< CLOCK_MONOTONIC
+  event_type type{};
+  unsigned axis_mask = 0;             ///< the axes concerned: bit i is axis i + 1
+  unsigned how = 0;                   ///< by type: move_kind, end_reason, ...
+  unsigned value = 0;                 ///< key code (brake by key), input 1..5 (switch)
+  bool ambiguous = false;             ///< switch: the input serves other limits too
+  std::array<long, axes> position{};  ///< every axis' coordinate then
+};
+/// "#12 move ended: axes 1 2, braked, at 100 -50 0 0"
+std::ostream &operator<<(std::ostream &os, const event &e);
 
 /// Why a profile is invalid (param_fail), or errc::ok: the kernel's rules.
 errc check(const profile &p) noexcept;
@@ -299,6 +351,11 @@ class controller {
   /// (negative: for ever). Other axes may go on moving.
   bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
 
+  /// The next event of the port (from the controller's open on), waiting
+  /// up to timeout (negative: for ever); none on timeout or signal.
+  /// Throws lpt_not_found once the port is gone and every event was read.
+  std::optional<event> read_event(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+
   /// Release the port now (what the destructor does); idempotent. Brakes
   /// running motors along their ramps and waits until they stand (for as
   /// long as the brake takes; the port going away ends the wait), so that
@@ -328,6 +385,10 @@ class monitor {
   axes_status get_axes() const;
   /// As controller::wait_axes.
   bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+  /// The next event of the port, from this monitor's construction on: as
+  /// controller::read_event. The module keeps the last 256 events; a
+  /// monitor that fell further behind sees a gap in event::seq.
+  std::optional<event> read_event(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
 
  private:
   struct impl;

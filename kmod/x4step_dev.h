@@ -16,6 +16,7 @@
 #include "x4_engine.h"
 
 #define X4_MAX_PORTS 16 /* minors: parport numbers 0..15 */
+#define X4_EVENTS 256 /* events kept per port, a power of 2 */
 
 /*
  * Locking: `lock` (a mutex) serializes open, release, ioctls and detach.
@@ -38,7 +39,14 @@ struct x4_port {
 	struct x4_engine eng;
 	struct hrtimer timer;
 	ktime_t epoch; /* engine time 0 */
-	bool claimed; /* the registers are ours: write them */
+	bool claimed; /* the registers are ours: write them, read them */
+	/*
+	 * The input pins as last read while the port was ours, and when
+	 * (CLOCK_MONOTONIC, 0: never): status reads report these, marked
+	 * stale, while another driver may own the port.
+	 */
+	u8 inputs;
+	u64 inputs_ns;
 	bool written_valid; /* the registers hold data_written, ctl_written */
 	u8 data_written;
 	u8 ctl_written;
@@ -58,7 +66,24 @@ struct x4_port {
 	struct x4_goto plan_goto;
 
 	struct irq_work wake_work; /* wake pollers from the hard-irq timer */
-	wait_queue_head_t wait;
+	wait_queue_head_t wait; /* pollers, and readers of events */
+
+	/*
+	 * The event stream (x4step_events.c), under slock: a ring of
+	 * X4_EVENTS, event `seq` at seq % X4_EVENTS, ev_seq the next one's.
+	 * The ev_ fields below are the engine as last seen, and why the moves
+	 * of each channel will end.
+	 */
+	struct x4step_event *events;
+	u64 ev_seq;
+	u64 ev_time_ns; /* the last event's time: times never go back */
+	u8 ev_busy; /* channels that ran */
+	u8 ev_err[X4_AXES]; /* the axes' error bits */
+	u8 ev_home[X4_AXES]; /* each channel's reference phase */
+	bool ev_ref_found[X4_AXES]; /* ... and whether its phase 1 saw REF */
+	u8 ev_how[X4_AXES]; /* X4STEP_END_* a channel's move ends with, or 0 */
+	u8 ev_braked; /* channels whose brake was asked for */
+	u8 ev_stopped; /* channels stopped at once */
 
 	/*
 	 * Deferred release (x4step_main.c). A controller that closes while
@@ -70,15 +95,25 @@ struct x4_port {
 	bool releasing;
 };
 
+/* One open file of /dev/x4stepN (file->private_data). */
+struct x4_file {
+	struct x4_port *x4;
+	struct mutex read_lock; /* one read() at a time */
+	u64 ev_next; /* the seq of the next event this file reads */
+};
+
 void x4_port_init(struct x4_port *x4);
 void x4_port_claimed(struct x4_port *x4);
 void x4_port_quiesce(struct x4_port *x4);
 /* Engine calls that start moves, with the ioctl's arguments. */
 typedef int (*x4_starter)(struct x4_engine *e, const void *arg, u64 now_ns);
-int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg);
+int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg,
+		u32 kind);
 int x4_port_goto(struct x4_port *x4, u8 axes, const s32 *target,
 		 bool relative);
 void x4_port_halted_locked(struct x4_port *x4);
+int x4_port_brake_locked(struct x4_port *x4, u8 axes, u32 source, u32 code);
+int x4_port_stop_locked(struct x4_port *x4, u8 axes);
 void x4_port_write_locked(struct x4_port *x4);
 void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);
 void x4_port_write_rest_locked(struct x4_port *x4);
@@ -86,6 +121,21 @@ u32 x4_port_inputs_locked(struct x4_port *x4);
 void x4_port_gone(struct x4_port *x4);
 bool x4_port_brake_key(struct x4_port *x4, u32 code);
 bool x4_brake_key_all(u32 code);
+
+int x4_events_alloc(struct x4_port *x4);
+void x4_events_free(struct x4_port *x4);
+u8 x4_events_chans_locked(struct x4_port *x4, u8 axes);
+void x4_events_brake_locked(struct x4_port *x4, u8 chans, u32 source,
+			    u32 code);
+void x4_events_stop_locked(struct x4_port *x4, u8 chans);
+void x4_events_controller_locked(struct x4_port *x4, u32 how);
+void x4_events_gone_locked(struct x4_port *x4);
+void x4_events_update_locked(struct x4_port *x4, int c, u32 kind);
+void x4_events_fired_locked(struct x4_port *x4, int c);
+void x4_events_open(struct x4_port *x4, struct x4_file *xf);
+__poll_t x4_events_poll(struct x4_port *x4, struct x4_file *xf);
+ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
+		       struct file *file, char __user *buf, size_t count);
 int x4_keys_init(void);
 void x4_keys_exit(void);
 

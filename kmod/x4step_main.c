@@ -58,13 +58,26 @@ static bool x4_busy(struct x4_port *x4)
 	return busy;
 }
 
+static struct x4_port *x4_of(struct file *file)
+{
+	return ((struct x4_file *)file->private_data)->x4;
+}
+
 static int x4_open(struct inode *inode, struct file *file)
 {
 	struct x4_port *x4 = container_of(inode->i_cdev, struct x4_port, cdev);
+	struct x4_file *xf;
+	unsigned long flags;
 	int ret = 0;
 
+	xf = kzalloc(sizeof(*xf), GFP_KERNEL);
+	if (!xf)
+		return -ENOMEM;
 	get_device(&x4->dev);
-	file->private_data = x4;
+	xf->x4 = x4;
+	file->private_data = xf;
+	stream_open(inode, file);
+	x4_events_open(x4, xf);
 	if ((file->f_mode & FMODE_WRITE) == 0)
 		return 0;
 
@@ -78,10 +91,15 @@ static int x4_open(struct inode *inode, struct file *file)
 	if (!ret) {
 		WRITE_ONCE(x4->controller, file);
 		x4_port_claimed(x4);
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		x4_events_controller_locked(x4, X4STEP_CTL_OPENED);
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
 	}
 	mutex_unlock(&x4->lock);
-	if (ret)
+	if (ret) {
 		put_device(&x4->dev);
+		kfree(xf);
+	}
 	return ret;
 }
 
@@ -91,11 +109,16 @@ static int x4_open(struct inode *inode, struct file *file)
 /* Stop the port (the engine is idle) and let others have it. */
 static void x4_let_go(struct x4_port *x4)
 {
+	unsigned long flags;
+
 	lockdep_assert_held(&x4->lock);
 	/* Before the wake-up in quiesce: pollers see the port free. */
 	WRITE_ONCE(x4->releasing, false);
 	x4_port_quiesce(x4);
 	parport_release(x4->pardev);
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_events_controller_locked(x4, X4STEP_CTL_RELEASED);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
 /*
@@ -129,7 +152,8 @@ static void x4_release_work(struct work_struct *work)
  */
 static int x4_release(struct inode *inode, struct file *file)
 {
-	struct x4_port *x4 = file->private_data;
+	struct x4_file *xf = file->private_data;
+	struct x4_port *x4 = xf->x4;
 	unsigned long flags;
 	bool busy;
 
@@ -138,8 +162,10 @@ static int x4_release(struct inode *inode, struct file *file)
 		WRITE_ONCE(x4->controller, NULL);
 		if (!x4->gone) { /* else x4_detach() released the port */
 			raw_spin_lock_irqsave(&x4->slock, flags);
+			x4_events_controller_locked(x4, X4STEP_CTL_CLOSED);
 			if (x4_engine_busy(&x4->eng))
-				x4_engine_brake(&x4->eng);
+				x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_CLOSE,
+						     0);
 			busy = x4_engine_busy(&x4->eng);
 			raw_spin_unlock_irqrestore(&x4->slock, flags);
 			if (busy) {
@@ -153,23 +179,39 @@ static int x4_release(struct inode *inode, struct file *file)
 	}
 	mutex_unlock(&x4->lock);
 	put_device(&x4->dev);
+	kfree(xf);
 	return 0;
 }
 
+/*
+ * POLLIN keeps its meaning of ABI 1 to 3 (the library's wait() relies on
+ * it): no move runs. Events to read() are POLLPRI, on any descriptor.
+ */
 static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
 {
-	struct x4_port *x4 = file->private_data;
+	struct x4_file *xf = file->private_data;
+	struct x4_port *x4 = xf->x4;
+	__poll_t events;
 
 	poll_wait(file, &x4->wait, wait);
+	events = x4_events_poll(x4, xf);
 	if (READ_ONCE(x4->gone))
-		return EPOLLERR | EPOLLHUP;
+		return events | EPOLLERR | EPOLLHUP;
 	/*
 	 * Idle, and the brake of a controller that closed is over: once
 	 * this reports POLLIN, a new controller may open.
 	 */
 	if (x4_busy(x4) || READ_ONCE(x4->releasing))
-		return 0;
-	return EPOLLIN | EPOLLRDNORM;
+		return events;
+	return events | EPOLLIN | EPOLLRDNORM;
+}
+
+static ssize_t x4_read(struct file *file, char __user *buf, size_t count,
+		       loff_t *ppos)
+{
+	struct x4_file *xf = file->private_data;
+
+	return x4_events_read(xf->x4, xf, file, buf, count);
 }
 
 static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
@@ -184,6 +226,9 @@ static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
 		return -ENODEV;
 	}
 	st->inputs = x4_port_inputs_locked(x4);
+	st->inputs_time_ns = x4->inputs_ns;
+	if (!x4->claimed)
+		st->flags |= X4STEP_ST_INPUTS_STALE;
 	if (x4_engine_busy(&x4->eng))
 		st->flags |= X4STEP_ST_ACTIVE;
 	if (x4->eng.loaded)
@@ -273,12 +318,12 @@ typedef int (*x4_runner)(struct x4_port *x4, const void *karg);
 
 static int x4_run_endless(struct x4_port *x4, const void *karg)
 {
-	return x4_port_run(x4, x4_start_endless, karg);
+	return x4_port_run(x4, x4_start_endless, karg, X4STEP_KIND_ENDLESS);
 }
 
 static int x4_run_home(struct x4_port *x4, const void *karg)
 {
-	return x4_port_run(x4, x4_start_home, karg);
+	return x4_port_run(x4, x4_start_home, karg, X4STEP_KIND_HOME);
 }
 
 /* A goto is planned outside the raw lock (x4_port_goto()). */
@@ -349,10 +394,10 @@ static int x4_ioctl_halt(struct x4_port *x4, u32 axes, u32 how)
 	int ret;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	ret = x4_engine_halt(&x4->eng, (u8)axes, how == X4STEP_HALT_STOP);
-	if (ret == X4_OK && how == X4STEP_HALT_BRAKE)
-		x4->brake_time_ns = ktime_get_ns();
-	x4_port_halted_locked(x4);
+	if (how == X4STEP_HALT_STOP)
+		ret = x4_port_stop_locked(x4, (u8)axes);
+	else
+		ret = x4_port_brake_locked(x4, (u8)axes, X4STEP_SRC_IOCTL, 0);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return x4_errno(ret);
 }
@@ -382,6 +427,7 @@ static int x4_ioctl_set_position(struct x4_port *x4,
 	if (!up.axes || up.axes > 0x0f || up.reserved)
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_events_stop_locked(x4, x4_events_chans_locked(x4, (u8)up.axes));
 	ret = x4_engine_set_position(&x4->eng, (u8)up.axes, up.position);
 	x4_port_halted_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -488,6 +534,8 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 		return -ENODEV;
 	}
 	ua.inputs = x4_port_inputs_locked(x4);
+	if (!x4->claimed)
+		ua.flags = X4STEP_ST_INPUTS_STALE;
 	ua.switches = (ua.inputs ^ x4->eng.sw.nc) & 0x1f;
 	for (i = 0; i < X4_AXES; i++) {
 		x4_engine_axis(&x4->eng, i, &st);
@@ -500,20 +548,48 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 	return copy_to_user(uarg, &ua, sizeof(ua)) ? -EFAULT : 0;
 }
 
+/* Set the signals in `mask` to `levels`, in one control register write. */
+static void x4_set_outputs(struct x4_port *x4, u32 mask, u32 levels)
+{
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (mask & X4STEP_OUT_SIGNAL1)
+		x4_engine_set_signal(&x4->eng, X4_CTL_SIGNAL1,
+				     levels & X4STEP_OUT_SIGNAL1);
+	if (mask & X4STEP_OUT_SIGNAL2)
+		x4_engine_set_signal(&x4->eng, X4_CTL_SIGNAL2,
+				     levels & X4STEP_OUT_SIGNAL2);
+	x4_port_write_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+}
+
+/* X4STEP_SET_OUTPUT, ABI 1..3. */
 static int x4_ioctl_output(struct x4_port *x4, struct x4step_output __user *arg)
 {
 	struct x4step_output out;
-	unsigned long flags;
 
 	if (copy_from_user(&out, arg, sizeof(out)))
 		return -EFAULT;
 	if ((out.signal != X4STEP_OUT_SIGNAL1 &&
 	     out.signal != X4STEP_OUT_SIGNAL2) || out.level > 1)
 		return -EINVAL;
-	raw_spin_lock_irqsave(&x4->slock, flags);
-	x4_engine_set_signal(&x4->eng, out.signal, out.level);
-	x4_port_write_locked(x4);
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	x4_set_outputs(x4, out.signal, out.level ? out.signal : 0);
+	return 0;
+}
+
+static int x4_ioctl_outputs(struct x4_port *x4,
+			    struct x4step_outputs __user *arg)
+{
+	const u32 signals = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
+	struct x4step_outputs out;
+
+	if (copy_from_user(&out, arg, sizeof(out)))
+		return -EFAULT;
+	if (!out.mask || out.mask & ~signals || out.levels & ~out.mask ||
+	    out.flags || memchr_inv(out.reserved, 0, sizeof(out.reserved)))
+		return -EINVAL;
+	x4_set_outputs(x4, out.mask, out.levels);
 	return 0;
 }
 
@@ -632,7 +708,7 @@ static int x4_ioctl_timing(struct x4_port *x4, struct file *file,
 
 static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 {
-	struct x4_port *x4 = file->private_data;
+	struct x4_port *x4 = x4_of(file);
 	void __user *uarg = (void __user *)arg;
 	struct x4step_status st;
 	struct x4step_info info;
@@ -651,6 +727,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		info.abi_version = X4STEP_ABI_VERSION;
 		info.axes = X4STEP_AXES;
 		info.port = MINOR(x4->dev.devt);
+		info.event_buffer = X4_EVENTS;
 		return copy_to_user(uarg, &info, sizeof(info)) ? -EFAULT : 0;
 	case X4STEP_GET_STATUS:
 		if (x4_get_status(x4, &st))
@@ -689,6 +766,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_STOP:
 	case X4STEP_MOVE_ENDLESS:
 	case X4STEP_SET_OUTPUT:
+	case X4STEP_SET_OUTPUTS:
 	case X4STEP_SET_BRAKE_CODES:
 	case X4STEP_SET_CONFIG:
 	case X4STEP_SET_STEP_TIMING:
@@ -709,7 +787,8 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		ret = x4_ioctl_load(x4, uarg);
 		break;
 	case X4STEP_START:
-		ret = x4_errno(x4_port_run(x4, x4_start_loaded, NULL));
+		ret = x4_errno(x4_port_run(x4, x4_start_loaded, NULL,
+					   X4STEP_KIND_LOADED));
 		break;
 	case X4STEP_BRAKE:
 		ret = x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_BRAKE);
@@ -747,6 +826,9 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_SET_OUTPUT:
 		ret = x4_ioctl_output(x4, uarg);
 		break;
+	case X4STEP_SET_OUTPUTS:
+		ret = x4_ioctl_outputs(x4, uarg);
+		break;
 	case X4STEP_SET_BRAKE_CODES:
 		ret = x4_ioctl_brake_codes(x4, uarg);
 		break;
@@ -767,6 +849,7 @@ static const struct file_operations x4_fops = {
 	.open = x4_open,
 	.release = x4_release,
 	.poll = x4_poll,
+	.read = x4_read,
 	.unlocked_ioctl = x4_ioctl,
 	.compat_ioctl = compat_ptr_ioctl,
 	.llseek = noop_llseek,
@@ -777,6 +860,7 @@ static void x4_dev_release(struct device *dev)
 	struct x4_port *x4 = container_of(dev, struct x4_port, dev);
 
 	parport_put_port(x4->port);
+	x4_events_free(x4);
 	kfree(x4);
 }
 
@@ -830,6 +914,10 @@ static void x4_attach(struct parport *port)
 	x4 = kzalloc(sizeof(*x4), GFP_KERNEL);
 	if (!x4)
 		return;
+	if (x4_events_alloc(x4)) {
+		kfree(x4);
+		return;
+	}
 	mutex_init(&x4->lock);
 	INIT_DELAYED_WORK(&x4->release_work, x4_release_work);
 	x4_port_init(x4);
@@ -842,6 +930,7 @@ static void x4_attach(struct parport *port)
 		/* e.g. plip has the port exclusively: see `ports` */
 		pr_err("%s: cannot register device\n", port->name);
 		parport_put_port(port);
+		x4_events_free(x4);
 		kfree(x4);
 		return;
 	}
@@ -877,6 +966,7 @@ err_put:
  */
 static void x4_detach(struct parport *port)
 {
+	unsigned long flags;
 	struct x4_port *x4;
 
 	if (port->number >= X4_MAX_PORTS)
@@ -898,6 +988,9 @@ static void x4_detach(struct parport *port)
 		parport_release(x4->pardev);
 	}
 	parport_unregister_device(x4->pardev);
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_events_gone_locked(x4);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	mutex_unlock(&x4->lock);
 	/*
 	 * With `gone` set, nothing queues the release work again: after

@@ -99,11 +99,15 @@ static void x4_port_written_locked(struct x4_port *x4)
  */
 static void x4_port_drain_locked(struct x4_port *x4, u64 until)
 {
+	int c;
+
 	lockdep_assert_held(&x4->slock);
 	while (x4_engine_busy(&x4->eng) && x4_engine_due(&x4->eng) <= until) {
+		c = x4->eng.cur - x4->eng.ch;
 		x4_engine_fire(&x4->eng, until);
 		x4_port_write_locked(x4);
 		x4_port_written_locked(x4);
+		x4_events_fired_locked(x4, c);
 	}
 }
 
@@ -130,15 +134,24 @@ void x4_port_gone(struct x4_port *x4)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
-/* The input pin levels; the caller has checked that the port is not gone. */
+/*
+ * The input pin levels (X4GetIn bits). Read from the port only while it is
+ * ours: otherwise lp or ppdev may own it, and the last levels read are
+ * returned (x4->claimed says which).
+ */
 u32 x4_port_inputs_locked(struct x4_port *x4)
 {
 	u8 status;
 
 	lockdep_assert_held(&x4->slock);
-	status = x4->port->ops->read_status(x4->port) ^ X4_STATUS_HW_INVERT;
-	/* S3..S7 are pins 15, 13, 12, 10, 11: X4GetIn bits 0..4. */
-	return (status >> 3) & 0x1f;
+	if (x4->claimed && !x4->gone) {
+		status = x4->port->ops->read_status(x4->port) ^
+			 X4_STATUS_HW_INVERT;
+		/* S3..S7 are pins 15, 13, 12, 10, 11: X4GetIn bits 0..4. */
+		x4->inputs = (status >> 3) & 0x1f;
+		x4->inputs_ns = ktime_get_ns();
+	}
+	return x4->inputs;
 }
 
 /* Count how late an event is written, `late` ns after it was due. */
@@ -170,6 +183,7 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 {
 	struct x4_engine *e = &x4->eng;
 	s64 t = ktime_to_ns(ktime_sub(now, x4->epoch));
+	int c = e->cur - e->ch;
 
 	lockdep_assert_held(&x4->slock);
 	if (x4->claimed && x4_engine_rise_watched(e))
@@ -178,6 +192,7 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 	x4_engine_fire(e, t);
 	x4_port_write_locked(x4);
 	x4_port_written_locked(x4);
+	x4_events_fired_locked(x4, c);
 }
 
 /* (Re)arm the timer for the engine's next event, not before `earliest`. */
@@ -308,6 +323,7 @@ void x4_port_claimed(struct x4_port *x4)
 	x4->claimed = true;
 	x4->written_valid = false; /* the claim restored some other state */
 	x4_port_write_rest_locked(x4);
+	x4_port_inputs_locked(x4); /* for status reads after the release */
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
@@ -321,11 +337,14 @@ void x4_port_quiesce(struct x4_port *x4)
 
 	lockdep_assert_held(&x4->lock);
 	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_events_stop_locked(x4, x4->eng.busy);
 	x4_engine_stop(&x4->eng);
 	x4_port_drain_locked(x4, U64_MAX);
+	x4_events_update_locked(x4, -1, 0);
 	x4->eng.loaded = false;
 	x4->eng.ctl = 0;
 	x4_port_write_rest_locked(x4);
+	x4_port_inputs_locked(x4); /* the last levels while the port is ours */
 	x4->claimed = false;
 	x4->moves_ended = x4->eng.ends;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -339,7 +358,8 @@ void x4_port_quiesce(struct x4_port *x4)
  * time it is given. The inputs are sampled first, so that a move toward
  * an active limit makes no step. Returns an X4Step result.
  */
-int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg)
+int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg,
+		u32 kind)
 {
 	unsigned long flags;
 	int ret;
@@ -352,6 +372,7 @@ int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg)
 	if (ret == X4_OK) {
 		x4->last_brake_code = 0;
 		x4_arm_locked(x4, 0);
+		x4_events_update_locked(x4, -1, kind);
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
@@ -383,12 +404,13 @@ int x4_port_goto(struct x4_port *x4, u8 axes, const s32 *target,
 				  &x4->plan_goto);
 	if (ret)
 		return ret;
-	return x4_port_run(x4, x4_start_planned_goto, &x4->plan_goto);
+	return x4_port_run(x4, x4_start_planned_goto, &x4->plan_goto,
+			   X4STEP_KIND_GOTO);
 }
 
 /*
  * After the engine braked or stopped moves: a stop's writes go out at
- * once, and pollers learn of the moves that ended.
+ * once, and pollers and readers learn of the moves that ended.
  */
 void x4_port_halted_locked(struct x4_port *x4)
 {
@@ -396,6 +418,39 @@ void x4_port_halted_locked(struct x4_port *x4)
 	x4_port_write_locked(x4);
 	x4_port_drain_locked(x4, 0); /* a stop's rest patterns, due at 0 */
 	x4_note_ends_locked(x4);
+	x4_events_update_locked(x4, -1, 0);
+}
+
+/*
+ * Brake the moves of the axes in `axes` (and their partners) along their
+ * ramps, asked for by `source` (X4STEP_SRC_*; a key: its `code`). An
+ * X4Step result: X4_ERR_NOT_ACTIVE if none of them moves.
+ */
+int x4_port_brake_locked(struct x4_port *x4, u8 axes, u32 source, u32 code)
+{
+	u8 chans = x4_events_chans_locked(x4, axes);
+	int ret;
+
+	lockdep_assert_held(&x4->slock);
+	ret = x4_engine_halt(&x4->eng, axes, false);
+	if (ret == X4_OK) {
+		x4->brake_time_ns = ktime_get_ns();
+		x4_events_brake_locked(x4, chans, source, code);
+	}
+	x4_port_halted_locked(x4);
+	return ret;
+}
+
+/* Stop the moves of the axes in `axes` (and their partners) at once. */
+int x4_port_stop_locked(struct x4_port *x4, u8 axes)
+{
+	int ret;
+
+	lockdep_assert_held(&x4->slock);
+	x4_events_stop_locked(x4, x4_events_chans_locked(x4, axes));
+	ret = x4_engine_halt(&x4->eng, axes, true);
+	x4_port_halted_locked(x4);
+	return ret;
 }
 
 /* A key event: brake if it is ESC or one of the brake codes. */
@@ -409,10 +464,8 @@ bool x4_port_brake_key(struct x4_port *x4, u32 code)
 	for (i = 0; i < x4->n_brake_codes && !hit; i++)
 		hit = x4->brake_codes[i] == code;
 	hit = hit && x4_engine_busy(&x4->eng);
-	if (hit && x4_engine_brake(&x4->eng) == X4_OK) {
+	if (hit && x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_KEY, code) == X4_OK)
 		x4->last_brake_code = code;
-		x4->brake_time_ns = ktime_get_ns();
-	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return hit;
 }

@@ -209,6 +209,10 @@ struct device {
     s.controlled = st.flags & X4STEP_ST_CONTROLLED;
     std::copy(std::begin(st.steps), std::end(st.steps), s.steps.begin());
     s.inputs = st.inputs;
+    s.inputs_stale = st.flags & X4STEP_ST_INPUTS_STALE;
+    s.inputs_time =
+        std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::nanoseconds(st.inputs_time_ns)));
     s.outputs = st.outputs;
     s.data = st.data;
     s.last_brake_code = static_cast<int>(st.last_brake_code);
@@ -255,7 +259,44 @@ struct device {
     }
     s.inputs = ka.inputs;
     s.switches_active = ka.switches;
+    s.inputs_stale = ka.flags & X4STEP_ST_INPUTS_STALE;
     return s;
+  }
+
+  // Events are POLLPRI (POLLIN means idle): poll, then read one.
+  std::optional<event> read_event(std::chrono::milliseconds timeout) const {
+    const deadline d(timeout);
+    for (;;) {
+      pollfd p{fd, POLLPRI, 0};
+      const int n = ::poll(&p, 1, d.poll_ms());
+      if (n < 0 && errno == EINTR) return std::nullopt;
+      if (n < 0) fail_errno(errno, "poll " + path);
+      if (n > 0 && (p.revents & POLLPRI)) {
+        x4step_event k{};
+        const ssize_t got = ::read(fd, &k, sizeof k);
+        if (got == static_cast<ssize_t>(sizeof k)) return to_event(k);
+        if (got < 0 && errno == ENODEV) fail(errc::lpt_not_found);
+        if (got < 0 && errno != EAGAIN && errno != EINTR) fail_errno(errno, "read " + path);
+        continue;  // another thread read it
+      }
+      if (n > 0 && (p.revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
+      if (d.expired()) return std::nullopt;
+    }
+  }
+
+  static event to_event(const x4step_event &k) {
+    event e;
+    e.seq = k.seq;
+    e.time =
+        std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::nanoseconds(k.timestamp_ns)));
+    e.type = static_cast<event_type>(k.type);
+    e.axis_mask = k.axes;
+    e.how = k.how;
+    e.value = k.value;
+    e.ambiguous = k.flags & X4STEP_EVF_AMBIGUOUS;
+    std::copy(std::begin(k.position), std::end(k.position), e.position.begin());
+    return e;
   }
 
   // poll() reports POLLIN only while no move at all runs; the end of any
@@ -353,14 +394,66 @@ std::ostream &operator<<(std::ostream &os, const axes_status &s) {
     if (a.decelerating) os << " decel";
     if (a.error) os << " error 0x" << std::hex << a.error << std::dec;
   }
-  return os << " | inputs 0x" << std::hex << s.inputs << " switches 0x" << s.switches_active << std::dec;
+  return os << " | inputs 0x" << std::hex << s.inputs << " switches 0x" << s.switches_active << std::dec
+            << (s.inputs_stale ? " (stale)" : "");
+}
+
+namespace {
+
+const char *event_how(const event &e) {
+  static const char *const kinds[] = {"X4Step move", "endless move", "goto", "reference run"};
+  static const char *const ends[] = {
+      "completed", "braked", "stopped", "at a limit", "homed", "REF found", "reference travel exceeded"};
+  static const char *const sources[] = {"by request", "by key", "by the controller's close"};
+  static const char *const switches[] = {"E+", "E-", "REF"};
+  static const char *const changes[] = {"opened", "closed", "released the port"};
+  const unsigned h = e.how - 1;
+  switch (e.type) {
+    case event_type::move_started:
+      return h < 4 ? kinds[h] : "";
+    case event_type::move_ended:
+      return h < 7 ? ends[h] : "";
+    case event_type::brake:
+      return h < 3 ? sources[h] : "";
+    case event_type::switch_hit:
+      return h < 3 ? switches[h] : "";
+    case event_type::controller:
+      return h < 3 ? changes[h] : "";
+    default:
+      return "";
+  }
+}
+
+}  // namespace
+
+std::ostream &operator<<(std::ostream &os, const event &e) {
+  static const char *const names[] = {"move started", "move ended", "brake",
+                                      "switch",       "controller", "port gone"};
+  const unsigned t = static_cast<unsigned>(e.type) - 1;
+  os << '#' << e.seq << ' ';
+  if (t < 6)
+    os << names[t];
+  else
+    os << "event type " << static_cast<unsigned>(e.type);
+  if (e.axis_mask) {
+    os << ": axes";
+    for (int i = 0; i < axes; i++)
+      if (e.axis_mask >> i & 1u) os << ' ' << i + 1;
+  }
+  const char *how = event_how(e);
+  if (*how) os << (e.axis_mask ? ", " : ": ") << how;
+  if (e.type == event_type::brake && e.how == static_cast<unsigned>(brake_source::key)) os << ' ' << e.value;
+  if (e.type == event_type::switch_hit) os << " on input " << e.value << (e.ambiguous ? " (ambiguous)" : "");
+  os << ", at";
+  for (long p : e.position) os << ' ' << p;
+  return os;
 }
 
 std::ostream &operator<<(std::ostream &os, const status &s) {
   os << (s.active ? "active" : "idle") << (s.loaded ? " loaded" : "") << " steps";
   for (long long v : s.steps) os << ' ' << v;
-  return os << " inputs 0x" << std::hex << s.inputs << " outputs 0x" << s.outputs << std::dec
-            << " brake-code " << s.last_brake_code;
+  return os << " inputs 0x" << std::hex << s.inputs << (s.inputs_stale ? " (stale)" : "") << " outputs 0x"
+            << s.outputs << std::dec << " brake-code " << s.last_brake_code;
 }
 
 // ---- controller -------------------------------------------------------------
@@ -431,8 +524,10 @@ unsigned controller::inputs() const { return get_status().inputs; }
 bool controller::wait(std::chrono::milliseconds timeout) const { return need().wait(timeout); }
 
 void controller::set_output(signal s, bool high) {
-  x4step_output out{s == signal::one ? X4STEP_OUT_SIGNAL1 : X4STEP_OUT_SIGNAL2, high ? 1u : 0u};
-  need().call(X4STEP_SET_OUTPUT, &out, "X4STEP_SET_OUTPUT");
+  x4step_outputs out{};
+  out.mask = s == signal::one ? X4STEP_OUT_SIGNAL1 : X4STEP_OUT_SIGNAL2;
+  out.levels = high ? out.mask : 0;
+  need().call(X4STEP_SET_OUTPUTS, &out, "X4STEP_SET_OUTPUTS");
 }
 
 void controller::set_brake_codes(const std::vector<int> &codes) {
@@ -597,6 +692,10 @@ bool controller::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout
   return need().wait_axes(axis_mask, timeout);
 }
 
+std::optional<event> controller::read_event(std::chrono::milliseconds timeout) const {
+  return need().read_event(timeout);
+}
+
 void controller::close() noexcept {
   if (!impl_) return;
   // Brake and wait here: the kernel brakes on its own when the device
@@ -645,6 +744,11 @@ axes_status monitor::get_axes() const {
 bool monitor::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) const {
   if (!impl_) fail(errc::init_not_done);
   return impl_->wait_axes(axis_mask, timeout);
+}
+
+std::optional<event> monitor::read_event(std::chrono::milliseconds timeout) const {
+  if (!impl_) fail(errc::init_not_done);
+  return impl_->read_event(timeout);
 }
 
 }  // namespace x4step

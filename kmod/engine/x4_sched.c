@@ -469,6 +469,7 @@ void x4_end(struct x4_engine *e, struct x4_chan *c)
 {
 	if (c->home && x4_home_next(e, c))
 		return;
+	c->home = 0;
 	c->ctl = 0;
 	c->phase = X4_IDLE;
 	c->halt_mask = 0;

@@ -18,9 +18,9 @@
 //      (including config output modes, step timings, profiles, switches, goto
 //      targets at the 32-bit limits, reference runs, halts);
 //   c  several threads on the one controller descriptor with random valid and
-//      invalid sequences, read-only monitors (GET_STATUS, GET_AXES, poll), a
-//      thread opening and closing read-only and read-write descriptors
-//      (read-write: EBUSY);
+//      invalid sequences, read-only monitors (GET_STATUS, GET_AXES, poll,
+//      read() of events), a thread opening and closing read-only and
+//      read-write descriptors (read-write: EBUSY);
 //   c2 the controller closes; threads race to become the next one (at most one
 //      at a time; closing brakes moves with ramps of at most 20 ms: no close may
 //      take seconds);
@@ -50,7 +50,10 @@
 //    and error bits, step counters within 2 * 16777216, speeds within
 //    X4STEP_VEL_MAX, switch inputs 0..5, valid profiles, reserved fields zero,
 //    histogram adding up, clock pins low at rest);
-//  - poll() never reports an error; at most one controller at a time.
+//  - poll() never reports an error; at most one controller at a time;
+//  - read() of events (monitors, non-blocking descriptors, random sizes and
+//    memory) returns whole, sane events, seq increasing, time monotonic, or
+//    EINVAL (below one event), EFAULT (memory it cannot write), EAGAIN.
 // The controller descriptor is always closed at the end (the module brakes on
 // close): no motor keeps running after the fuzzer.
 //
@@ -202,6 +205,7 @@ const Cmd kCmds[] = {
     {X4STEP_MOVE_ENDLESS, "MOVE_ENDLESS", sizeof(x4step_endless), true, offsetof(x4step_endless, result)},
     {X4STEP_GET_STATUS, "GET_STATUS", sizeof(x4step_status), false},
     {X4STEP_SET_OUTPUT, "SET_OUTPUT", sizeof(x4step_output), true},
+    {X4STEP_SET_OUTPUTS, "SET_OUTPUTS", sizeof(x4step_outputs), true},
     {X4STEP_SET_BRAKE_CODES, "SET_BRAKE_CODES", sizeof(x4step_brake_codes), true},
     {X4STEP_SET_CONFIG, "SET_CONFIG", sizeof(x4step_config), true},
     {X4STEP_GET_CONFIG, "GET_CONFIG", sizeof(x4step_config), false},
@@ -678,6 +682,15 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
         return invalid("signal/level");
       return valid(0);
     }
+    case X4STEP_SET_OUTPUTS: {
+      x4step_outputs o;
+      std::memcpy(&o, p.bytes, sizeof o);
+      const uint32_t sig = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
+      for (uint32_t r : o.reserved)
+        if (r) return invalid("reserved != 0");
+      if (!o.mask || (o.mask & ~sig) || (o.levels & ~o.mask) || o.flags) return invalid("mask/levels/flags");
+      return valid(0);
+    }
     case X4STEP_SET_BRAKE_CODES: {
       x4step_brake_codes b;
       std::memcpy(&b, p.bytes, sizeof b);
@@ -773,9 +786,11 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
 
 bool status_sane(const x4step_status &st, std::string &why) {
   char buf[200];
-  const uint32_t known = X4STEP_ST_ACTIVE | X4STEP_ST_LOADED | X4STEP_ST_CONTROLLED;
+  const uint32_t known = X4STEP_ST_ACTIVE | X4STEP_ST_LOADED | X4STEP_ST_CONTROLLED | X4STEP_ST_INPUTS_STALE;
   if (st.flags & ~known)
     why = "unknown flags";
+  else if (!(st.flags & X4STEP_ST_INPUTS_STALE) != !!(st.flags & X4STEP_ST_CONTROLLED))
+    why = "inputs stale while controlled, or live without a controller";
   else if (st.last_brake_code > 255)
     why = "last_brake_code > 255";
   else if (st.inputs & ~0x1fu)
@@ -784,7 +799,7 @@ bool status_sane(const x4step_status &st, std::string &why) {
     why = "outputs beyond 4 bits";
   else if (st.data > 0xff)
     why = "data beyond 8 bits";
-  else if (st.reserved0 || st.reserved[0] || st.reserved[1])
+  else if (st.reserved0)
     why = "reserved != 0";
   else if ((st.flags & X4STEP_ST_ACTIVE) && !(st.flags & X4STEP_ST_CONTROLLED))
     why = "active without controller";
@@ -815,8 +830,8 @@ bool axes_sane(const x4step_axes &ax, std::string &why) {
   char buf[200];
   if ((ax.inputs | ax.switches) >> kInputs)
     why = "inputs/switches beyond 5 bits";
-  else if (ax.reserved[0] || ax.reserved[1])
-    why = "reserved != 0";
+  else if (ax.reserved || (ax.flags & ~X4STEP_ST_INPUTS_STALE))
+    why = "reserved != 0 or unknown flags";
   for (int i = 0; why.empty() && i < X4STEP_AXES; i++) {
     const x4step_axis &a = ax.axis[i];
     int ramp = !!(a.state & X4STEP_AX_ACCEL) + !!(a.state & X4STEP_AX_CRUISE) + !!(a.state & X4STEP_AX_DECEL);
@@ -867,8 +882,10 @@ void check_read_result(unsigned long cmd, const uint8_t *out, uint32_t req) {
     std::memcpy(&in, out, sizeof in);
     bool res = false;
     for (uint32_t r : in.reserved) res |= r != 0;
-    if (in.abi_version != X4STEP_ABI_VERSION || in.axes != X4STEP_AXES || in.port > 15 || res)
-      violation("GET_INFO: abi %u axes %u port %u reserved %d", in.abi_version, in.axes, in.port, res);
+    const bool ring = in.event_buffer >= 16 && !(in.event_buffer & (in.event_buffer - 1));
+    if (in.abi_version != X4STEP_ABI_VERSION || in.axes != X4STEP_AXES || in.port > 15 || res || !ring)
+      violation("GET_INFO: abi %u axes %u port %u events %u reserved %d", in.abi_version, in.axes, in.port,
+                in.event_buffer, res);
   } else if (cmd == X4STEP_GET_CONFIG) {
     x4step_config cf;
     std::memcpy(&cf, out, sizeof cf);
@@ -977,6 +994,11 @@ void check_effect(unsigned long cmd, const Payload &p, const Snapshot &a) {
     std::memcpy(&o, p.bytes, sizeof o);
     if (!!(a.st.outputs & o.signal) != !!o.level)
       violation("SET_OUTPUT signal %u level %u: outputs 0x%x", o.signal, o.level, a.st.outputs);
+  } else if (cmd == X4STEP_SET_OUTPUTS) {
+    x4step_outputs o;
+    std::memcpy(&o, p.bytes, sizeof o);
+    if ((a.st.outputs & o.mask) != o.levels)
+      violation("SET_OUTPUTS mask 0x%x levels 0x%x: outputs 0x%x", o.mask, o.levels, a.st.outputs);
   } else if (cmd == X4STEP_SET_PROFILE) {
     x4step_profile pr;
     std::memcpy(&pr, p.bytes, sizeof pr);
@@ -1313,6 +1335,15 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
     std::memcpy(c, &m, sizeof m);
     return X4STEP_MOVE_ENDLESS;
   }
+  if (x < 74 && r.chance(50)) {
+    x4step_outputs o{};
+    o.mask = r.chance(90) ? r.range(0, 4) : static_cast<uint32_t>(r.next());
+    o.levels = r.chance(90) ? r.range(0, 4) : static_cast<uint32_t>(r.next());
+    o.flags = maybe_nonzero(r, 8);
+    for (auto &res : o.reserved) res = maybe_nonzero(r, 3);
+    std::memcpy(c, &o, sizeof o);
+    return X4STEP_SET_OUTPUTS;
+  }
   if (x < 74) {
     x4step_output o{};
     o.signal = r.chance(90) ? r.range(0, 5) : static_cast<uint32_t>(r.next());
@@ -1501,12 +1532,62 @@ long phase_b(int ctl, int ro, Rng &r, Arena &ar, double secs) {
 }
 
 // Phase c: threads.
+// ------------------------------------------------------------------ events
+
+// What one descriptor has read of the event stream so far.
+struct EventCursor {
+  uint64_t seq = 0;
+  uint64_t ns = 0;
+  long events = 0;
+};
+
+// One read() of events on a non-blocking descriptor, of a random size into
+// random memory: only whole, sane events (known type, flags and axes,
+// reserved fields zero), seq increasing and time never going back on the
+// descriptor (gaps are allowed: a reader may fall behind); EINVAL below one
+// event's size, EFAULT only where the kernel cannot write, else EAGAIN.
+void read_events(int fd, Rng &r, Arena &ar, EventCursor &cur) {
+  static const uint32_t sizes[] = {0, 1, 63, 64, 65, 127, 128, 200, 640, 4096};
+  const size_t ev = sizeof(x4step_event);
+  const size_t size = r.pick(sizes);
+  uint8_t content[kMaxPayload];
+  std::memset(content, 0xa5, sizeof content);
+  const Payload p = place(ar, r, random_ptr_kind(r, true), content, size);
+  const ssize_t n = read(fd, reinterpret_cast<void *>(p.arg), size);
+  const int err = errno;
+  if (n < 0) {
+    // The VFS refuses addresses beyond user space (access_ok) before the
+    // driver sees the call, whatever the size.
+    const bool beyond = p.kind == P_KERNEL || p.kind == P_NONCANON;
+    const bool ok = (err == EFAULT && (beyond || (size >= ev && p.writable < size))) ||
+                    (!beyond && (size < ev ? err == EINVAL : err == EAGAIN));
+    if (!ok) violation("read() of %zu bytes at %s: %s", size, kPtrNames[p.kind], std::strerror(err));
+    return;
+  }
+  if (size < ev || n % ev || static_cast<size_t>(n) > std::min(size, p.writable)) {
+    violation("read() of %zu bytes at %s returned %zd", size, kPtrNames[p.kind], n);
+    return;
+  }
+  for (ssize_t i = 0; i < n; i += ev) {
+    x4step_event e;
+    std::memcpy(&e, reinterpret_cast<const uint8_t *>(p.arg) + i, sizeof e);
+    if (e.type < X4STEP_EV_MOVE_STARTED || e.type > X4STEP_EV_PORT_GONE ||
+        (e.flags & ~X4STEP_EVF_AMBIGUOUS) || e.axes > 0xf || e.reserved[0] || e.reserved[1] ||
+        e.reserved[2] || e.seq <= cur.seq || e.timestamp_ns < cur.ns)
+      violation("event %s after #%llu at %llu ns", hex(&e, sizeof e).c_str(),
+                static_cast<unsigned long long>(cur.seq), static_cast<unsigned long long>(cur.ns));
+    cur.seq = e.seq;
+    cur.ns = e.timestamp_ns;
+    cur.events++;
+  }
+}
+
 struct Shared {
   std::atomic<bool> stop{false};
   std::atomic<bool> controller_open{true};  // the main controller descriptor is open
   std::atomic<int> controllers{0};
   std::atomic<long> iterations{0};
-  std::atomic<long> opens_ro{0}, opens_rw_busy{0}, controller_wins{0}, polls{0};
+  std::atomic<long> opens_ro{0}, opens_rw_busy{0}, controller_wins{0}, polls{0}, events{0};
   std::atomic<long> max_open_us{0}, max_close_us{0};  // racers: longest open(O_RDWR), close
   void keep_max(std::atomic<long> &m, Clock::time_point since) {
     long us = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - since).count();
@@ -1543,11 +1624,14 @@ void monitor(uint64_t seed, Shared &sh) {
   Rng r(seed);
   Arena ar;
   int fd = open_dev(O_RDONLY);
-  if (fd < 0) {
+  int evfd = open_dev(O_RDONLY | O_NONBLOCK);  // reads events
+  if (fd < 0 || evfd < 0) {
     violation("read-only open for a monitor failed: %s", std::strerror(errno));
+    if (fd >= 0) close(fd);
     return;
   }
   Ctx cx{fd, {false, false}, false};
+  EventCursor cur;
   uint64_t ended = 0;
   uint8_t content[kMaxPayload];
   while (!sh.stop) {
@@ -1567,6 +1651,10 @@ void monitor(uint64_t seed, Shared &sh) {
       violation("poll: %s", std::strerror(errno));
     else if (pfd.revents & ~(POLLIN | POLLRDNORM))
       violation("poll revents 0x%x", pfd.revents);
+    pollfd epfd{evfd, static_cast<short>(POLLIN | POLLPRI), 0};
+    if (poll(&epfd, 1, 0) < 0 || (epfd.revents & ~(POLLIN | POLLPRI)))
+      violation("poll (POLLPRI) revents 0x%x", epfd.revents);
+    for (int i = r.below(4); i > 0; i--) read_events(evfd, r, ar, cur);
     if (r.chance(30)) {  // anything on a read-only descriptor
       unsigned long cmd = r.chance(50) ? gen_structured(r, content, true) : random_cmd(r);
       if (cmd_index(cmd) >= kNumCmds || !kCmds[cmd_index(cmd)].state) random_bytes(r, content);
@@ -1575,6 +1663,8 @@ void monitor(uint64_t seed, Shared &sh) {
     }
     sh.iterations++;
   }
+  sh.events += cur.events;
+  close(evfd);
   close(fd);
 }
 
@@ -1582,9 +1672,11 @@ void monitor(uint64_t seed, Shared &sh) {
 // while the controller is open.
 void opener(uint64_t seed, Shared &sh) {
   Rng r(seed);
+  Arena ar;
   while (!sh.stop) {
     int mode = r.chance(50) ? O_RDONLY : r.chance(70) ? O_RDWR : O_WRONLY;
-    int fd = open_dev(mode | (r.chance(20) ? O_NONBLOCK : 0));
+    const bool nonblock = r.chance(20);
+    int fd = open_dev(mode | (nonblock ? O_NONBLOCK : 0));
     if (mode == O_RDONLY) {
       if (fd < 0)
         violation("read-only open failed: %s", std::strerror(errno));
@@ -1606,6 +1698,10 @@ void opener(uint64_t seed, Shared &sh) {
       if (r.chance(30)) {
         pollfd pfd{fd, POLLIN, 0};
         poll(&pfd, 1, 0);
+      }
+      if (nonblock && mode != O_WRONLY) {
+        EventCursor cur;
+        read_events(fd, r, ar, cur);
       }
       close(fd);
     }
@@ -1761,8 +1857,8 @@ int main(int argc, char **argv) {
     th.clear();
     note(
         "phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld "
-        "polls",
-        sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load());
+        "polls, %ld events read",
+        sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load(), sh.events.load());
     g_stats.print("c (threads on one controller)");
     g_stats.reset();
     total += sh.iterations;

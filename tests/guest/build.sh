@@ -17,6 +17,8 @@ $cxx -I"$top/include/uapi" -o "$out/module_test" "$top/tests/guest/module_test.c
 $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/discipline_test" "$top/tests/guest/discipline_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/reliability_test" "$top/tests/guest/reliability_test.cpp"
+$cxx -pthread -I"$top/include/uapi" -o "$out/events_test" "$top/tests/guest/events_test.cpp"
+$cxx -I"$top/include/uapi" -o "$out/config_test" "$top/tests/guest/config_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/ioctl_fuzz" "$top/tests/fuzz/ioctl_fuzz.cpp"
 engine_objs=
 for f in "$top"/kmod/engine/*.c; do

@@ -11,9 +11,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 #include "check.hpp"
 #include "x4step.hpp"
@@ -125,6 +127,46 @@ void PortGoesAwayInDestructor() {
         "the destructor returns, nothing thrown, when the port goes away during its brake");
 }
 
+// The event stream through the library: a monitor reads what a
+// controller's session did, in order, numbered without gaps.
+void EventsThroughTheLibrary() {
+  using x4step::event_type;
+  x4step::monitor mon(1);
+  Check(!mon.read_event(0ms), "monitor: no event before anything happens");
+  {
+    x4step::controller c(1);
+    c.load({{50, 0, 0, 0}, 2000, 0ms});
+    c.start();
+    c.wait(5s);
+  }
+  std::printf("SEG 50 0 0 0\n");
+  std::vector<x4step::event> got;
+  while (auto e = mon.read_event(2000ms)) {
+    got.push_back(*e);
+    if (e->type == event_type::controller &&
+        e->how == static_cast<unsigned>(x4step::controller_change::released))
+      break;
+  }
+  std::string all;
+  bool seq = true;
+  for (size_t i = 0; i < got.size(); i++) {
+    std::ostringstream o;
+    o << got[i];
+    all += (i ? " | " : "") + o.str();
+    seq &= i == 0 || got[i].seq == got[i - 1].seq + 1;
+  }
+  const auto is = [&](size_t i, event_type t, unsigned how) {
+    return i < got.size() && got[i].type == t && got[i].how == how;
+  };
+  Check(got.size() == 5 && seq && is(0, event_type::controller, 1) && is(1, event_type::move_started, 1) &&
+            is(2, event_type::move_ended, 1) && is(3, event_type::controller, 2) &&
+            is(4, event_type::controller, 3) && got[2].axis_mask == 1 &&
+            got[2].position[0] == got[1].position[0] + 50,
+        "monitor::read_event: opened, started, completed (+50 steps), closed, released: " + all);
+  Check(all.find("move ended: axes 1, completed, at ") != std::string::npos,
+        "operator<< of an event: " + all);
+}
+
 }  // namespace
 
 int main() {
@@ -172,6 +214,7 @@ int main() {
     Check(!again.active() && again.get_status().steps[3] < -10, "destructor braked the endless move");
   }
   std::printf("SEG 0 0 0 ? braked\n");
+  EventsThroughTheLibrary();
   CloseWaitsForTheBrake();
   BusyByPpdev();
   PortGoesAwayInDestructor();

@@ -671,7 +671,7 @@ TEST_F(FakeCApi, ErrnosTheManualHasNoCodeFor) {
   refuse(X4STEP_STOP, ENOMEM);
   EXPECT_EQ(X4Stop(), X4ErrParamFail);
   EXPECT_EQ(errno, ENOMEM);
-  refuse(X4STEP_SET_OUTPUT, EFAULT);
+  refuse(X4STEP_SET_OUTPUTS, EFAULT);
   EXPECT_EQ(X4SetOut(SIGNAL1ON), X4ErrParamFail);
   EXPECT_EQ(errno, EFAULT);
   k.answer = [](unsigned long, void *) { return 0; };

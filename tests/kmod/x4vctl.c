@@ -3,7 +3,13 @@
  * A minimal x4step client for the x4vport guest test (static,
  * runs in the busybox initramfs).
  *
- *   x4vctl DEV inputs                  print X4GetIn as "inputs=0x.."
+ *   x4vctl DEV inputs                  print X4GetIn as "inputs=0x..", read
+ *                                      by a controller (the module reads
+ *                                      the port only while it has claimed
+ *                                      it for one)
+ *   x4vctl DEV inputs-ro               the same through a read-only open:
+ *                                      "inputs=0x.. err=0 stale=1" when no
+ *                                      controller has the port
  *   x4vctl DEV move STEPS FREQ RAMP    axis 1 move, wait until it ends
  *   x4vctl DEV hold-endless FREQ SECS  endless move on axis 1, keep the
  *                                      device open SECS seconds (the test
@@ -31,10 +37,10 @@ static int get_status(int fd, struct x4step_status *st)
 	return ioctl(fd, X4STEP_GET_STATUS, st) ? errno : 0;
 }
 
-static int cmd_inputs(const char *dev)
+static int cmd_inputs(const char *dev, int mode)
 {
 	struct x4step_status st;
-	int fd = open(dev, O_RDONLY | O_CLOEXEC);
+	int fd = open(dev, mode | O_CLOEXEC);
 	int err;
 
 	if (fd < 0) {
@@ -42,7 +48,8 @@ static int cmd_inputs(const char *dev)
 		return 1;
 	}
 	err = get_status(fd, &st);
-	printf("inputs=0x%02x err=%d\n", st.inputs, err);
+	printf("inputs=0x%02x err=%d stale=%d\n", st.inputs, err,
+	       !!(st.flags & X4STEP_ST_INPUTS_STALE));
 	close(fd);
 	return err ? 1 : 0;
 }
@@ -125,7 +132,9 @@ int main(int argc, char **argv)
 	int fd, ret = 2;
 
 	if (argc >= 3 && !strcmp(argv[2], "inputs"))
-		return cmd_inputs(argv[1]);
+		return cmd_inputs(argv[1], O_RDWR);
+	if (argc >= 3 && !strcmp(argv[2], "inputs-ro"))
+		return cmd_inputs(argv[1], O_RDONLY);
 	if (argc < 4) {
 		fprintf(stderr, "usage: see the comment at the top of the source\n");
 		return 2;

@@ -18,10 +18,15 @@
  *                    not consume.
  *   trace_pipe  (r)  the same lines, consumed as read; end of file when
  *                    the buffer is empty (it never blocks).
- *   clear       (w)  any write empties the buffer and zeroes `overruns`.
+ *   clear       (w)  any write empties the buffer and zeroes `overruns`
+ *                    and `reads`.
  *   count       (r)  number of entries held.
  *   overruns    (r)  writes not recorded because the buffer was full (the
  *                    oldest entries are kept, the newest dropped).
+ *   reads       (r)  register reads through the port's operations
+ *                    (read_data, read_control, read_status) since the
+ *                    load or the last `clear`: a client that must leave a
+ *                    port alone can be seen to do so.
  *   data        (r)  the data register (pins 2..9).
  *   control     (r)  the control register (bit 0 pin 1, bit 1 pin 14,
  *                    bit 2 pin 16, bit 3 pin 17, raw: bits 0, 1 and 3 are
@@ -98,6 +103,7 @@
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
+#include <linux/atomic.h>
 #include <linux/ctype.h>
 #include <linux/debugfs.h>
 #include <linux/fs.h>
@@ -170,6 +176,7 @@ static struct {
 	u64 head; /* sequence number of the next entry written */
 	u64 tail; /* sequence number of the oldest entry held */
 	u64 overruns;
+	atomic64_t reads; /* register reads by clients */
 	u8 data;
 	u8 control;
 	u8 status; /* as read_status() returns it */
@@ -294,6 +301,7 @@ static void x4v_write_data(struct parport *p, unsigned char d)
 
 static unsigned char x4v_read_data(struct parport *p)
 {
+	atomic64_inc(&x4v.reads);
 	return READ_ONCE(x4v.data);
 }
 
@@ -304,6 +312,7 @@ static void x4v_write_control(struct parport *p, unsigned char d)
 
 static unsigned char x4v_read_control(struct parport *p)
 {
+	atomic64_inc(&x4v.reads);
 	return READ_ONCE(x4v.control) & X4V_CTL_LINES;
 }
 
@@ -317,6 +326,7 @@ static unsigned char x4v_frob_control(struct parport *p, unsigned char mask,
 
 static unsigned char x4v_read_status(struct parport *p)
 {
+	atomic64_inc(&x4v.reads);
 	return READ_ONCE(x4v.status);
 }
 
@@ -542,6 +552,7 @@ static ssize_t x4v_clear_write(struct file *file, const char __user *ubuf,
 	raw_spin_lock_irqsave(&x4v.lock, flags);
 	x4v.tail = x4v.head;
 	x4v.overruns = 0;
+	atomic64_set(&x4v.reads, 0);
 	raw_spin_unlock_irqrestore(&x4v.lock, flags);
 	return len;
 }
@@ -582,6 +593,13 @@ static int x4v_overruns_get(void *data, u64 *val)
 	return 0;
 }
 DEFINE_DEBUGFS_ATTRIBUTE(x4v_overruns_fops, x4v_overruns_get, NULL, "%llu\n");
+
+static int x4v_reads_get(void *data, u64 *val)
+{
+	*val = atomic64_read(&x4v.reads);
+	return 0;
+}
+DEFINE_DEBUGFS_ATTRIBUTE(x4v_reads_fops, x4v_reads_get, NULL, "%llu\n");
 
 static int x4v_data_get(void *data, u64 *val)
 {
@@ -922,6 +940,7 @@ static void x4v_debugfs_init(void)
 	debugfs_create_file_unsafe("count", 0444, d, NULL, &x4v_count_fops);
 	debugfs_create_file_unsafe("overruns", 0444, d, NULL,
 				   &x4v_overruns_fops);
+	debugfs_create_file_unsafe("reads", 0444, d, NULL, &x4v_reads_fops);
 	debugfs_create_file_unsafe("data", 0444, d, NULL, &x4v_data_fops);
 	debugfs_create_file_unsafe("control", 0444, d, NULL,
 				   &x4v_control_fops);

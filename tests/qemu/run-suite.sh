@@ -41,6 +41,8 @@ tests=(
 	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko|"
 	"discipline|tests/guest/discipline.sh|$g/discipline_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|"
 	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh"
+	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko|"
+	"config|tests/guest/config.sh|$g/config_test||tests/qemu/check-config.sh"
 )
 
 # The kernels the module must pass on: label, glob under /boot, exclusion,

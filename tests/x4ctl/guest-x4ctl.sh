@@ -104,7 +104,7 @@ pass setup
 # ---- help and usage: no device needed -------------------------------------
 check help 0 '^Usage: x4ctl \[' '' x4ctl --help
 check help-version 0 '^x4ctl [0-9]' '' x4ctl --version
-for c in move jog brake stop status in out keys sweep monitor run timing mode profile goto home zero limits halt; do
+for c in move jog brake stop status in out keys sweep monitor run timing mode profile goto home zero limits halt watch; do
 	check "help-$c" 0 "^Usage: x4ctl $c " '' x4ctl "$c" --help
 	check "help-cmd-$c" 0 "^Usage: x4ctl $c " '' x4ctl help "$c"
 done
@@ -128,6 +128,11 @@ check status 0 '^state *idle' '' x4ctl status
 check status-json 0 '^{"device":"/dev/x4step0","active":false,' '' x4ctl status --json
 check status-lpt1 0 '^device *\/dev\/x4step0' '' x4ctl -p 1 status
 check in 0 '^pin15=[01] pin13=[01] pin12=[01] pin10=[01] pin11=[01] ([0-9]*)$' '' x4ctl in
+# The module reads the port only while it has claimed it: read-only, with no
+# controller, the levels are the last ones read, and x4ctl says so.
+check in-read-only 0 '^pin15=[01] .* ([0-9]*) (stale: no controller has the port; read [0-9.]* s ago)$' '' \
+	x4ctl in --read-only
+check status-stale 0 '^inputs *pin15=[01] .* (stale: no controller has the port; read ' '' x4ctl status
 
 # ---- move --------------------------------------------------------------------------
 check move-wait 0 '^done: 200 100 50 -25$' '' x4ctl move 200 100 50 -25 --freq 2000 --ramp 20 --wait
@@ -309,6 +314,37 @@ else
 	fail monitor "$(show "$tmp/mon")"
 fi
 wait "$pid" 2>/dev/null
+
+# ---- watch: the port's events, as text and JSON ----------------------------------------------
+# A move from another x4ctl: its controller opens, the move starts and ends,
+# the controller closes and releases the port: five events.
+x4ctl watch -n 5 >"$tmp/watch" 2>&1 &
+pid=$!
+usleep 300000
+x4ctl move 40 0 -20 --freq 2000 --ramp 10 --wait >/dev/null 2>&1
+n=0
+while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
+if kill -0 "$pid" 2>/dev/null; then
+	kill "$pid"
+	fail watch "did not end after 5 events: $(show "$tmp/watch")"
+else
+	pass watch
+fi
+wait "$pid" 2>/dev/null
+has watch-opened "$tmp/watch" '^#[0-9]* [0-9]*\.[0-9]\{6\} controller: opened; at '
+has watch-started "$tmp/watch" '^#[0-9]* [0-9.]* move started: axes 1 3, X4Step move; at '
+has watch-ended "$tmp/watch" '^#[0-9]* [0-9.]* move ended: axes 1 3, completed; at '
+has watch-released "$tmp/watch" '^#[0-9]* [0-9.]* controller: released the port; at '
+x4ctl watch --json -n 3 >"$tmp/watch" 2>&1 &
+pid=$!
+usleep 300000
+x4ctl out 1 on --time 10 >/dev/null 2>&1
+n=0
+while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
+kill "$pid" 2>/dev/null
+wait "$pid" 2>/dev/null
+has watch-json "$tmp/watch" '^{"seq":[0-9]*,"time_ns":[0-9]*,"type":"controller","axes":\[\],"how":"released","value":0,"ambiguous":false,"position":\[[-0-9,]*\]}$'
+check bad-watch-count 2 '' 'watch: count 0 out of range' x4ctl watch -n 0
 
 # ---- x4ctl run: every command of the test program -------------------------------------------
 script run-go 0 '^done: 300 0 0 0$' '' 's1\nd300\nf3000\nr20\ng\n'

@@ -241,6 +241,15 @@ TEST(Cli, OutKeysMonitorRunStatus) {
 
   EXPECT_TRUE(parse({"status", "--json"}).json);
   EXPECT_TRUE(parse({"in", "-w"}).watch);
+  EXPECT_EQ(parse({"watch"}).cmd, subcommand::watch);
+  EXPECT_TRUE(parse({"watch", "-j"}).json);
+  EXPECT_EQ(parse({"watch", "-n", "5"}).count, 5);
+  EXPECT_FALSE(parse({"watch"}).count);
+  EXPECT_EQ(usage_message({"watch", "--count", "0"}), "watch: count 0 out of range: use 1 or more");
+  EXPECT_EQ(usage_message({"watch", "1"}).rfind("watch: ", 0), 0u);
+  EXPECT_TRUE(parse({"in", "--read-only"}).read_only);
+  EXPECT_TRUE(parse({"in", "-r", "-w"}).read_only);
+  EXPECT_FALSE(parse({"in"}).read_only);
   EXPECT_EQ(parse({"help", "jog"}).topic, subcommand::jog);
   EXPECT_EQ(usage_message({"help", "fly"}), "help: no command 'fly'");
 }
@@ -443,10 +452,10 @@ TEST(Cli, HelpWinsOverMissingArguments) {
 TEST(Cli, HelpTexts) {
   const std::vector<std::pair<subcommand, std::vector<std::string>>> expected = {
       {subcommand::interactive,
-       {"--port",    "--device", "--help",      "--version",  "move",         "jog",           "brake",
-        "stop",      "status",   "in",          "out",        "keys",         "sweep",         "monitor",
-        "run",       "timing",   "mode [MODE]", "smc-phase",  "profile AXIS", "goto AXIS=POS", "home AXIS",
-        "zero AXIS", "limits",   "halt AXIS",   "Exit status"}},
+       {"--port",    "--device", "--help",      "--version", "move",         "jog",           "brake",
+        "stop",      "status",   "in",          "out",       "keys",         "sweep",         "monitor",
+        "run",       "timing",   "mode [MODE]", "smc-phase", "profile AXIS", "goto AXIS=POS", "home AXIS",
+        "zero AXIS", "limits",   "halt AXIS",   "watch",     "Exit status"}},
       {subcommand::profile,
        {"--v0", "--ve", "--vm", "--a0", "--ae", "0..45000 steps/s", "1..45000", "0..1000000 steps/s^2",
         "3600 s", "--port", "--device", "--help", "Exit status"}},
@@ -468,11 +477,14 @@ TEST(Cli, HelpTexts) {
       {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
       {subcommand::status, {"--json", "--port", "--device", "--help", "coordinate", "synchronized"}},
-      {subcommand::in, {"--watch", "--port", "--device", "--help", "pins 15, 13, 12, 10"}},
+      {subcommand::in,
+       {"--watch", "--read-only", "--port", "--device", "--help", "pins 15, 13, 12, 10", "stale"}},
       {subcommand::out, {"--time", "--port", "--device", "--help", "pin 14"}},
       {subcommand::keys, {"--port", "--device", "--help", "ESC (1)"}},
       {subcommand::sweep, {"--ramp", "--port", "--device", "--help"}},
       {subcommand::monitor, {"--moves", "--port", "--device", "--help", "read-only"}},
+      {subcommand::watch,
+       {"--json", "--count", "--port", "--device", "--help", "read-only", "missed N events"}},
       {subcommand::run, {"--check", "--echo", "--port", "--device", "--help", "Ax,y,z", "M+ 500"}},
       {subcommand::timing,
        {"--pulse", "--space", "--setup", "--hold", "--json", "--port", "--device", "--help",
@@ -535,8 +547,8 @@ TEST(Main, HelpAndVersion) {
   EXPECT_TRUE(contains(r.out, "Usage: x4ctl"));
   EXPECT_EQ(r.err, "");
   for (const char *c :
-       {"move", "jog",    "brake", "stop",    "status", "in",   "out",  "keys",   "sweep", "monitor",
-        "run",  "timing", "mode",  "profile", "goto",   "home", "zero", "limits", "halt",  "help"}) {
+       {"move",   "jog",  "brake",   "stop", "status", "in",   "out",    "keys", "sweep", "monitor", "run",
+        "timing", "mode", "profile", "goto", "home",   "zero", "limits", "halt", "watch", "help"}) {
     r = run({c, "--help"});
     EXPECT_EQ(r.status, 0) << c;
     EXPECT_TRUE(contains(r.out, "Usage: x4ctl ")) << c;
@@ -1561,9 +1573,58 @@ TEST(Show, Texts) {
             "      412         0         0         0 [########------------] 41%");
   EXPECT_EQ(inputs_text(0x1f), "pin15=1 pin13=1 pin12=1 pin10=1 pin11=1");
   EXPECT_EQ(inputs_text(0x02), "pin15=0 pin13=1 pin12=0 pin10=0 pin11=0");
+  x4step::status st;
+  st.inputs_stale = true;
+  const auto now = std::chrono::steady_clock::now();
+  EXPECT_EQ(stale_text(st, now), "(stale: no controller has the port; never read)");
+  st.inputs_time = now - std::chrono::milliseconds(2500);
+  EXPECT_EQ(stale_text(st, now), "(stale: no controller has the port; read 2.5 s ago)");
   EXPECT_EQ(key_name(1), "ESC");
   EXPECT_EQ(key_name(28), "key code 28");
   EXPECT_EQ(key_name(156), "key code 156 (release of 28)");
+}
+
+TEST(Show, Events) {
+  x4step::event e;
+  e.seq = 12;
+  e.time = std::chrono::steady_clock::time_point(std::chrono::nanoseconds(105001234567));
+  e.type = x4step::event_type::move_ended;
+  e.axis_mask = 0x3;
+  e.how = static_cast<unsigned>(x4step::end_reason::braked);
+  e.position = {100, -50, 0, 0};
+  EXPECT_EQ(event_text(e), "#12 105.001234 move ended: axes 1 2, braked; at 100 -50 0 0");
+  EXPECT_EQ(event_json(e),
+            "{\"seq\":12,\"time_ns\":105001234567,\"type\":\"move_ended\",\"axes\":[1,2],\"how\":\"braked\","
+            "\"value\":0,\"ambiguous\":false,\"position\":[100,-50,0,0]}");
+  e.type = x4step::event_type::brake;
+  e.axis_mask = 0xf;
+  e.how = static_cast<unsigned>(x4step::brake_source::key);
+  e.value = 72;
+  EXPECT_EQ(event_text(e), "#12 105.001234 brake: axes 1 2 3 4, by key code 72; at 100 -50 0 0");
+  e.type = x4step::event_type::switch_hit;
+  e.axis_mask = 0x2;
+  e.how = static_cast<unsigned>(x4step::switch_kind::limit_pos);
+  e.value = 3;
+  e.ambiguous = true;
+  EXPECT_EQ(event_text(e),
+            "#12 105.001234 switch: axes 2, E+ on input 3 (pin 12), ambiguous; at 100 -50 0 0");
+  EXPECT_EQ(event_json(e),
+            "{\"seq\":12,\"time_ns\":105001234567,\"type\":\"switch\",\"axes\":[2],\"how\":\"limit_pos\","
+            "\"value\":3,\"ambiguous\":true,\"position\":[100,-50,0,0]}");
+  e = {};
+  e.seq = 1;
+  e.type = x4step::event_type::controller;
+  e.how = static_cast<unsigned>(x4step::controller_change::released);
+  EXPECT_EQ(event_text(e), "#1 0.000000 controller: released the port; at 0 0 0 0");
+  // A newer module's types and how values: numbers, not guesses.
+  e.type = static_cast<x4step::event_type>(17);
+  e.how = 2;
+  EXPECT_EQ(event_text(e), "#1 0.000000 event type 17: how 2; at 0 0 0 0");
+  EXPECT_EQ(event_json(e),
+            "{\"seq\":1,\"time_ns\":0,\"type\":17,\"axes\":[],\"how\":2,\"value\":0,\"ambiguous\":false,"
+            "\"position\":[0,0,0,0]}");
+  EXPECT_EQ(missed_text(3), "missed 3 events (the module keeps the last 256)");
+  EXPECT_EQ(missed_json(1), "{\"missed\":1}");
 }
 
 TEST(Show, StatusJson) {
@@ -1585,21 +1646,21 @@ TEST(Show, StatusJson) {
   a.axis[1].cruising = true;
   a.axis[3].error = x4step::axis_error::limit_neg | x4step::axis_error::ambiguous;
   a.switches_active = 0x5;
-  EXPECT_EQ(
-      status_json(s, a, "/dev/x4step0"),
-      "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
-      "\"steps\":[1,-2,3,0],\"inputs\":17,\"input_pins\":{\"15\":1,\"13\":0,\"12\":0,\"10\":0,\"11\":1},"
-      "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
-      "\"moves_ended\":7,\"axes\":["
-      "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
-      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
-      "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
-      "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
-      "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
-      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
-      "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
-      "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
-      "\"switches_active\":5}");
+  EXPECT_EQ(status_json(s, a, "/dev/x4step0"),
+            "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
+            "\"steps\":[1,-2,3,0],\"inputs\":17,\"inputs_stale\":false,\"input_pins\":{\"15\":1,\"13\":0,"
+            "\"12\":0,\"10\":0,\"11\":1},"
+            "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
+            "\"moves_ended\":7,\"axes\":["
+            "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
+            "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+            "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
+            "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
+            "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+            "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+            "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+            "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
+            "\"switches_active\":5}");
   EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
   const std::string text = status_text(s, a, "/dev/x4step0");
   EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;

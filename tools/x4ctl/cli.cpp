@@ -37,6 +37,8 @@ enum opt_id {
   opt_time,
   opt_json,
   opt_watch,
+  opt_read_only,
+  opt_count,
   opt_moves,
   opt_check,
   opt_echo,
@@ -179,7 +181,7 @@ const command_entry commands[] = {
     {subcommand::monitor, "monitor"}, {subcommand::run, "run"},         {subcommand::timing, "timing"},
     {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
-    {subcommand::halt, "halt"},       {subcommand::help, "help"},
+    {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -377,12 +379,17 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       break;
     case subcommand::in:
       add("watch", 'w', false, opt_watch);
+      add("read-only", 'r', false, opt_read_only);
       break;
     case subcommand::out:
       add("time", 't', true, opt_time);
       break;
     case subcommand::monitor:
       add("moves", 'n', true, opt_moves);
+      break;
+    case subcommand::watch:
+      add("json", 'j', false, opt_json);
+      add("count", 'n', true, opt_count);
       break;
     case subcommand::run:
       add("check", 'c', false, opt_check);
@@ -455,12 +462,21 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       case opt_watch:
         c.watch = true;
         break;
+      case opt_read_only:
+        c.read_only = true;
+        break;
       case opt_check:
         c.check = true;
         break;
       case opt_echo:
         c.echo = true;
         break;
+      case opt_count: {
+        const long n = parse_number(o.value, prefix + "count");
+        if (n < 1) throw usage_error(prefix + "count " + o.value + " out of range: use 1 or more");
+        c.count = n;
+        break;
+      }
       case opt_moves: {
         const long n = parse_number(o.value, prefix + "moves");
         if (n < 1) throw usage_error(prefix + "moves " + o.value + " out of range: use 1 or more");
@@ -668,7 +684,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.topic = *t;
       }
       break;
-    default:  // brake, stop, status, in, monitor, timing
+    default:  // brake, stop, status, in, monitor, timing, watch
       need_operands(r, 0, 0, prefix);
       break;
   }
@@ -782,6 +798,7 @@ std::string help_text(subcommand c) {
              "  sweep AXIS STEPS FROM TO STEP\n"
              "                       frequency sweep of one axis, to find resonances\n"
              "  monitor              follow the moves on the port, read-only\n"
+             "  watch                print the port's events as they happen, read-only\n"
              "  run [FILE]           run test program commands from FILE or standard input\n"
              "  timing               show or set the step signal timing (pulse, space, ...)\n"
              "  mode [MODE]          show or set the output mode: clock-dir, or smc-phase and\n"
@@ -880,10 +897,16 @@ std::string help_text(subcommand c) {
       return "Usage: x4ctl in [OPTIONS]\n"
              "\n"
              "Show the levels of the five inputs (X4GetIn), 1 = HIGH: pins 15, 13, 12, 10\n"
-             "and 11 are bits 0..4 of the value. Read-only.\n"
+             "and 11 are bits 0..4 of the value. The module reads the port only while it\n"
+             "has claimed it, for a controller: while another program controls the port\n"
+             "they are read through its claim; while none does, x4ctl takes the port for\n"
+             "as long as it runs (as 'x4ctl out' does). When another driver (lp, ppdev)\n"
+             "holds the port, or with --read-only, the levels shown are the last ones read,\n"
+             "marked 'stale' with their age.\n"
              "\n"
              "Options:\n"
-             "  -w, --watch          show them continuously until Ctrl-C\n" +
+             "  -w, --watch          show them continuously until Ctrl-C\n"
+             "  -r, --read-only      never take the port (stale levels if nobody controls it)\n" +
              std::string(port_help);
     case subcommand::out:
       return "Usage: x4ctl out [OPTIONS] SIGNAL on|off\n"
@@ -923,6 +946,24 @@ std::string help_text(subcommand c) {
              "Exit status: 0 every frequency ran; 1 the port refused or a move was braked;\n"
              "2 bad usage.\n"
              "Example: x4ctl sweep 2 1000 200 500 20\n";
+    case subcommand::watch:
+      return "Usage: x4ctl watch [OPTIONS]\n"
+             "\n"
+             "Print the events of the port as the module reports them, one line each,\n"
+             "until Ctrl-C (read-only): moves started (and their kind) and ended (completed,\n"
+             "braked, stopped, at a limit, homed, ...), brake requests and who made them\n"
+             "(a program, a brake key and its code, a controller's close), limit and\n"
+             "reference switches hit, controllers opening and closing, the port going\n"
+             "away. Each line starts with the event's number and its CLOCK_MONOTONIC\n"
+             "time in seconds. The module keeps the last 256 events: events a slow reader\n"
+             "missed show as 'missed N events'.\n"
+             "\n"
+             "Options:\n"
+             "  -j, --json           one JSON object per line instead of text\n"
+             "  -n, --count=N        end after N events\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 at Ctrl-C or after N events; 1 the port is missing or went away.\n";
     case subcommand::monitor:
       return "Usage: x4ctl monitor [OPTIONS]\n"
              "\n"

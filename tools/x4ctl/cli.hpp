@@ -48,6 +48,7 @@ enum class subcommand {
   zero,
   limits,
   halt,
+  watch,
   help
 };
 
@@ -70,12 +71,14 @@ struct config {
   bool wait = false;
   int sweep_from = 0, sweep_to = 0, sweep_step = 0;
 
-  bool json = false;   ///< status, timing
-  bool watch = false;  ///< in
+  bool json = false;       ///< status, timing
+  bool watch = false;      ///< in
+  bool read_only = false;  ///< in: never take the port
   x4step::signal signal = x4step::signal::one;
   bool level = false;         ///< out
   std::vector<int> codes;     ///< keys
   std::optional<long> moves;  ///< monitor: end after this many moves
+  std::optional<long> count;  ///< watch: end after this many events
   std::string file = "-";     ///< run; "-" is stdin
   bool check = false;         ///< run: check the script, move nothing
   bool echo = false;          ///< run: print each command

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -191,11 +192,39 @@ int cmd_status(const config &c) {
   return 0;
 }
 
+// The inputs as `x4ctl in` shows them. The module reads the port only
+// while it has claimed it: through another program's controller when there
+// is one, else x4ctl takes the port (kept until it ends), unless read_only.
+class input_reader {
+ public:
+  input_reader(std::string dev, bool read_only)
+      : dev_(std::move(dev)), read_only_(read_only), mon_(open_monitor(dev_)) {}
+
+  x4step::status read() {
+    if (ctl_) return ctl_->get_status();
+    const x4step::status s = mon_.get_status();
+    if (!s.inputs_stale || read_only_) return s;
+    try {
+      ctl_.emplace(dev_);
+    } catch (const x4step::error &) {
+      return s;  // another driver (or a controller that just opened) has it
+    }
+    return ctl_->get_status();
+  }
+
+ private:
+  std::string dev_;
+  bool read_only_;
+  x4step::monitor mon_;
+  std::optional<x4step::controller> ctl_;
+};
+
 int cmd_in(const config &c) {
-  const x4step::monitor mon = open_monitor(device_of(c));
+  input_reader in(device_of(c), c.read_only);
   auto line = [&] {
-    const unsigned v = mon.get_status().inputs;
-    return inputs_text(v) + " (" + std::to_string(v) + ")";
+    const x4step::status s = in.read();
+    return inputs_text(s.inputs) + " (" + std::to_string(s.inputs) + ")" +
+           (s.inputs_stale ? " " + stale_text(s, std::chrono::steady_clock::now()) : "");
   };
   if (!c.watch) {
     std::cout << line() << "\n";
@@ -281,6 +310,30 @@ int cmd_monitor(const config &c) {
       nap(milliseconds(20));
   }
   if (con.live()) std::cout << "\n";
+  return 0;
+}
+
+// The port's events, one line each, until Ctrl-C or --count of them.
+int cmd_watch(const config &c) {
+  const x4step::monitor mon = open_monitor(device_of(c));
+  std::uint64_t next = 0;  // the seq expected next; 0: any
+  long seen = 0;
+  while (take_signal() == key::none) {
+    std::optional<x4step::event> e;
+    try {
+      e = mon.read_event(tick);
+    } catch (const x4step::error &err) {
+      if (err.code() != x4step::errc::lpt_not_found) throw;
+      throw failure(device_of(c) + ": the port went away");
+    }
+    if (!e) continue;
+    if (next && e->seq > next)
+      std::cout << (c.json ? missed_json(e->seq - next) : missed_text(e->seq - next)) << "\n";
+    next = e->seq + 1;
+    std::cout << (c.json ? event_json(*e) : event_text(*e)) << "\n" << std::flush;
+    if (c.count && ++seen >= *c.count) return 0;
+    if (e->type == x4step::event_type::port_gone) throw failure(device_of(c) + ": the port went away");
+  }
   return 0;
 }
 
@@ -440,6 +493,8 @@ int dispatch(const config &c) {
       return with_port(c, limits_command);
     case subcommand::halt:
       return cmd_halt_axes(c);
+    case subcommand::watch:
+      return cmd_watch(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

@@ -44,6 +44,17 @@ std::string inputs_text(unsigned inputs) {
   return s;
 }
 
+std::string stale_text(const x4step::status &s, std::chrono::steady_clock::time_point now) {
+  std::string when = "never read";
+  if (s.inputs_time.time_since_epoch().count() > 0) {
+    const double age = std::chrono::duration<double>(now - s.inputs_time).count();
+    char t[40];
+    std::snprintf(t, sizeof t, "read %.1f s ago", age < 0 ? 0.0 : age);
+    when = t;
+  }
+  return "(stale: no controller has the port; " + when + ")";
+}
+
 std::string key_name(int code) {
   if (code == 1) return "ESC";
   if (code > 128)
@@ -147,7 +158,8 @@ std::string status_text(const x4step::status &s, const x4step::axes_status &a, c
     << "state        " << (s.active ? "running" : "idle") << (s.loaded ? ", a move is loaded" : "")
     << (s.controlled ? ", controlled" : ", no controller") << "\n"
     << "steps        " << steps_text(s.steps) << "\n"
-    << "inputs       " << inputs_text(s.inputs) << "\n"
+    << "inputs       " << inputs_text(s.inputs)
+    << (s.inputs_stale ? " " + stale_text(s, std::chrono::steady_clock::now()) : "") << "\n"
     << "outputs      pin1=" << bit(s.outputs, 0) << " pin14=" << bit(s.outputs, 1)
     << " pin16(BOOST)=" << bit(s.outputs, 2) << " pin17(AKTIV)=" << bit(s.outputs, 3) << "\n"
     << "braked by    " << (s.last_brake_code ? key_name(s.last_brake_code) : "no key") << "\n"
@@ -162,7 +174,7 @@ std::string status_json(const x4step::status &s, const x4step::axes_status &a, c
   o << "{\"device\":" << json_string(device) << ",\"active\":" << boolean(s.active)
     << ",\"loaded\":" << boolean(s.loaded) << ",\"controlled\":" << boolean(s.controlled) << ",\"steps\":[";
   for (int i = 0; i < x4step::axes; i++) o << (i ? "," : "") << s.steps[i];
-  o << "],\"inputs\":" << s.inputs << ",\"input_pins\":{";
+  o << "],\"inputs\":" << s.inputs << ",\"inputs_stale\":" << boolean(s.inputs_stale) << ",\"input_pins\":{";
   for (int i = 0; i < 5; i++) o << (i ? "," : "") << "\"" << input_pins[i] << "\":" << bit(s.inputs, i);
   o << "},\"outputs\":" << s.outputs << ",\"signal1\":" << bit(s.outputs, 0)
     << ",\"signal2\":" << bit(s.outputs, 1) << ",\"boost\":" << bit(s.outputs, 2)
@@ -190,6 +202,145 @@ std::string status_json(const x4step::status &s, const x4step::axes_status &a, c
   o << "],\"switches_active\":" << a.switches_active << "}";
   return o.str();
 }
+
+namespace {
+
+// The names of an event's type and how, as JSON and text use them; "" if
+// this x4ctl does not know them (a newer module).
+const char *event_type_name(x4step::event_type t) {
+  static const char *const names[] = {"move_started", "move_ended", "brake",
+                                      "switch",       "controller", "port_gone"};
+  const unsigned i = static_cast<unsigned>(t) - 1;
+  return i < 6 ? names[i] : "";
+}
+
+const char *event_how_name(const x4step::event &e) {
+  static const char *const kinds[] = {"loaded", "endless", "goto", "home"};
+  static const char *const ends[] = {"completed", "braked",    "stopped",   "limit",
+                                     "homed",     "ref_found", "ref_travel"};
+  static const char *const sources[] = {"request", "key", "close"};
+  static const char *const switches[] = {"limit_pos", "limit_neg", "ref"};
+  static const char *const changes[] = {"opened", "closed", "released"};
+  const unsigned h = e.how - 1;
+  switch (e.type) {
+    case x4step::event_type::move_started:
+      return h < 4 ? kinds[h] : "";
+    case x4step::event_type::move_ended:
+      return h < 7 ? ends[h] : "";
+    case x4step::event_type::brake:
+      return h < 3 ? sources[h] : "";
+    case x4step::event_type::switch_hit:
+      return h < 3 ? switches[h] : "";
+    case x4step::event_type::controller:
+      return h < 3 ? changes[h] : "";
+    default:
+      return "";
+  }
+}
+
+std::string seconds(std::chrono::steady_clock::time_point t) {
+  const long long ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  char s[40];
+  std::snprintf(s, sizeof s, "%lld.%06lld", ns / 1000000000, ns % 1000000000 / 1000);
+  return s;
+}
+
+std::string axes_list(unsigned mask, const char *sep) {
+  std::string s;
+  for (int i = 0; i < x4step::axes; i++)
+    if (mask >> i & 1u) s += (s.empty() ? "" : sep) + std::to_string(i + 1);
+  return s;
+}
+
+}  // namespace
+
+std::string event_text(const x4step::event &e) {
+  using x4step::event_type;
+  const unsigned how = e.how;
+  std::string what, detail;
+  switch (e.type) {
+    case event_type::move_started: {
+      static const char *const kinds[] = {"X4Step move", "endless move", "goto", "reference run"};
+      what = "move started";
+      detail = how >= 1 && how <= 4 ? kinds[how - 1] : "";
+      break;
+    }
+    case event_type::move_ended: {
+      static const char *const ends[] = {"completed",
+                                         "braked",
+                                         "stopped",
+                                         "at a limit switch",
+                                         "homed",
+                                         "REF found",
+                                         "reference travel exceeded"};
+      what = "move ended";
+      detail = how >= 1 && how <= 7 ? ends[how - 1] : "";
+      break;
+    }
+    case event_type::brake:
+      what = "brake";
+      detail = how == 1   ? "requested by the controller"
+               : how == 2 ? "by " + key_name(static_cast<int>(e.value))
+               : how == 3 ? "the controller closed while moving"
+                          : "";
+      break;
+    case event_type::switch_hit: {
+      static const char *const kinds[] = {"E+", "E-", "REF"};
+      what = "switch";
+      if (how >= 1 && how <= 3)
+        detail = std::string(kinds[how - 1]) + " on " + input_name(static_cast<int>(e.value));
+      if (e.ambiguous) detail += ", ambiguous";
+      break;
+    }
+    case event_type::controller: {
+      static const char *const changes[] = {"opened", "closed", "released the port"};
+      what = "controller";
+      detail = how >= 1 && how <= 3 ? changes[how - 1] : "";
+      break;
+    }
+    case event_type::port_gone:
+      what = "port gone";
+      break;
+    default:
+      what = "event type " + std::to_string(static_cast<unsigned>(e.type));
+      break;
+  }
+  if (detail.empty() && how && e.type != event_type::port_gone) detail = "how " + std::to_string(how);
+  std::string s = "#" + std::to_string(e.seq) + " " + seconds(e.time) + " " + what;
+  if (e.axis_mask) s += ": axes " + axes_list(e.axis_mask, " ");
+  if (!detail.empty()) s += (e.axis_mask ? ", " : ": ") + detail;
+  step_counts pos{};
+  for (int i = 0; i < x4step::axes; i++) pos[i] = e.position[i];
+  return s + "; at " + steps_text(pos);
+}
+
+std::string event_json(const x4step::event &e) {
+  const long long ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(e.time.time_since_epoch()).count();
+  const char *type = event_type_name(e.type);
+  const char *how = event_how_name(e);
+  std::ostringstream o;
+  o << "{\"seq\":" << e.seq << ",\"time_ns\":" << ns << ",\"type\":";
+  if (*type)
+    o << json_string(type);
+  else
+    o << static_cast<unsigned>(e.type);
+  o << ",\"axes\":[" << axes_list(e.axis_mask, ",") << "],\"how\":";
+  if (*how)
+    o << json_string(how);
+  else
+    o << e.how;
+  o << ",\"value\":" << e.value << ",\"ambiguous\":" << (e.ambiguous ? "true" : "false") << ",\"position\":[";
+  for (int i = 0; i < x4step::axes; i++) o << (i ? "," : "") << e.position[i];
+  o << "]}";
+  return o.str();
+}
+
+std::string missed_text(std::uint64_t n) {
+  return "missed " + std::to_string(n) + (n == 1 ? " event" : " events") + " (the module keeps the last 256)";
+}
+
+std::string missed_json(std::uint64_t n) { return "{\"missed\":" + std::to_string(n) + "}"; }
 
 const char *mode_name(x4step::output_mode m) {
   switch (m) {

@@ -4,6 +4,8 @@
 #define X4CTL_SHOW_HPP
 
 #include <array>
+#include <chrono>
+#include <cstdint>
 #include <string>
 
 #include "../json_string.hpp"
@@ -21,6 +23,9 @@ std::string bar(long long done, long long total, int width);
 std::string progress_line(const step_counts &steps, long long done, long long total);
 /// "pin15=1 pin13=0 pin12=0 pin10=1 pin11=0"
 std::string inputs_text(unsigned inputs);
+/// For inputs that were not read now (s.inputs_stale): "(stale: no
+/// controller has the port; read 2.5 s ago)", or "... never read)".
+std::string stale_text(const x4step::status &s, std::chrono::steady_clock::time_point now);
 /// "ESC" for 1, else "key code N" (release codes say so).
 std::string key_name(int code);
 /// Multi-line text of `x4ctl status`.
@@ -44,6 +49,14 @@ std::string limits_text(const x4step::switches &s, const x4step::axes_status &a)
 std::string input_name(int input);
 /// A JSON string literal.
 using x4tools::json_string;
+
+/// One line of `x4ctl watch`: "#12 105.001234 move ended: axes 1 2, braked, at 100 -50 0 0".
+std::string event_text(const x4step::event &e);
+/// The same as one line of JSON.
+std::string event_json(const x4step::event &e);
+/// What `x4ctl watch` says of events it missed (n > 0), as text or JSON.
+std::string missed_text(std::uint64_t n);
+std::string missed_json(std::uint64_t n);
 
 /// Every output mode, in the order the help lists them.
 constexpr x4step::output_mode output_modes[] = {

@@ -4,9 +4,10 @@
  *
  * One char device /dev/x4stepN per parallel port parportN. One process at
  * a time opens it read-write and controls the motors; any number may open
- * it read-only to watch (status, poll). Structures hold fixed-width fields
- * only, are padded to 64 bits, and their reserved fields must be zero, so
- * 32-bit programs use the same layout and later versions can extend them.
+ * it read-only to watch (status, poll, events through read()). Structures
+ * hold fixed-width fields only, are padded to 64 bits, and their reserved
+ * fields must be zero, so 32-bit programs use the same layout and later
+ * versions can extend them.
  *
  * The read-write open claims the parallel port; it fails with EBUSY while
  * another controller has the device, while the module still brakes the
@@ -14,7 +15,8 @@
  * ramps and returns; the port is kept until the motors stand), or while
  * another parport driver (lp, ppdev) has claimed the port. poll() reports
  * POLLIN when no move runs and no such brake is pending, POLLERR | POLLHUP
- * when the port went away.
+ * when the port went away, and (ABI 4) POLLPRI when the descriptor has
+ * events to read() (struct x4step_event, below).
  *
  * Errors: every ioctl returns 0 or -1 with errno set.
  *   EINVAL  a parameter is out of range; for the ioctls with a
@@ -38,10 +40,12 @@
 #include <linux/types.h>
 
 /*
- * 2: positioning; 3: GET_TIMING counts every event, and shifts.
+ * 2: positioning; 3: GET_TIMING counts every event, and shifts;
+ * 4: events through read() (x4step_event, POLLPRI), X4STEP_SET_OUTPUTS,
+ * status reads that leave an unclaimed port alone (X4STEP_ST_INPUTS_STALE).
  * A version only adds: a program built for version N runs on any >= N.
  */
-#define X4STEP_ABI_VERSION 3
+#define X4STEP_ABI_VERSION 4
 #define X4STEP_AXES 4
 #define X4STEP_MAX_BRAKE_CODES 20
 
@@ -50,7 +54,8 @@ struct x4step_info {
 	__u32 abi_version; /* X4STEP_ABI_VERSION */
 	__u32 axes; /* X4STEP_AXES */
 	__u32 port; /* N of parportN */
-	__u32 reserved[5];
+	__u32 event_buffer; /* ABI 4: events kept per port (see x4step_event) */
+	__u32 reserved[4];
 };
 
 /* X4STEP_LOAD: an interpolated move (X4Load). */
@@ -78,6 +83,15 @@ struct x4step_endless {
 #define X4STEP_ST_LOADED (1u << 1) /* a move is loaded */
 /* A controller has the device open, or its moves still brake after close. */
 #define X4STEP_ST_CONTROLLED (1u << 2)
+/*
+ * ABI 4: `inputs` were not read now but are the levels last read, at
+ * inputs_time_ns (0: never): the module reads the port's status register
+ * only while it has claimed the port, that is while a controller has the
+ * device open (or its moves still brake after close). The rest of the
+ * time another parport driver (lp, ppdev) may own the port, and x4step
+ * leaves its registers alone. Also in x4step_axes.flags.
+ */
+#define X4STEP_ST_INPUTS_STALE (1u << 3)
 
 /* Output pins in x4step_status.outputs and x4step_output.signal. */
 #define X4STEP_OUT_SIGNAL1 (1u << 0) /* pin 1 */
@@ -85,25 +99,45 @@ struct x4step_endless {
 #define X4STEP_OUT_BOOST (1u << 2) /* pin 16, driven by the engine */
 #define X4STEP_OUT_AKTIV (1u << 3) /* pin 17, driven by the engine */
 
-/* X4STEP_GET_STATUS: readable on any descriptor, never blocks. */
+/*
+ * X4STEP_GET_STATUS: readable on any descriptor, never blocks. Touches
+ * no port register unless x4step has claimed the port (see
+ * X4STEP_ST_INPUTS_STALE).
+ */
 struct x4step_status {
 	__u32 flags; /* X4STEP_ST_* */
 	__u32 last_brake_code; /* key code that braked the last move, or 0 */
 	/* X4GetIn: bit0 pin15, bit1 pin13, bit2 pin12, bit3 pin10, bit4 pin11 */
-	__u32 inputs; /* 1 = HIGH */
+	__u32 inputs; /* 1 = HIGH; see X4STEP_ST_INPUTS_STALE */
 	__u32 outputs; /* X4STEP_OUT_* levels (1 = HIGH) */
 	__s64 steps[X4STEP_AXES]; /* signed steps since the last start */
 	__u64 moves_ended; /* counts moves that came to an end */
 	__u32 data; /* data register pin levels (pins 2..9) */
 	__u32 reserved0;
 	__u64 brake_time_ns; /* CLOCK_MONOTONIC of the last brake request */
-	__u32 reserved[2];
+	__u64 inputs_time_ns; /* ABI 4: CLOCK_MONOTONIC the inputs were read */
 };
 
-/* X4STEP_SET_OUTPUT: X4SetOut. */
+/*
+ * X4STEP_SET_OUTPUT: X4SetOut, ABI 1 to 3. Kept for the programs built
+ * for them; it cannot be extended: new programs use X4STEP_SET_OUTPUTS.
+ */
 struct x4step_output {
 	__u32 signal; /* X4STEP_OUT_SIGNAL1 or X4STEP_OUT_SIGNAL2 */
 	__u32 level; /* 0 or 1 */
+};
+
+/*
+ * X4STEP_SET_OUTPUTS (ABI 4): set the signals in `mask` to their bits in
+ * `levels`, both in one write of the control register. EINVAL for an
+ * empty mask, bits beyond the signals, levels outside the mask, or
+ * non-zero flags or reserved words (kept for later use).
+ */
+struct x4step_outputs {
+	__u32 mask; /* X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2, non-zero */
+	__u32 levels; /* 1 = HIGH */
+	__u32 flags; /* must be 0 */
+	__u32 reserved[5]; /* must be 0 */
 };
 
 /* X4STEP_SET_BRAKE_CODES: X4BrakeCodes. ESC (1) always brakes. */
@@ -120,7 +154,12 @@ struct x4step_brake_codes {
 #define X4STEP_MODE_SMC_PHASE 1
 #define X4STEP_MODE_SMC_PHASE_HOLD 2 /* the same, reduced current at rest */
 
-/* X4STEP_SET_CONFIG / X4STEP_GET_CONFIG: per-port wiring. */
+/*
+ * X4STEP_SET_CONFIG / X4STEP_GET_CONFIG: per-port wiring. SET_CONFIG only
+ * while no move runs (EBUSY); it puts the port at rest for the new wiring
+ * in one data write (phase modes: the motors' rest patterns), so no clock
+ * makes an edge that a driver wired the new way counts as a step.
+ */
 /*
  * Brake keys reach applications too unless this is set: then, as in the
  * DOS library, a brake key pressed while a move runs is swallowed.
@@ -321,7 +360,84 @@ struct x4step_axes {
 	struct x4step_axis axis[X4STEP_AXES];
 	__u32 inputs; /* as x4step_status.inputs */
 	__u32 switches; /* bit k: input k + 1 is active (after NO/NC) */
-	__u32 reserved[2];
+	__u32 flags; /* ABI 4: X4STEP_ST_INPUTS_STALE, or 0 */
+	__u32 reserved;
+};
+
+/*
+ * Events (ABI 4). read() on any descriptor, read-only ones included,
+ * returns whole struct x4step_event records: as many as fit in the buffer
+ * and are there (EINVAL for a buffer smaller than one). With none to read
+ * it blocks, or fails with EAGAIN under O_NONBLOCK; once the port is gone
+ * and everything is read, with ENODEV. A descriptor reads what happens
+ * after its open(), from its own position: the module keeps the last
+ * x4step_info.event_buffer events of the port (256), and a reader that
+ * fell further behind resumes at the oldest one kept: the gap in `seq`
+ * says how many it missed.
+ *
+ * poll(): POLLPRI when there are events to read. POLLIN keeps its meaning
+ * (no move runs), so programs that wait for POLLIN, and libraries that
+ * share the descriptor, are not woken for events: wait for POLLPRI (or
+ * select()'s exceptfds, EPOLLPRI) to read them.
+ *
+ * A reader skips events of types it does not know, and treats `how`
+ * values it does not know as "other": later versions add both (a path
+ * queue's segments started and ended, hold and resume, starvation).
+ * Reserved fields are zero.
+ */
+#define X4STEP_EV_MOVE_STARTED 1 /* how: X4STEP_KIND_*; axes: its axes */
+#define X4STEP_EV_MOVE_ENDED 2 /* how: X4STEP_END_*; axes: its axes */
+/* A brake was asked for; how: X4STEP_SRC_*, value: the key's code */
+#define X4STEP_EV_BRAKE 3
+/* A switch stopped a move; how: X4STEP_SW_*, value: the input 1..5 */
+#define X4STEP_EV_SWITCH 4
+#define X4STEP_EV_CONTROLLER 5 /* how: X4STEP_CTL_* */
+#define X4STEP_EV_PORT_GONE 6 /* the last event of a port */
+
+/* Kinds of moves (how of X4STEP_EV_MOVE_STARTED). */
+#define X4STEP_KIND_LOADED 1 /* X4STEP_START: an interpolated move */
+#define X4STEP_KIND_ENDLESS 2 /* X4STEP_MOVE_ENDLESS */
+#define X4STEP_KIND_GOTO 3 /* X4STEP_GOTO: one per axis that moves */
+#define X4STEP_KIND_HOME 4 /* X4STEP_HOME */
+
+/* How moves end (how of X4STEP_EV_MOVE_ENDED). */
+#define X4STEP_END_COMPLETED 1 /* as planned */
+#define X4STEP_END_BRAKED 2 /* a brake was asked for while it ran */
+#define X4STEP_END_STOPPED 3 /* at once: X4STEP_STOP, HALT, SET_POSITION, */
+				/* the module's release, the port's removal */
+#define X4STEP_END_LIMIT 4 /* a limit switch (see X4STEP_EV_SWITCH) */
+#define X4STEP_END_HOMED 5 /* reference run done: at 0, synchronized */
+#define X4STEP_END_REF_FOUND 6 /* a phase-1-only run found REF */
+#define X4STEP_END_REF_TRAVEL 7 /* a reference phase went beyond sref */
+
+/* Who asked for a brake (how of X4STEP_EV_BRAKE). */
+#define X4STEP_SRC_IOCTL 1 /* X4STEP_BRAKE or X4STEP_HALT */
+#define X4STEP_SRC_KEY 2 /* a brake key; value: its set-1 code */
+#define X4STEP_SRC_CLOSE 3 /* the controller closed while moves ran */
+
+/* Switches (how of X4STEP_EV_SWITCH); one event per axis. */
+#define X4STEP_SW_LIMIT_POS 1 /* E+ */
+#define X4STEP_SW_LIMIT_NEG 2 /* E- */
+#define X4STEP_SW_REF 3 /* REF: a reference phase ended */
+
+/* Controllers (how of X4STEP_EV_CONTROLLER). */
+#define X4STEP_CTL_OPENED 1
+#define X4STEP_CTL_CLOSED 2 /* its moves, if any, brake (X4STEP_SRC_CLOSE) */
+#define X4STEP_CTL_RELEASED 3 /* the port is free: a controller may open */
+
+/* Flags of struct x4step_event. */
+#define X4STEP_EVF_AMBIGUOUS (1u << 0) /* the input serves other limits */
+
+struct x4step_event {
+	__u64 seq; /* 1, 2, 3, ... per port */
+	__u64 timestamp_ns; /* CLOCK_MONOTONIC; never decreases */
+	__u32 type; /* X4STEP_EV_* */
+	__u32 axes; /* axis mask (bit i: axis i + 1), or 0 */
+	__u32 how; /* by type, above */
+	__u32 value; /* by type, above; else 0 */
+	__s32 position[X4STEP_AXES]; /* every axis' coordinate then */
+	__u32 flags; /* X4STEP_EVF_* */
+	__u32 reserved[3];
 };
 
 #define X4STEP_IOC_MAGIC 0xB4
@@ -340,7 +456,7 @@ struct x4step_axes {
 #define X4STEP_MOVE_ENDLESS _IOWR(X4STEP_IOC_MAGIC, 0x05, struct x4step_endless)
 /* Read the status. */
 #define X4STEP_GET_STATUS _IOR(X4STEP_IOC_MAGIC, 0x06, struct x4step_status)
-/* Set output signal 1 or 2. */
+/* Set output signal 1 or 2 (ABI 1..3; see X4STEP_SET_OUTPUTS). */
 #define X4STEP_SET_OUTPUT _IOW(X4STEP_IOC_MAGIC, 0x07, struct x4step_output)
 /* Set the brake keys. */
 #define X4STEP_SET_BRAKE_CODES _IOW(X4STEP_IOC_MAGIC, 0x08, struct x4step_brake_codes)
@@ -366,5 +482,7 @@ struct x4step_axes {
 #define X4STEP_SET_SWITCHES _IOW(X4STEP_IOC_MAGIC, 0x16, struct x4step_switches)
 #define X4STEP_GET_SWITCHES _IOR(X4STEP_IOC_MAGIC, 0x17, struct x4step_switches)
 #define X4STEP_GET_AXES _IOR(X4STEP_IOC_MAGIC, 0x18, struct x4step_axes)
+/* ABI 4: set output signals 1 and 2. */
+#define X4STEP_SET_OUTPUTS _IOW(X4STEP_IOC_MAGIC, 0x19, struct x4step_outputs)
 
 #endif /* _UAPI_LINUX_X4STEP_H */

@@ -1,0 +1,10 @@
+#!/bin/sh
+# SPDX-License-Identifier: GPL-2.0
+# Guest script: the event stream and status reads that leave an unclaimed
+# port alone (issue 15), on the virtual port, with ppdev as the other
+# parport client (tests/guest/events_test.cpp).
+mount -t debugfs none /sys/kernel/debug 2>/dev/null
+insmod "$X4MOD/x4step.ko" || exit 1
+insmod /lib/kmod/ppdev.ko || exit 1
+insmod "$X4MOD/x4vport.ko" || exit 1
+exec /bin/events_test
