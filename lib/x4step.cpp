@@ -141,8 +141,9 @@ int open_device(const std::string &path, int flags) {
     if (errno == ENOENT || errno == ENODEV || errno == ENXIO) fail(errc::lpt_not_found);
     if (errno == EACCES || errno == EPERM)
       throw error(make_error_code(errc::lpt_not_found),
-                  path + ": permission denied: controlling the motors needs group lp (sudo adduser $USER lp, "
-                         "then log in again)");
+                  path +
+                      ": permission denied: controlling the motors needs group lp (sudo adduser $USER lp, "
+                      "then log in again)");
     fail_errno(errno, "open " + path);
   }
   x4step_info info{};
