@@ -171,18 +171,21 @@ enum class halt_mode {
   stop,   ///< at once: the axes lose their synchronization
 };
 
-/// A reference run (ProStep4 section 3): phase 1 at vref1 until the REF
-/// input becomes active, then braking along the axis' profile ae (none if
-/// ae is 0); phase 2 from rest at vref2 until it changes again, where it
-/// stops, zeroing the coordinate and synchronizing the axis. Each phase
-/// travels at most sref steps. Speeds are signed (the sign is the
-/// direction), 1..vel_max steps/s; sref 1..2^31 - 1; at least one phase.
+/// A reference run (ProStep4 section 3), without ramps: phase 1 at vref1
+/// until the REF input becomes active, where it stops (or, with `brake`,
+/// brakes past it along the axis' profile ae: REF must stay active over
+/// that distance, else axis_error::ref_passed); phase 2, 50 ms later from
+/// rest, at vref2 until REF changes again, where it stops, zeroing the
+/// coordinate and synchronizing the axis. Each phase travels at most sref
+/// steps. Speeds are signed (the sign is the direction), 1..vel_max
+/// steps/s; sref 1..2^31 - 1; at least one phase.
 struct homing {
   int vref1 = -1000;
   int vref2 = 100;
   unsigned long sref = 100000;
   bool phase1 = true;
   bool phase2 = true;
+  bool brake = false;  ///< phase 1 brakes past REF along the axis' ae
 };
 
 /// Inputs 1..5 (X4GetIn bit 0..4) per axis, 0 = none; nc bit k: input k+1
@@ -197,10 +200,11 @@ struct switches {
 
 /// Error bits of an axis (ProStep4's error register), cleared by its next move.
 namespace axis_error {
-constexpr unsigned ref_travel = 1;  ///< a reference phase went beyond sref
-constexpr unsigned limit_pos = 2;   ///< stopped at E+
-constexpr unsigned limit_neg = 4;   ///< stopped at E-
-constexpr unsigned ambiguous = 8;   ///< the input serves other limits too: maybe not this axis' switch
+constexpr unsigned ref_travel = 1;   ///< a reference phase went beyond sref
+constexpr unsigned limit_pos = 2;    ///< stopped at E+
+constexpr unsigned limit_neg = 4;    ///< stopped at E-
+constexpr unsigned ambiguous = 8;    ///< the input serves other limits too: maybe not this axis' switch
+constexpr unsigned ref_passed = 16;  ///< phase 1's brake ran off the REF switch
 }  // namespace axis_error
 
 /// One axis (ProStep4's status register).
@@ -246,6 +250,7 @@ enum class end_reason {
   homed = 5,       ///< reference run done: at 0, synchronized
   ref_found = 6,   ///< a phase-1-only reference run found REF
   ref_travel = 7,  ///< a reference phase went beyond sref
+  ref_passed = 8,  ///< phase 1's brake ran off the REF switch
 };
 enum class brake_source {
   request = 1,

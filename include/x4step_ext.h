@@ -47,6 +47,7 @@ int X4SetOutputMode(int mode);
 #define X4HOME_PHASE1 1 /**< at vref1 until the reference switch becomes active */
 #define X4HOME_PHASE2 2 /**< at vref2 until it changes again; then zero and synchronize */
 #define X4HOME_AUTO (X4HOME_PHASE1 | X4HOME_PHASE2) /**< both, one after the other */
+#define X4HOME_BRAKE 4 /**< with PHASE1: brake past the switch along the axis' ae */
 
 /* State bits of X4GetAxisState (ProStep4's status register). */
 #define X4AX_RUN 0x001    /**< the axis moves */
@@ -63,6 +64,7 @@ int X4SetOutputMode(int mode);
 #define X4AXERR_LIMIT_POS 2  /**< stopped at limit switch E+ */
 #define X4AXERR_LIMIT_NEG 4  /**< stopped at limit switch E- */
 #define X4AXERR_AMBIGUOUS 8  /**< the input serves other limits too */
+#define X4AXERR_REF_PASSED 16 /**< phase 1's brake ran off the reference switch */
 
 /**
  * Ramp of the axis' own moves (X4MoveTo, X4MoveBy): start at v0, speed up
@@ -85,15 +87,16 @@ int X4MoveTo(int axis, long target);
 int X4MoveBy(int axis, long distance);
 
 /**
- * Reference run of axis (ProStep4 section 3): phase 1 at vref1 steps/s
- * until the reference switch becomes active, then it brakes along the
- * axis' profile deceleration ae (X4SetProfile; none if 0, and vref1 / ae
- * at most 3600 s), phase 2 at vref2 from rest until the switch changes
- * again, then the coordinate is 0 and the axis synchronized. Both phases
- * start without a ramp. Speeds are signed (the sign is the direction),
+ * Reference run of axis (ProStep4 section 3), without ramps: phase 1 at
+ * vref1 steps/s until the reference switch becomes active, where it stops
+ * (with X4HOME_BRAKE it brakes past it along the axis' profile
+ * deceleration ae, X4SetProfile, vref1 / ae at most 3600 s; the switch
+ * must stay active over that distance, else X4AXERR_REF_PASSED), phase 2
+ * 50 ms later from rest at vref2 until the switch changes again, then the
+ * coordinate is 0 and the axis synchronized. Speeds are signed (the sign is the direction),
  * 1..45000 steps/s; each phase travels at most sref (1..2^31-1) steps,
  * else the axis stops with X4AXERR_REF_TRAVEL. phases: X4HOME_PHASE1,
- * X4HOME_PHASE2 or X4HOME_AUTO. Needs the axis' reference input
+ * X4HOME_PHASE2 or X4HOME_AUTO, with X4HOME_BRAKE or not. Needs the axis' reference input
  * (X4SetSwitches). X4BrakeAxis and X4StopAxis end it.
  * @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive
  */

@@ -77,6 +77,7 @@ struct x4_port {
 	struct x4step_event *events;
 	u64 ev_seq;
 	u64 ev_time_ns; /* the last event's time: times never go back */
+	bool ev_closed; /* PORT_GONE is in the ring: readers end after it */
 	u8 ev_busy; /* channels that ran */
 	u8 ev_err[X4_AXES]; /* the axes' error bits */
 	u8 ev_home[X4_AXES]; /* each channel's reference phase */

@@ -120,6 +120,7 @@ void x4_events_controller_locked(struct x4_port *x4, u32 how)
 void x4_events_gone_locked(struct x4_port *x4)
 {
 	x4_ev_push_locked(x4, X4STEP_EV_PORT_GONE, 0, 0, 0, 0);
+	x4->ev_closed = true;
 }
 
 /* The channel that runs axis i, or -1. */
@@ -162,6 +163,8 @@ static void x4_ev_errors_locked(struct x4_port *x4)
 			x4->ev_how[c] = X4STEP_END_LIMIT;
 		else if (new & X4_AXERR_REF_TRAVEL)
 			x4->ev_how[c] = X4STEP_END_REF_TRAVEL;
+		else if (new & X4_AXERR_REF_PASSED)
+			x4->ev_how[c] = X4STEP_END_REF_PASSED;
 	}
 }
 
@@ -283,7 +286,7 @@ static int x4_ev_take(struct x4_port *x4, struct x4_file *xf,
 	if (xf->ev_next < x4->ev_seq)
 		*ev = x4->events[xf->ev_next & (X4_EVENTS - 1)];
 	else
-		ret = x4->gone ? -ENODEV : 0;
+		ret = x4->ev_closed ? -ENODEV : 0;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
 }
@@ -296,7 +299,7 @@ static bool x4_ev_ready(struct x4_port *x4, struct x4_file *xf, bool *gone)
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ready = xf->ev_next < x4->ev_seq;
-	*gone = x4->gone;
+	*gone = x4->ev_closed;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ready;
 }
@@ -315,45 +318,68 @@ static bool x4_ev_wakeup(struct x4_port *x4, struct x4_file *xf)
 	return x4_ev_ready(x4, xf, &gone) || gone;
 }
 
+/* Event `seq` reached xf's reader (under slock: poll reads ev_next). */
+static void x4_ev_consumed(struct x4_port *x4, struct x4_file *xf, u64 seq)
+{
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	xf->ev_next = seq + 1;
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+}
+
+/* Copy the events there are into buf: bytes copied, or 0, or -errno. */
+static ssize_t x4_ev_copy(struct x4_port *x4, struct x4_file *xf,
+			  char __user *buf, size_t count)
+{
+	struct x4step_event ev;
+	size_t done = 0;
+	int ret;
+
+	while (count - done >= sizeof(ev)) {
+		ret = x4_ev_take(x4, xf, &ev);
+		if (ret <= 0)
+			return done ? done : ret;
+		if (copy_to_user(buf + done, &ev, sizeof(ev)))
+			return done ? done : -EFAULT;
+		/* Only what reached the reader counts as read. */
+		x4_ev_consumed(x4, xf, ev.seq);
+		done += sizeof(ev);
+	}
+	return done;
+}
+
 /*
  * read(): whole events, as many as fit and are there; blocks for the
- * first unless O_NONBLOCK (EAGAIN). EINVAL for a buffer smaller than one
- * event; ENODEV once the port is gone and every event has been read.
+ * first unless O_NONBLOCK (EAGAIN, also while another thread reads the
+ * same file). EINVAL for a buffer smaller than one event; ENODEV once
+ * the port is gone and every event, PORT_GONE the last, has been read.
+ * The file's read lock is not held while waiting.
  */
 ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
 		       struct file *file, char __user *buf, size_t count)
 {
-	struct x4step_event ev;
-	size_t done = 0;
-	int ret = 0;
+	bool nonblock = file->f_flags & O_NONBLOCK;
+	ssize_t ret;
 
-	if (count < sizeof(ev))
+	if (count < sizeof(struct x4step_event))
 		return -EINVAL;
-	if (mutex_lock_interruptible(&xf->read_lock))
-		return -ERESTARTSYS;
-	while (count - done >= sizeof(ev)) {
-		ret = x4_ev_take(x4, xf, &ev);
-		if (ret > 0) {
-			if (copy_to_user(buf + done, &ev, sizeof(ev))) {
-				ret = -EFAULT;
-				break;
-			}
-			/* Only what reached the reader counts as read. */
-			xf->ev_next = ev.seq + 1;
-			done += sizeof(ev);
-			continue;
+	for (;;) {
+		if (nonblock) {
+			if (!mutex_trylock(&xf->read_lock))
+				return -EAGAIN;
+		} else if (mutex_lock_interruptible(&xf->read_lock)) {
+			return -ERESTARTSYS;
 		}
-		if (done || ret < 0)
-			break;
-		if (file->f_flags & O_NONBLOCK) {
-			ret = -EAGAIN;
-			break;
-		}
+		ret = x4_ev_copy(x4, xf, buf, count);
+		mutex_unlock(&xf->read_lock);
+		if (ret)
+			return ret;
+		if (nonblock)
+			return -EAGAIN;
 		ret = wait_event_interruptible(x4->wait,
 					       x4_ev_wakeup(x4, xf));
 		if (ret)
-			break;
+			return ret;
 	}
-	mutex_unlock(&xf->read_lock);
-	return done ? done : ret;
 }

@@ -195,7 +195,8 @@ static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
 
 	poll_wait(file, &x4->wait, wait);
 	events = x4_events_poll(x4, xf);
-	if (READ_ONCE(x4->gone))
+	/* After PORT_GONE is in the ring: readers see every event first. */
+	if (READ_ONCE(x4->ev_closed))
 		return events | EPOLLERR | EPOLLHUP;
 	/*
 	 * Idle, and the brake of a controller that closed is over: once
@@ -383,8 +384,8 @@ static bool x4_bad_home(const void *karg)
 {
 	const struct x4step_home *uh = karg;
 
-	return uh->phases > X4STEP_HOME_AUTO || uh->reserved[0] ||
-	       uh->reserved[1];
+	return uh->phases > (X4STEP_HOME_AUTO | X4STEP_HOME_BRAKE) ||
+	       uh->reserved[0] || uh->reserved[1];
 }
 
 /* Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs. */
@@ -536,7 +537,9 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 	ua.inputs = x4_port_inputs_locked(x4);
 	if (!x4->claimed)
 		ua.flags = X4STEP_ST_INPUTS_STALE;
-	ua.switches = (ua.inputs ^ x4->eng.sw.nc) & 0x1f;
+	/* Inputs never read (no controller yet) show no active switch. */
+	if (x4->inputs_ns)
+		ua.switches = (ua.inputs ^ x4->eng.sw.nc) & 0x1f;
 	for (i = 0; i < X4_AXES; i++) {
 		x4_engine_axis(&x4->eng, i, &st);
 		ua.axis[i].position = st.position;

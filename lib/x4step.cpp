@@ -29,7 +29,8 @@ static_assert(vel_max == X4_VEL_MAX && acc_max == X4_ACC_MAX);
 static_assert(axis_error::ref_travel == X4STEP_AXERR_REF_TRAVEL &&
               axis_error::limit_pos == X4STEP_AXERR_LIMIT_POS &&
               axis_error::limit_neg == X4STEP_AXERR_LIMIT_NEG &&
-              axis_error::ambiguous == X4STEP_AXERR_AMBIGUOUS);
+              axis_error::ambiguous == X4STEP_AXERR_AMBIGUOUS &&
+              axis_error::ref_passed == X4STEP_AXERR_REF_PASSED);
 
 namespace {
 
@@ -135,7 +136,8 @@ class category_impl : public std::error_category {
 }
 
 int open_device(const std::string &path, int flags) {
-  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  // Non-blocking: read_event() polls, and a read must not outlast its wait.
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
     if (errno == EBUSY) fail_busy(path);
     if (errno == ENOENT || errno == ENODEV || errno == ENXIO) fail(errc::lpt_not_found);
@@ -148,9 +150,15 @@ int open_device(const std::string &path, int flags) {
   }
   x4step_info info{};
   // Versions only add: any module of this version or newer will do.
-  if (::ioctl(fd, X4STEP_GET_INFO, &info) || info.abi_version < X4STEP_ABI_VERSION) {
+  if (::ioctl(fd, X4STEP_GET_INFO, &info)) {
     ::close(fd);
     fail(errc::lpt_not_found);
+  }
+  if (info.abi_version < X4STEP_ABI_VERSION) {
+    ::close(fd);
+    throw error(make_error_code(errc::lpt_not_found),
+                path + ": the x4step module speaks interface version " + std::to_string(info.abi_version) +
+                    ", this library needs " + std::to_string(X4STEP_ABI_VERSION) + ": update x4step.ko");
   }
   return fd;
 }
@@ -377,7 +385,8 @@ errc check(const profile &p) noexcept {
 }
 
 errc check(const homing &h) noexcept {
-  const uint8_t phases = (h.phase1 ? X4_HOME_PHASE1 : 0) | (h.phase2 ? X4_HOME_PHASE2 : 0);
+  const uint8_t phases =
+      (h.phase1 ? X4_HOME_PHASE1 : 0) | (h.phase2 ? X4_HOME_PHASE2 : 0) | (h.brake ? X4_HOME_BRAKE : 0);
   // Above 32 bits sref is refused as 2^31 is.
   const uint32_t sref = h.sref > INT32_MAX ? 0x80000000u : static_cast<uint32_t>(h.sref);
   return static_cast<errc>(x4_home_check(phases, h.vref1, h.vref2, sref));
@@ -630,7 +639,8 @@ void controller::home(int axis, const homing &h) {
   if (check(h) != errc::ok) fail(errc::param_fail);
   x4step_home kh{};
   kh.axis = static_cast<uint32_t>(axis);
-  kh.phases = (h.phase1 ? X4STEP_HOME_PHASE1 : 0) | (h.phase2 ? X4STEP_HOME_PHASE2 : 0);
+  kh.phases = (h.phase1 ? X4STEP_HOME_PHASE1 : 0) | (h.phase2 ? X4STEP_HOME_PHASE2 : 0) |
+              (h.brake ? X4STEP_HOME_BRAKE : 0);
   kh.vref1 = h.vref1;
   kh.vref2 = h.vref2;
   kh.sref = static_cast<uint32_t>(h.sref);

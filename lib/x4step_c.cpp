@@ -17,7 +17,8 @@
 #include "x4step.hpp"
 #include "x4step_ext.h"
 
-static_assert(X4HOME_PHASE1 == X4STEP_HOME_PHASE1 && X4HOME_PHASE2 == X4STEP_HOME_PHASE2);
+static_assert(X4HOME_PHASE1 == X4STEP_HOME_PHASE1 && X4HOME_PHASE2 == X4STEP_HOME_PHASE2 &&
+              X4HOME_BRAKE == X4STEP_HOME_BRAKE && X4AXERR_REF_PASSED == X4STEP_AXERR_REF_PASSED);
 static_assert(X4AX_RUN == X4STEP_AX_RUN && X4AX_SYNC == X4STEP_AX_SYNC && X4AX_ERROR == X4STEP_AX_ERROR &&
               X4AX_REF1 == X4STEP_AX_REF1 && X4AX_REF2 == X4STEP_AX_REF2 && X4AX_ACCEL == X4STEP_AX_ACCEL &&
               X4AX_CRUISE == X4STEP_AX_CRUISE && X4AX_DECEL == X4STEP_AX_DECEL);
@@ -70,8 +71,10 @@ void refuse_while_active(const x4step::status &s) {
   if (s.active) fail(x4step::errc::is_active);
 }
 
-// The default step timing of the module (its parameters), else X4Step's.
+// The default step timing of the module (its parameters), else X4Step's:
+// out of range, the module ignored them too.
 x4step::step_timing module_step_timing() {
+  const x4step::step_timing x4step_default;
   x4step::step_timing t;
   auto param = [](const char *name, std::chrono::nanoseconds &out) {
     std::ifstream f(std::string("/sys/module/x4step/parameters/") + name);
@@ -82,6 +85,12 @@ x4step::step_timing module_step_timing() {
   param("space_ns", t.space);
   param("dir_setup_ns", t.dir_setup);
   param("dir_hold_ns", t.dir_hold);
+  const auto ok = [](std::chrono::nanoseconds v) {
+    return v.count() >= 0 && v <= std::chrono::milliseconds(1);
+  };
+  if (!ok(t.pulse) || !ok(t.space) || !ok(t.dir_setup) || !ok(t.dir_hold) ||
+      (t.pulse.count() && t.pulse < std::chrono::microseconds(1)))
+    return x4step_default;
   return t;
 }
 
@@ -279,13 +288,14 @@ int X4MoveBy(int axis, long distance) {
 
 int X4Home(int axis, long vref1, long vref2, long sref, int phases) {
   if (!port) return X4ErrInitNotDone;
-  if (phases & ~X4HOME_AUTO) return X4ErrParamFail;
+  if (phases & ~(X4HOME_AUTO | X4HOME_BRAKE)) return X4ErrParamFail;
   x4step::homing h;  // the library checks the rest
   h.vref1 = to_speed(vref1);
   h.vref2 = to_speed(vref2);
   h.sref = static_cast<unsigned long>(std::max(0L, sref));
   h.phase1 = phases & X4HOME_PHASE1;
   h.phase2 = phases & X4HOME_PHASE2;
+  h.brake = phases & X4HOME_BRAKE;
   return guarded([&] { port->home(axis, h); });
 }
 

@@ -50,7 +50,7 @@ done
 # engine divides through x4_div() (div64_u64 in the kernel). Each engine
 # file is compiled as user space for i386, where such divisions call the
 # helpers below, with X4_DIV_EXTERN defined: under it the engine declares
-# its user-space x4_div() as an external function (u64 x4_div(u64, u64)),
+# its user-space x4_div() as an external function (x4_div64_u64()),
 # so that only raw divisions call a helper. Functions named x4_div* may
 # (a user-space x4_div defined in the engine itself); -fno-inline keeps it
 # out of its callers and -ffunction-sections names the functions that do.

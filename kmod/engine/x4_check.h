@@ -86,6 +86,8 @@ enum x4_output_mode {
 /* Reference run phases (x4_engine_home). */
 #define X4_HOME_PHASE1 1
 #define X4_HOME_PHASE2 2
+#define X4_HOME_AUTO (X4_HOME_PHASE1 | X4_HOME_PHASE2)
+#define X4_HOME_BRAKE 4 /* phase 1 brakes past REF along the axis' ae */
 
 int x4_ramp_check(s32 freq_hz, s32 ramp_ms);
 /* An X4Load move: frequency, ramp, then paths (the order of x4step.h). */

@@ -72,6 +72,13 @@ struct x4_switches {
 #define X4_AXERR_LIMIT_POS 0x2
 #define X4_AXERR_LIMIT_NEG 0x4
 #define X4_AXERR_AMBIGUOUS 0x8
+#define X4_AXERR_REF_PASSED 0x10
+/*
+ * A reference run's phase 2 starts this long after phase 1 stood: a stop
+ * without a ramp leaves the rotor ringing, and a switch bouncing; phase 2
+ * starts from rest and watches a settled switch (GRBL pauses 250 ms).
+ */
+#define X4_HOME_SETTLE_NS 50000000ull
 
 struct x4_axis_state {
 	s32 position;
@@ -105,7 +112,8 @@ struct x4_chan {
 	u8 deferred; /* limits left behind: armed once they are released */
 	u8 home; /* X4_HOME_PHASE1/2 running, 0: no reference run */
 	u8 home_next; /* phase 2 follows phase 1 */
-	bool ref_found; /* phase 1 found REF and brakes past it */
+	bool home_brake; /* phase 1 brakes past REF along the axis' ae */
+	bool ref_found; /* phase 1 found REF: it stops, or brakes past it */
 	u8 ref_bit;
 	u64 origin; /* engine time of leader step 0 */
 	u64 n; /* current leader step index */

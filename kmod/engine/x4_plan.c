@@ -303,6 +303,20 @@ void x4_plan_axes(struct x4_plan *p, const s64 *steps)
 		p->bres_inc[i] = i == p->leader ? 0 : 2ull * p->abs_steps[i];
 }
 
+void x4_plan_search(struct x4_plan *p, u32 v, u32 ae, u32 ve)
+{
+	const struct x4_profile f = { v, v, v, 0, 0 };
+
+	x4_plan_profile(p, 1, &f); /* constant speed v */
+	p->endless = true;
+	p->last = X4_NO_STEP;
+	p->n_decel = X4_NO_STEP;
+	p->prof.ae = ae;
+	p->prof.ve = ve;
+	if (ae)
+		plan_ramp(&p->dec, ve, ae, v);
+}
+
 /*
  * Leader steps from step nb to rest (or to ve) along the plan's
  * deceleration, rounded up so that the stop never needs more than it;

@@ -96,6 +96,13 @@ void x4_plan_x4step(struct x4_plan *p, u64 steps, u32 freq_hz, u32 ramp_ms);
 /* A ProStep4 move of `steps` >= 1 leader steps. */
 void x4_plan_profile(struct x4_plan *p, u64 steps, const struct x4_profile *f);
 
+/*
+ * A reference run's search: leader steps at the constant speed v without
+ * end (the channel counts the travel), able to brake along ae to ve when
+ * asked (ae 0: it cannot; it stops).
+ */
+void x4_plan_search(struct x4_plan *p, u32 v, u32 ae, u32 ve);
+
 /* T(n), from n alone. */
 u64 x4_plan_time(const struct x4_plan *p, u64 n);
 /* T(n1) on a ramp, from T(n1 - 1) = t_prev as the root's first estimate. */

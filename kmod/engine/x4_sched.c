@@ -578,9 +578,9 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		x4_halted(e, c, hit);
 		return;
 	}
-	if (c->n >= p->last && c->home && !c->ref_found) {
+	if (c->home && !c->ref_found && c->n >= c->sref) {
 		/*
-		 * A reference run plans sref + 1 steps: sref travelled
+		 * Step sref + 1 of a reference phase: sref travelled
 		 * without finding the switch.
 		 */
 		e->err[p->leader] |= X4_AXERR_REF_TRAVEL;

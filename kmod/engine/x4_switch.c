@@ -100,39 +100,21 @@ static noinline void limits_hit(struct x4_engine *e, u8 hit)
 	}
 }
 
-/*
- * Phase 1 of a reference run searches at the constant speed v (reference
- * runs have no acceleration ramp, as in ProStep4) and ends along the axis'
- * deceleration ae (to its ve, then rest): having found REF it brakes past
- * it, so that phase 2 reverses from rest, never from full speed.
- */
-static void search_profile(const struct x4_engine *e, int axis, u32 v,
-			   struct x4_profile *f)
-{
-	const struct x4_profile *ax = &e->prof[axis];
-
-	f->v0 = v;
-	f->vm = v;
-	f->a0 = 0;
-	f->ae = ax->ae;
-	f->ve = ax->ve < v ? ax->ve : v;
-}
-
 /* Start reference run phase `phase` of the axis of channel c. */
 static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 		       u8 phase, s32 vref, u64 now_ns)
 {
+	const struct x4_profile *ax = &e->prof[axis];
 	s64 steps[X4_AXES] = { 0 };
-	struct x4_profile f;
+	u32 v = x4_abs_s32(vref);
 
 	steps[axis] = vref < 0 ? -(s64)c->sref : (s64)c->sref;
 	x4_plan_axes(&c->run, steps);
-	if (phase == X4_HOME_PHASE1) {
-		search_profile(e, axis, x4_abs_s32(vref), &f);
-		x4_plan_profile(&c->run, (u64)c->sref + 1, &f);
-	} else {
-		x4_plan_x4step(&c->run, (u64)c->sref + 1, x4_abs_s32(vref), 0);
-	}
+	/* Phase 1 may brake past REF; phase 2 stops where REF changes. */
+	if (phase == X4_HOME_PHASE1 && c->home_brake)
+		x4_plan_search(&c->run, v, ax->ae, ax->ve < v ? ax->ve : v);
+	else
+		x4_plan_search(&c->run, v, 0, v);
 	c->home = phase;
 	c->ref_found = false;
 	x4_begin(e, c, now_ns);
@@ -151,7 +133,10 @@ void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 		return;
 	}
 	if (c->home == X4_HOME_PHASE1) {
-		/* Brake past REF, this step first; x4_home_next() follows. */
+		/*
+		 * Stop before this step, or brake past REF with it first;
+		 * x4_home_next() follows when the axis stands.
+		 */
 		c->ref_found = true;
 		c->halt_mask &= (u8)~c->ref_bit;
 		x4_halt_chan(c, true);
@@ -164,19 +149,32 @@ void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 	x4_cut(c);
 }
 
-/* Channel c's move ended: phase 2 follows phase 1 that found REF. */
+/*
+ * Channel c's move ended: phase 2 follows phase 1 that found REF, from
+ * rest. A brake that ran off the switch (REF no longer active: a cam
+ * shorter than the brake) ends the run: phase 2 would find the far edge.
+ */
 bool x4_home_next(struct x4_engine *e, struct x4_chan *c)
 {
-	if (c->home != X4_HOME_PHASE1 || !c->ref_found || !c->home_next)
+	int axis = c->run.leader;
+
+	if (c->home != X4_HOME_PHASE1 || !c->ref_found)
 		return false;
-	home_phase(e, c, c->run.leader, X4_HOME_PHASE2, c->vref2, c->t_pending);
+	if (c->home_brake && !(e->inputs & c->ref_bit)) {
+		e->err[axis] |= X4_AXERR_REF_PASSED;
+		return false;
+	}
+	if (!c->home_next)
+		return false;
+	home_phase(e, c, axis, X4_HOME_PHASE2, c->vref2,
+		   c->t_pending + X4_HOME_SETTLE_NS);
 	return true;
 }
 
 int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns)
 {
-	struct x4_profile search;
+	const struct x4_profile *ax;
 	struct x4_chan *c;
 	u32 vmax, rate;
 	int ret;
@@ -186,8 +184,9 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	    x4_home_check(phases, vref1, vref2, sref) || !e->sw.ref[axis - 1])
 		return X4_ERR_PARAM_FAIL;
 	/* Phase 1's brake must fit the ramp limits (at most an hour). */
-	search_profile(e, axis - 1, x4_abs_s32(vref1), &search);
-	if (phases & X4_HOME_PHASE1 && x4_profile_check(&search))
+	ax = &e->prof[axis - 1];
+	if (phases & X4_HOME_BRAKE && phases & X4_HOME_PHASE1 && ax->ae &&
+	    x4_abs_s32(vref1) > (u64)X4_RAMP_TIME_MAX_S * ax->ae)
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_freq_check(e, phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 1);
 	if (!ret)
@@ -207,7 +206,8 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	c->sref = sref;
 	c->vref2 = vref2;
 	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
-	c->home_next = phases == (X4_HOME_PHASE1 | X4_HOME_PHASE2);
+	c->home_next = (phases & X4_HOME_AUTO) == X4_HOME_AUTO;
+	c->home_brake = phases & X4_HOME_BRAKE;
 	e->sync &= (u8)~(1u << (axis - 1));
 	if (phases & X4_HOME_PHASE1)
 		home_phase(e, c, axis - 1, X4_HOME_PHASE1, vref1, now_ns);

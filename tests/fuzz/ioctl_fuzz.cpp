@@ -743,14 +743,15 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       x4step_home h;
       std::memcpy(&h, p.bytes, sizeof h);
       if (h.reserved[0] || h.reserved[1]) return bad_arg(XR_PARAM, "reserved != 0");
-      if (!h.phases || h.phases > X4STEP_HOME_AUTO) return bad_arg(XR_PARAM, "phases");
+      if (!(h.phases & X4STEP_HOME_AUTO) || h.phases > (X4STEP_HOME_AUTO | X4STEP_HOME_BRAKE))
+        return bad_arg(XR_PARAM, "phases");
       if (h.axis < 1 || h.axis > X4STEP_AXES || !(mode_axes(k) & (1u << (h.axis - 1))))
         return bad_arg(XR_PARAM, "axis");
       bool p1 = h.phases & X4STEP_HOME_PHASE1, p2 = h.phases & X4STEP_HOME_PHASE2;
       if ((p1 && !vref_ok(h.vref1)) || (p2 && !vref_ok(h.vref2))) return bad_arg(XR_PARAM, "vref");
       if (!h.sref || h.sref > INT32_MAX) return bad_arg(XR_PARAM, "sref not 1..2^31-1");
       if (k.state_known && !k.sw.ref[h.axis - 1]) return bad_arg(XR_PARAM, "no reference switch");
-      if (k.state_known && p1 && k.prof[h.axis - 1].ae &&
+      if (k.state_known && p1 && (h.phases & X4STEP_HOME_BRAKE) && k.prof[h.axis - 1].ae &&
           uint64_t(std::abs(h.vref1)) > 3600ull * k.prof[h.axis - 1].ae)
         return bad_arg(XR_PARAM, "phase 1's brake along ae longer than an hour");
       if (k.state_known && ((p1 && fit_code(k, std::abs(h.vref1))) || (p2 && fit_code(k, std::abs(h.vref2)))))
@@ -1245,7 +1246,7 @@ unsigned long gen_positioning(Rng &r, uint8_t *c, bool small) {
   if (x < 50) {
     x4step_home h{};
     h.axis = axis_val(r);
-    h.phases = r.chance(90) ? r.range(0, 4) : static_cast<uint32_t>(r.next());
+    h.phases = r.chance(90) ? r.range(0, 8) : static_cast<uint32_t>(r.next());
     for (int32_t *v : {&h.vref1, &h.vref2}) {
       unsigned y = r.below(10);
       *v = y < 5 ? r.pick(kVrefVals) : y < 9 ? r.range(-X4STEP_VEL_MAX, X4STEP_VEL_MAX) : r.s32();

@@ -702,18 +702,26 @@ void TestHoming() {
   // Phase 1 alone, then phase 2 alone.
   Switches("add 3 3 below -700 25 no");
   MachineTo(3, 0);
-  // Phase 1 brakes past REF along the profile's ae: the step at which it
-  // sees REF and ceil(2000^2 / 2 ae) more.
-  const long long brake = 1 + (2000LL * 2000 + 2LL * kFast.ae - 1) / (2LL * kFast.ae);
   r = Home({-2000, 500, 5000, true, false});
-  Check(r.ref1 && !r.ref2 && !r.end.synced && r.end.error == 0 && r.machine == -700 - brake &&
+  Check(r.ref1 && !r.ref2 && !r.end.synced && r.end.error == 0 && r.machine == -700 &&
             r.machine - r.end.position == off[2],
-        F("phase 1 alone: brakes from where REF becomes active, machine %lld (want %lld), coordinate kept "
-          "(module %ld), %s",
-          r.machine, -700 - brake, r.end.position, Flags(r.end).c_str()));
+        F("phase 1 alone: stops where REF becomes active, machine %lld (want -700), coordinate kept (module "
+          "%ld), %s",
+          r.machine, r.end.position, Flags(r.end).c_str()));
   r = Home({-2000, 500, 5000, false, true});
   Check(r.ref2 && !r.ref1 && r.end.synced && r.end.position == 0 && r.machine == -674,
         F("phase 2 alone: coordinate 0 at machine %lld (want -674), %s", r.machine, Flags(r.end).c_str()));
+  off[2] = r.machine - r.end.position;
+  // With the brake: on past REF along the profile's ae, the step at which
+  // it sees REF and ceil(2000^2 / 2 ae) more.
+  const long long brake = 1 + (2000LL * 2000 + 2LL * kFast.ae - 1) / (2LL * kFast.ae);
+  MachineTo(3, 0);
+  r = Home({-2000, 500, 5000, true, false, true});
+  Check(r.ref1 && !r.end.synced && r.end.error == 0 && r.machine == -700 - brake,
+        F("phase 1 alone, --brake: machine %lld (want %lld), %s", r.machine, -700 - brake,
+          Flags(r.end).c_str()));
+  r = Home({-2000, 500, 5000, false, true});  // synchronized again
+  Check(r.end.synced && r.machine == -674, F("phase 2 after the brake: machine %lld (want -674)", r.machine));
   off[2] = r.machine - r.end.position;
 
   // Halted during a reference run: not synchronized.

@@ -1248,11 +1248,10 @@ const HomeCase kHomeCases[] = {
     {"phase 1 slow, phase 2 fast", 250, kFar, 0, 500, -45000, 250, 249},
 };
 
-// Axis 1 with its REF switch on input 2 (and a spare E+ on input 5),
-// and no deceleration ramp (ae = 0): phase 1 stops where it sees REF, as
-// in ProStep4, and the cases' positions are exact.
+// Axis 1 with its REF switch on input 2 (and a spare E+ on input 5).
+// Without X4_HOME_BRAKE phase 1 stops where it sees REF, as in ProStep4,
+// and the cases' positions are exact.
 void HomeRig(Rig &rig, const HomeCase &c) {
-  ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, 0)), X4_OK);
   rig.switches = {{0, 2, c.ref_lo, c.ref_hi}};
   rig.machine[0] = c.start;
   x4_switches sw = NoSwitches();
@@ -1392,15 +1391,15 @@ TEST(Homing, SemiAutomaticPhaseByPhase) {
 }
 
 TEST(Homing, Phase1BrakesAlongTheAxisDecelerationBeforeItReverses) {
-  // ae = 90 000 steps/s^2 from 3000 steps/s: ceil(3000^2 / 2 ae) = 50
-  // steps of brake after the step at which REF is seen, then phase 2
-  // reverses from rest (not from 3000 steps/s 150 us later).
+  // With X4_HOME_BRAKE, ae = 90 000 steps/s^2 from 3000 steps/s:
+  // ceil(3000^2 / 2 ae) = 50 steps of brake after the step at which REF is
+  // seen, then phase 2 reverses from rest.
   const int32_t ae = 90000, v1 = 3000;
   for (const HomeCase &c : {kHomeCases[0], kHomeCases[1]}) {
     Rig rig;
     HomeRig(rig, c);
     ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, ae)), X4_OK);
-    ASSERT_EQ(rig.Home(0, X4_HOME_PHASE1 | X4_HOME_PHASE2, c.vref1, c.vref2, 100000), X4_OK);
+    ASSERT_EQ(rig.Home(0, X4_HOME_AUTO | X4_HOME_BRAKE, c.vref1, c.vref2, 100000), X4_OK);
     const HomeTrace tr = RunTraced(rig);
     ExpectHomed(rig, c);
     // Phase 1 runs on 51 steps past where it saw REF, braking.
@@ -1424,8 +1423,8 @@ TEST(Homing, Phase1BrakesAlongTheAxisDecelerationBeforeItReverses) {
       dt_prev = dt;
     }
     EXPECT_LT(v_prev, 2 * std::sqrt(2.0 * ae)) << c.name << ": the brake ends near rest";
-    // The reversal: from rest, at least the direction setup later.
-    EXPECT_GE(t[n1] - t[n1 - 1], uint64_t(X4_DIR_SETUP_NS) + uint64_t(1e9 / v_prev / 2)) << c.name;
+    // The reversal: from rest, after the settle time and the direction setup.
+    EXPECT_GE(t[n1] - t[n1 - 1], X4_HOME_SETTLE_NS + X4_DIR_SETUP_NS) << c.name;
   }
 }
 
@@ -1434,8 +1433,22 @@ TEST(Homing, Phase1BrakeMustFitTheRampLimits) {
   Rig rig;
   HomeRig(rig, kHomeCases[0]);
   ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, 1)), X4_OK);
-  EXPECT_EQ(rig.Home(0, X4_HOME_PHASE1 | X4_HOME_PHASE2, -45000, 400, 100000), X4_ERR_PARAM_FAIL);
-  EXPECT_EQ(rig.Home(0, X4_HOME_PHASE2, 0, 400, 100000), X4_OK) << "phase 2 has no brake";
+  EXPECT_EQ(rig.Home(0, X4_HOME_AUTO | X4_HOME_BRAKE, -45000, 400, 100000), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(rig.Home(0, X4_HOME_AUTO, -45000, 400, 100000), X4_OK) << "without the brake, no ramp";
+}
+
+TEST(Homing, ABrakeThatRunsOffTheSwitchEndsTheRun) {
+  // The narrow cam (400..420) is shorter than the 50-step brake: phase 2
+  // would find its far edge. The run ends there, not synchronized.
+  Rig rig;
+  HomeRig(rig, kHomeCases[2]);
+  ASSERT_EQ(rig.SetProfile(0, Prof(0, 0, 1000, 1000, 90000)), X4_OK);
+  ASSERT_EQ(rig.Home(0, X4_HOME_AUTO | X4_HOME_BRAKE, 3000, 300, 100000), X4_OK);
+  rig.Run();
+  EXPECT_EQ(rig.machine[0], 400 + 51);
+  const x4_axis_state st = rig.Axis(0);
+  EXPECT_EQ(st.error, uint32_t(X4_AXERR_REF_PASSED));
+  EXPECT_EQ(st.state, uint32_t(X4_AX_ERROR)) << "idle, not synchronized";
 }
 
 TEST(Homing, Phase2AloneFromOffTheSwitchEndsWhenItBecomesActive) {

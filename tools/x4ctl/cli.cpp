@@ -57,6 +57,7 @@ enum opt_id {
   opt_vref2,
   opt_sref,
   opt_phase,
+  opt_brake,
   opt_at,
   opt_ref,
   opt_plus,
@@ -418,6 +419,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("vref2", 0, true, opt_vref2);
       add("sref", 0, true, opt_sref);
       add("phase", 0, true, opt_phase);
+      add("brake", 0, false, opt_brake);
       break;
     case subcommand::zero:
       add("at", 0, true, opt_at);
@@ -534,6 +536,9 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.homing.phase2 = ph == 2;
         break;
       }
+      case opt_brake:
+        c.homing.brake = true;
+        break;
       case opt_at:
         c.at = parse_position(o.value, "position", prefix);
         break;
@@ -1077,11 +1082,11 @@ std::string help_text(subcommand c) {
     case subcommand::home:
       return "Usage: x4ctl home [OPTIONS] AXIS\n"
              "\n"
-             "Reference run of AXIS (ProStep4 section 3): phase 1 runs at vref1 until the\n"
-             "reference switch becomes active, then brakes along the axis' profile\n"
-             "deceleration ('x4ctl profile AXIS --ae', 0: none); phase 2 runs from rest at\n"
-             "vref2 until the switch changes again; there the coordinate becomes 0 and the\n"
-             "axis synchronized. Both phases start without a ramp. Each\n"
+             "Reference run of AXIS (ProStep4 section 3), without ramps: phase 1 runs at\n"
+             "vref1 until the reference switch becomes active and stops there (--brake:\n"
+             "brakes past it along the axis' profile deceleration, 'x4ctl profile AXIS\n"
+             "--ae'); 50 ms later phase 2 runs from rest at vref2 until the switch changes\n"
+             "again; there the coordinate becomes 0 and the axis synchronized. Each\n"
              "phase travels at most sref steps. Needs the axis' reference switch input\n"
              "('x4ctl limits AXIS --ref INPUT'). Waits until the run ends; ESC or Ctrl-C\n"
              "brakes it.\n"
@@ -1092,7 +1097,9 @@ std::string help_text(subcommand c) {
              "      --vref2=V        phase 2 speed, the same way (default 100)\n"
              "      --sref=N         the longest travel of a phase, 1..2147483647 steps\n"
              "                       (default 100000)\n"
-             "      --phase=1|2      only this phase (semi-automatic); default both\n" +
+             "      --phase=1|2      only this phase (semi-automatic); default both\n"
+             "      --brake          phase 1 brakes past the switch (it must stay active\n"
+             "                       over the brake distance, vref1^2 / 2 ae steps)\n" +
              std::string(port_help) +
              "\n"
              "Exit status: 0 done (both phases or phase 2: the axis is synchronized);\n"

@@ -71,6 +71,7 @@ std::string errors_text(unsigned error) {
   add(x4step::axis_error::limit_pos, "stopped at E+");
   add(x4step::axis_error::limit_neg, "stopped at E-");
   add(x4step::axis_error::ambiguous, "ambiguous: the input serves other limits too");
+  add(x4step::axis_error::ref_passed, "braked off the reference switch");
   return s;
 }
 
@@ -190,9 +191,9 @@ std::string status_json(const x4step::status &s, const x4step::axes_status &a, c
           : x.ref2 ? 2
                    : 0)
       << ",\"ramp\":\"" << ramp << "\",\"error\":" << x.error << ",\"errors\":[";
-    const char *names[] = {"ref_travel", "limit_pos", "limit_neg", "ambiguous"};
+    const char *names[] = {"ref_travel", "limit_pos", "limit_neg", "ambiguous", "ref_passed"};
     bool first = true;
-    for (int b = 0; b < 4; b++)
+    for (int b = 0; b < 5; b++)
       if (x.error >> b & 1u) {
         o << (first ? "" : ",") << "\"" << names[b] << "\"";
         first = false;
@@ -216,8 +217,8 @@ const char *event_type_name(x4step::event_type t) {
 
 const char *event_how_name(const x4step::event &e) {
   static const char *const kinds[] = {"loaded", "endless", "goto", "home"};
-  static const char *const ends[] = {"completed", "braked",    "stopped",   "limit",
-                                     "homed",     "ref_found", "ref_travel"};
+  static const char *const ends[] = {"completed", "braked",    "stopped",    "limit",
+                                     "homed",     "ref_found", "ref_travel", "ref_passed"};
   static const char *const sources[] = {"request", "key", "close"};
   static const char *const switches[] = {"limit_pos", "limit_neg", "ref"};
   static const char *const changes[] = {"opened", "closed", "released"};
@@ -226,7 +227,7 @@ const char *event_how_name(const x4step::event &e) {
     case x4step::event_type::move_started:
       return h < 4 ? kinds[h] : "";
     case x4step::event_type::move_ended:
-      return h < 7 ? ends[h] : "";
+      return h < 8 ? ends[h] : "";
     case x4step::event_type::brake:
       return h < 3 ? sources[h] : "";
     case x4step::event_type::switch_hit:
@@ -272,9 +273,10 @@ std::string event_text(const x4step::event &e) {
                                          "at a limit switch",
                                          "homed",
                                          "REF found",
-                                         "reference travel exceeded"};
+                                         "reference travel exceeded",
+                                         "braked off the reference switch"};
       what = "move ended";
-      detail = how >= 1 && how <= 7 ? ends[how - 1] : "";
+      detail = how >= 1 && how <= 8 ? ends[how - 1] : "";
       break;
     }
     case event_type::brake:

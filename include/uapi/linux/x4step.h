@@ -270,16 +270,20 @@ struct x4step_goto {
 #define X4STEP_HOME_PHASE1 (1u << 0) /* at vref1 until REF becomes active */
 #define X4STEP_HOME_PHASE2 (1u << 1) /* at vref2 until REF changes again */
 #define X4STEP_HOME_AUTO (X4STEP_HOME_PHASE1 | X4STEP_HOME_PHASE2)
+/* ABI 4: phase 1 brakes past REF along the axis' profile ae */
+#define X4STEP_HOME_BRAKE (1u << 2)
 
 /*
- * X4STEP_HOME: a reference run of one axis (ProStep4 section 3). Both
- * phases start at their speed without a ramp. Phase 1, having found REF,
- * brakes along the axis' profile deceleration ae (none if ae is 0) before
- * phase 2 starts from rest; REF must stay active over that distance, and
- * vref1 / ae may be at most 3600 s. Phase 2, alone or after phase 1, stops
- * where REF changes, zeroing the coordinate and synchronizing the axis. Each phase travels at most sref
- * steps, else the axis stops with X4STEP_AXERR_REF_TRAVEL. Needs a REF
- * input for the axis (X4STEP_SET_SWITCHES).
+ * X4STEP_HOME: a reference run of one axis, without ramps (ProStep4
+ * section 3): each phase starts and stops at its speed. Phase 1 stops
+ * where REF becomes active, or with X4STEP_HOME_BRAKE brakes past it along
+ * the axis' profile deceleration ae (vref1 / ae at most 3600 s; REF must
+ * stay active over that distance, else the run ends there with
+ * X4STEP_AXERR_REF_PASSED). Phase 2 starts from rest, 50 ms after phase 1
+ * stood (the rotor and the switch settle), and stops where REF changes,
+ * zeroing the coordinate and synchronizing the axis. Each phase travels
+ * at most sref steps, else the axis stops with X4STEP_AXERR_REF_TRAVEL.
+ * Needs a REF input for the axis (X4STEP_SET_SWITCHES).
  */
 struct x4step_home {
 	__u32 axis; /* 1..4 */
@@ -347,6 +351,8 @@ struct x4step_switches {
 #define X4STEP_AXERR_LIMIT_POS (1u << 1) /* stopped at E+ */
 #define X4STEP_AXERR_LIMIT_NEG (1u << 2) /* stopped at E- */
 #define X4STEP_AXERR_AMBIGUOUS (1u << 3) /* the input serves other limits */
+/* ABI 4: phase 1's brake (X4STEP_HOME_BRAKE) ran off the REF switch */
+#define X4STEP_AXERR_REF_PASSED (1u << 4)
 
 struct x4step_axis {
 	__s32 position; /* machine coordinate */
@@ -409,6 +415,7 @@ struct x4step_axes {
 #define X4STEP_END_HOMED 5 /* reference run done: at 0, synchronized */
 #define X4STEP_END_REF_FOUND 6 /* a phase-1-only run found REF */
 #define X4STEP_END_REF_TRAVEL 7 /* a reference phase went beyond sref */
+#define X4STEP_END_REF_PASSED 8 /* phase 1's brake ran off the REF switch */
 
 /* Who asked for a brake (how of X4STEP_EV_BRAKE). */
 #define X4STEP_SRC_IOCTL 1 /* X4STEP_BRAKE or X4STEP_HALT */
