@@ -41,6 +41,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <iosfwd>
 #include <memory>
 #include <optional>
@@ -281,6 +282,13 @@ errc check(const homing &h) noexcept;
 /// Device path of LPT1..4 (/dev/x4step0..3); throws param_fail otherwise.
 std::string device_path(int lpt);
 
+/// The library's version, "major.minor.patch" (libx4stepcxx.so.major).
+const char *version() noexcept;
+
+// Threads: a controller or a monitor is one open descriptor; its calls
+// are not synchronized, so use an object from one thread at a time (or
+// lock around it). Distinct objects are independent, also on one port.
+
 /// Owns one port: the only one that moves its motors. Move-only.
 /// Destroying it while motors run brakes them along the ramp first, and
 /// waits until they stand (see close()).
@@ -292,15 +300,19 @@ class controller {
   /// driver such as ppdev (a program using /dev/parportN) or lp.
   explicit controller(int lpt);
   /// Open a device node by path.
-  explicit controller(const std::string &path);
+  explicit controller(const std::filesystem::path &path);
   controller(controller &&other) noexcept;
   controller &operator=(controller &&other) noexcept;
   controller(const controller &) = delete;
   controller &operator=(const controller &) = delete;
   ~controller();
 
-  explicit operator bool() const noexcept;
+  explicit operator bool() const noexcept;  ///< open (not closed)
   const std::string &path() const noexcept;
+  /// The descriptor, for event loops (poll, epoll, Qt's QSocketNotifier,
+  /// asyncio): readable (POLLIN) while no move runs, POLLPRI when an event
+  /// is there to read_event(). Owned by this object; -1 when closed.
+  int fd() const noexcept;
 
   void load(const move &m);  ///< prepare (or preload while running)
   void start();              ///< run the loaded move; clears the counters
@@ -377,10 +389,17 @@ class controller {
 class monitor {
  public:
   explicit monitor(int lpt);
-  explicit monitor(const std::string &path);
+  explicit monitor(const std::filesystem::path &path);
   monitor(monitor &&other) noexcept;
   monitor &operator=(monitor &&other) noexcept;
   ~monitor();
+
+  explicit operator bool() const noexcept;  ///< open (not closed)
+  const std::string &path() const noexcept;
+  int fd() const noexcept;  ///< as controller::fd()
+  /// Close the descriptor now; idempotent. Afterwards calls throw
+  /// init_not_done.
+  void close() noexcept;
 
   status get_status() const;
   /// As controller::wait; after a controller closed during a brake, until

@@ -374,6 +374,8 @@ errc check_endless(int axis, int freq_hz, std::chrono::milliseconds ramp) noexce
       freq_hz, static_cast<int32_t>(std::clamp<long long>(ramp.count(), -1, ramp_max.count() + 1))));
 }
 
+const char *version() noexcept { return X4STEP_LIB_VERSION; }
+
 std::string device_path(int lpt) {
   if (lpt < 1 || lpt > 4) fail(errc::param_fail);
   return "/dev/x4step" + std::to_string(lpt - 1);
@@ -473,7 +475,8 @@ struct controller::impl : device {
 };
 
 controller::controller(int lpt) : controller(device_path(lpt)) {}
-controller::controller(const std::string &path) : impl_(std::make_unique<impl>(path, O_RDWR)) {}
+controller::controller(const std::filesystem::path &path)
+    : impl_(std::make_unique<impl>(path.string(), O_RDWR)) {}
 controller::controller(controller &&other) noexcept = default;
 controller &controller::operator=(controller &&other) noexcept {
   if (this != &other) {
@@ -490,6 +493,8 @@ const std::string &controller::path() const noexcept {
   static const std::string none;
   return impl_ ? impl_->path : none;
 }
+
+int controller::fd() const noexcept { return impl_ ? impl_->fd : -1; }
 
 const controller::impl &controller::need() const {
   if (!impl_) fail(errc::init_not_done);
@@ -732,10 +737,22 @@ struct monitor::impl : device {
 };
 
 monitor::monitor(int lpt) : monitor(device_path(lpt)) {}
-monitor::monitor(const std::string &path) : impl_(std::make_unique<impl>(path, O_RDONLY)) {}
+monitor::monitor(const std::filesystem::path &path)
+    : impl_(std::make_unique<impl>(path.string(), O_RDONLY)) {}
 monitor::monitor(monitor &&other) noexcept = default;
 monitor &monitor::operator=(monitor &&other) noexcept = default;
 monitor::~monitor() = default;
+
+monitor::operator bool() const noexcept { return impl_ != nullptr; }
+
+const std::string &monitor::path() const noexcept {
+  static const std::string none;
+  return impl_ ? impl_->path : none;
+}
+
+int monitor::fd() const noexcept { return impl_ ? impl_->fd : -1; }
+
+void monitor::close() noexcept { impl_.reset(); }
 
 status monitor::get_status() const {
   if (!impl_) fail(errc::init_not_done);

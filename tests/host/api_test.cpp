@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/x4step.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -13,7 +14,9 @@
 #include <chrono>
 #include <cstdarg>
 #include <cstring>
+#include <filesystem>
 #include <functional>
+#include <regex>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -675,4 +678,29 @@ TEST_F(FakeCApi, ErrnosTheManualHasNoCodeFor) {
   EXPECT_EQ(X4SetOut(SIGNAL1ON), X4ErrParamFail);
   EXPECT_EQ(errno, EFAULT);
   k.answer = [](unsigned long, void *) { return 0; };
+}
+
+TEST_F(FakeKernel, DescriptorsForEventLoops) {
+  x4step::monitor m(std::filesystem::path("/dev/zero"));
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m.path(), "/dev/zero");
+  ASSERT_GE(m.fd(), 0);
+  pollfd p{m.fd(), POLLIN, 0};
+  EXPECT_EQ(::poll(&p, 1, 0), 1) << "an event loop polls it";
+  m.close();
+  EXPECT_FALSE(m);
+  EXPECT_EQ(m.fd(), -1);
+  EXPECT_EQ(m.path(), "");
+  EXPECT_EQ(thrown([&] { m.get_status(); }), x4step::errc::init_not_done);
+  m.close();  // idempotent
+  x4step::controller c(std::filesystem::path("/dev/zero"));
+  EXPECT_GE(c.fd(), 0);
+  refuse(X4STEP_BRAKE, ESRCH);  // close() brakes what runs: nothing
+  c.close();
+  EXPECT_EQ(c.fd(), -1);
+}
+
+TEST(CppApi, VersionIsMajorMinorPatch) {
+  EXPECT_TRUE(std::regex_match(x4step::version(), std::regex("[0-9]+\\.[0-9]+\\.[0-9]+")))
+      << x4step::version();
 }
