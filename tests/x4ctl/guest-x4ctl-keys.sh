@@ -86,7 +86,7 @@ if settle 50; then pass esc-brakes-background-jog; else fail esc-brakes-backgrou
 expect_field esc-brake-code last_brake_code 1
 
 x4ctl keys 28 >/dev/null
-x4ctl move 1000000 --freq 1000 >/dev/null 2>&1
+x4ctl move 1000000 --freq 1000 --background >/dev/null 2>&1
 usleep 500000
 key ret 1000000
 if settle 50; then pass enter-brakes-background-move; else fail enter-brakes-background-move "still running"; fi

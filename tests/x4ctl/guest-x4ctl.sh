@@ -139,7 +139,10 @@ check move-wait 0 '^done: 200 100 50 -25$' '' x4ctl move 200 100 50 -25 --freq 2
 expect_field move-wait-steps steps '[200,100,50,-25]'
 expect_field move-wait-released controlled false
 check move-one-axis 0 '^done: -120 0 0 0$' '' x4ctl move -120 --freq 3000 --ramp 0 --wait
-check move-background 0 'running in the background as PID' '' x4ctl move 80 --freq 2000 --ramp 10
+# In the foreground by default (issue 17): one move after the other.
+check move-foreground 0 '^done: 100 0 0 0$' '' x4ctl move 100 --freq 2000 --ramp 0
+check move-foreground-back 0 '^done: -100 0 0 0$' '' x4ctl move -100 --freq 2000 --ramp 0
+check move-background 0 'running in the background as PID' '' x4ctl move 80 --freq 2000 --ramp 10 --background
 if settle 100; then pass move-background-ends; else fail move-background-ends "still running"; fi
 expect_field move-background-steps steps '[80,0,0,0]'
 
@@ -177,7 +180,7 @@ expect_field move-then-two-moves moves_ended "$((ended + 3))"
 # (The first move lasts 2 s, so that slower debug kernels also see it running.)
 ended=$(field moves_ended)
 check move-then-background 0 'running in the background as PID' '' \
-	x4ctl move 2000 --freq 1000 --ramp 20 --then -2000 0 0 7
+	x4ctl move 2000 --freq 1000 --ramp 20 --then -2000 0 0 7 --background
 has move-then-background-second "$out" '^move 2 of 2: -2000 0 0 7 at 1000 Hz, ramp 20 ms$'
 usleep 200000
 expect_field move-then-background-active active true
@@ -202,7 +205,7 @@ expect_field bad-move-then-idle active false
 # ---- brake and stop from another shell ---------------------------------------------
 check brake-idle 1 '' '^x4ctl: brake: no move is running$' x4ctl brake
 check stop-idle 1 '' '^x4ctl: stop: no move is running$' x4ctl stop
-check brake-start 0 'running in the background' '' x4ctl move 1000000 --freq 1000 --ramp 50
+check brake-start 0 'running in the background' '' x4ctl move 1000000 --freq 1000 --ramp 50 -b
 usleep 300000
 expect_field brake-running active true
 check brake-busy 1 '' 'move: /dev/x4step0: port busy: PID [0-9]* (x4ctl) controls it' x4ctl move 10 --wait
@@ -229,7 +232,7 @@ steps=$(field steps)
 case "$steps" in \[[1-9]*,0,0,0\]) pass then-braked-steps ;; *) fail then-braked-steps "$steps" ;; esac
 # The same in the background: 'x4ctl brake' ends the sequence the holder runs.
 ended=$(field moves_ended)
-check then-brake-start 0 'running in the background' '' x4ctl move 1000000 --freq 1000 --then -10
+check then-brake-start 0 'running in the background' '' x4ctl move 1000000 --freq 1000 --then -10 -b
 usleep 300000
 check then-brake 0 '^braked: [1-9][0-9]* 0 0 0$' '' x4ctl brake
 if settle 50; then pass then-brake-released; else fail then-brake-released "port still held"; fi
@@ -459,7 +462,7 @@ check phase-move-fast 0 '^done: 0 0 40 0$' '' x4ctl move 0 0 40 --freq 12000 --r
 ended=$(field moves_ended)
 check phase-axis4 1 '' '^x4ctl: move: axis 4 cannot move in smc-phase mode: the SMC800/SMC1500 boards drive axes 1 to 3' \
 	x4ctl move 0 0 1 5 --freq 1000 --ramp 0 --wait
-check phase-axis4-background 1 '' 'move: axis 4 cannot move in smc-phase mode' x4ctl move 0 0 0 5
+check phase-axis4-background 1 '' 'move: axis 4 cannot move in smc-phase mode' x4ctl move 0 0 0 5 -b
 check phase-jog-axis4 1 '' 'jog: axis 4 cannot move in smc-phase mode' x4ctl jog 4 + --time 100
 script phase-run-axis4 1 '' 'run: .*:3: axis 4 cannot move in smc-phase mode' 's4\nd5\ng\n'
 expect_field phase-axis4-nothing-moved moves_ended "$ended"

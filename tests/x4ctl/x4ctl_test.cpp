@@ -99,7 +99,10 @@ TEST(Cli, MoveNegativeNumbersAndDefaults) {
   EXPECT_EQ(c.move.steps, (std::array<long, 4>{-5, 0, 0, 0}));
   EXPECT_EQ(c.move.freq_hz, 1000);
   EXPECT_EQ(c.move.ramp, milliseconds(50));
-  EXPECT_FALSE(c.wait);
+  EXPECT_TRUE(c.wait) << "a move stays in the foreground by default";
+  EXPECT_FALSE(parse({"move", "-5", "--background"}).wait);
+  EXPECT_FALSE(parse({"move", "-5", "-b"}).wait);
+  EXPECT_TRUE(parse({"move", "-5", "-b", "-w"}).wait) << "the last one counts";
   EXPECT_EQ(parse({"move", "--freq=20", "1"}).move.ramp,
             milliseconds(20));  // default never exceeds the frequency
   EXPECT_EQ(parse({"move", "-f20", "1", "-r0"}).move.ramp, milliseconds(0));
@@ -146,7 +149,7 @@ TEST(Cli, MoveThen) {
     EXPECT_EQ(m.freq_hz, 2000);
     EXPECT_EQ(m.ramp, milliseconds(10));
   }
-  EXPECT_FALSE(c.wait);
+  EXPECT_TRUE(c.wait);
   // The default ramp follows the frequency for them too.
   EXPECT_EQ(parse({"move", "1", "--then", "-1", "--freq", "20"}).then.at(0).ramp, milliseconds(20));
   // "--" ends the path of --then as it ends the options.

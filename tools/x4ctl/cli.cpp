@@ -33,6 +33,7 @@ enum opt_id {
   opt_freq,
   opt_ramp,
   opt_wait,
+  opt_background,
   opt_then,
   opt_time,
   opt_json,
@@ -364,6 +365,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("freq", 'f', true, opt_freq);
       add("ramp", 'r', true, opt_ramp);
       add("wait", 'w', false, opt_wait);
+      add("background", 'b', false, opt_background);
       add("then", 0, true, opt_then, true);
       break;
     case subcommand::jog:
@@ -439,6 +441,9 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
   const split_result r = split(args, from, specs, name_of(c.cmd), false);
   motion_options mo;
   std::vector<std::vector<std::string>> then_paths;  // checked once freq and ramp are known
+  // A move stays in the foreground until it ends, as gpioset does: 'x4ctl
+  // move 100; x4ctl move -100' runs one after the other.
+  if (c.cmd == subcommand::move) c.wait = true;
   for (const auto &o : r.options) {
     if (apply_common(c, o, prefix)) continue;
     switch (o.id) {
@@ -450,6 +455,9 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         break;
       case opt_wait:
         c.wait = true;
+        break;
+      case opt_background:
+        c.wait = false;
         break;
       case opt_then:
         then_paths.push_back({o.value});
@@ -839,16 +847,21 @@ std::string help_text(subcommand c) {
              std::string(motion_help) +
              "      --then STEPS1 [STEPS2 [STEPS3 [STEPS4]]]\n"
              "                       one more move after the one before (repeatable)\n"
-             "  -w, --wait           stay until the moves end, showing progress; Ctrl-C\n"
-             "                       brakes, a second Ctrl-C stops\n" +
-             port_help + "\n" + background_help +
-             "With --then, the background x4ctl starts the further moves as well.\n"
+             "  -w, --wait           stay until the moves end, showing progress (the\n"
+             "                       default); Ctrl-C brakes, a second Ctrl-C stops\n"
+             "  -b, --background     return once the motors run (see below)\n" +
+             port_help + "\n" +
+             "With --background, x4ctl returns once the motors run, and a background\n"
+             "x4ctl holds the port until the moves end, starting the --then moves too\n"
+             "(the module brakes a move whose program exits). 'x4ctl brake', 'x4ctl stop'\n"
+             "or ESC on the console keyboard end it early; 'x4ctl monitor' follows it.\n"
              "\n"
-             "Exit status: 0 the move runs (with --wait: every move reached its target);\n"
-             "1 the port refused, or (with --wait) a move was braked or stopped; 2 bad\n"
-             "usage (a bad value after --then too: nothing moved).\n"
-             "Examples: x4ctl move 1000 800 600 400 --freq 1000 --ramp 50 --wait\n"
-             "          x4ctl move 1000 800 600 400 --then -1000 -800 -600 -400 --wait\n";
+             "Exit status: 0 every move reached its target (with --background: the move\n"
+             "runs); 1 the port refused, or a move was braked or stopped; 2 bad usage (a\n"
+             "bad value after --then too: nothing moved).\n"
+             "Examples: x4ctl move 1000 800 600 400 --freq 1000 --ramp 50\n"
+             "          x4ctl move 1000 800 600 400 --then -1000 -800 -600 -400\n"
+             "          x4ctl move 100000 --background; x4ctl brake\n";
     case subcommand::jog:
       return "Usage: x4ctl jog [OPTIONS] AXIS +|-\n"
              "\n"
