@@ -311,7 +311,9 @@ class controller {
   const std::string &path() const noexcept;
   /// The descriptor, for event loops (poll, epoll, Qt's QSocketNotifier,
   /// asyncio): readable (POLLIN) while no move runs, POLLPRI when an event
-  /// is there to read_event(). Owned by this object; -1 when closed.
+  /// is there to read_event(), POLLERR | POLLHUP once the port is gone
+  /// (with PORT_GONE the last event). Opened O_NONBLOCK; owned by this
+  /// object; -1 when closed.
   int fd() const noexcept;
 
   void load(const move &m);  ///< prepare (or preload while running)

@@ -179,9 +179,9 @@ static void x4_ev_ref_locked(struct x4_port *x4, int c)
 
 /*
  * Channel c's reference phase changed from `was` in the timer: phase 1,
- * having seen REF (x4_ev_ref_locked() then) and braked past it, ended
- * (phase 2 follows, or the run ends there), or REF ended phase 2 (the
- * axis is at 0 and synchronized).
+ * having seen REF (x4_ev_ref_locked() then) and stopped or braked past
+ * it, ended (phase 2 follows, or the run ends there), or REF ended phase
+ * 2 (the axis is at 0 and synchronized).
  */
 static void x4_ev_home_locked(struct x4_port *x4, int c, u8 was)
 {
@@ -304,11 +304,17 @@ static bool x4_ev_ready(struct x4_port *x4, struct x4_file *xf, bool *gone)
 	return ready;
 }
 
+/*
+ * POLLPRI while xf has an event to read; POLLERR | POLLHUP once the port
+ * is gone and PORT_GONE is in the ring (one snapshot: a poller sees
+ * POLLPRI for PORT_GONE whenever it sees the hang-up).
+ */
 __poll_t x4_events_poll(struct x4_port *x4, struct x4_file *xf)
 {
 	bool gone;
+	__poll_t events = x4_ev_ready(x4, xf, &gone) ? EPOLLPRI : 0;
 
-	return x4_ev_ready(x4, xf, &gone) ? EPOLLPRI : 0;
+	return gone ? events | EPOLLERR | EPOLLHUP : events;
 }
 
 static bool x4_ev_wakeup(struct x4_port *x4, struct x4_file *xf)

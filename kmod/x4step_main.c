@@ -195,9 +195,8 @@ static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
 
 	poll_wait(file, &x4->wait, wait);
 	events = x4_events_poll(x4, xf);
-	/* After PORT_GONE is in the ring: readers see every event first. */
-	if (READ_ONCE(x4->ev_closed))
-		return events | EPOLLERR | EPOLLHUP;
+	if (events & EPOLLHUP) /* PORT_GONE is in the ring */
+		return events;
 	/*
 	 * Idle, and the brake of a controller that closed is over: once
 	 * this reports POLLIN, a new controller may open.

@@ -136,7 +136,8 @@ class category_impl : public std::error_category {
 }
 
 int open_device(const std::string &path, int flags) {
-  // Non-blocking: read_event() polls, and a read must not outlast its wait.
+  // Non-blocking: read_event() polls, and its read must not outlast the
+  // wait (another descriptor of the same open file may take the event).
   const int fd = ::open(path.c_str(), flags | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
     if (errno == EBUSY) fail_busy(path);

@@ -69,6 +69,7 @@ int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref)
 {
 	if (!(phases & (X4_HOME_PHASE1 | X4_HOME_PHASE2)) ||
 	    phases & ~(X4_HOME_PHASE1 | X4_HOME_PHASE2 | X4_HOME_BRAKE) ||
+	    (phases & X4_HOME_BRAKE && !(phases & X4_HOME_PHASE1)) ||
 	    (phases & X4_HOME_PHASE1 && !vref_ok(vref1)) ||
 	    (phases & X4_HOME_PHASE2 && !vref_ok(vref2)) || !sref ||
 	    sref > 0x7fffffff)

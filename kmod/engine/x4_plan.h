@@ -39,11 +39,14 @@ struct x4_ramp {
 /* What a plan's ramps are, and so how it brakes. */
 enum x4_plan_kind {
 	/*
-	 * X4Step (X4Load, endless moves, reference runs): from and to rest,
-	 * linear in frequency with a = freq / ramp, or no ramp at all.
+	 * X4Step (X4Load, endless moves): from and to rest, linear in
+	 * frequency with a = freq / ramp, or no ramp at all.
 	 */
 	X4_PLAN_X4STEP,
-	/* ProStep4 (an axis' own moves): v0 -a0-> vm -ae-> ve, struct x4_profile. */
+	/*
+	 * ProStep4 (an axis' own moves): v0 -a0-> vm -ae-> ve, struct
+	 * x4_profile; a reference run's search (x4_plan_search()) too.
+	 */
 	X4_PLAN_PROFILE,
 };
 

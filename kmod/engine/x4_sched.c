@@ -168,7 +168,6 @@ void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	int i;
 
 	c->phase = X4_SETUP;
-	c->no_steps = false;
 	c->n = 0;
 	c->t_cur = 0;
 	c->ctl = 0;
@@ -365,9 +364,15 @@ static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
 {
 	if (ramp && x4_plan_brake(&c->run, nb, t_nb))
 		return;
-	/* No ramp to follow: step nb - 1 was the last. */
-	if (c->phase == X4_SETUP)
-		c->no_steps = true;
+	/*
+	 * No ramp to follow: step nb - 1 was the last. Before the first
+	 * step the move ends at once, directions untouched (its start may
+	 * lie ahead: a reference run's phase 2 after its pause).
+	 */
+	if (c->phase == X4_SETUP) {
+		c->phase = X4_END;
+		c->t_pending = 0;
+	}
 	else if (c->phase == X4_RISE)
 		c->phase = X4_END; /* at the time step nb was due */
 	else
@@ -456,7 +461,7 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	/* Count the setup time from when the directions really go out. */
 	if (now_ns > c->t_pending)
 		c->origin = now_ns + e->timing.dir_setup_ns;
-	c->phase = c->no_steps ? X4_END : X4_RISE;
+	c->phase = X4_RISE;
 	c->t_pending = c->origin;
 	if (x4_phase_mode(e))
 		x4_phase_move(e, c, now_ns);

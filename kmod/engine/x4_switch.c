@@ -168,6 +168,7 @@ bool x4_home_next(struct x4_engine *e, struct x4_chan *c)
 		return false;
 	home_phase(e, c, axis, X4_HOME_PHASE2, c->vref2,
 		   c->t_pending + X4_HOME_SETTLE_NS);
+	c->ctl = X4_CTL_AKTIV; /* the run goes on through the pause */
 	return true;
 }
 

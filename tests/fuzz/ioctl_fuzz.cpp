@@ -743,7 +743,8 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       x4step_home h;
       std::memcpy(&h, p.bytes, sizeof h);
       if (h.reserved[0] || h.reserved[1]) return bad_arg(XR_PARAM, "reserved != 0");
-      if (!(h.phases & X4STEP_HOME_AUTO) || h.phases > (X4STEP_HOME_AUTO | X4STEP_HOME_BRAKE))
+      if (!(h.phases & X4STEP_HOME_AUTO) || h.phases > (X4STEP_HOME_AUTO | X4STEP_HOME_BRAKE) ||
+          ((h.phases & X4STEP_HOME_BRAKE) && !(h.phases & X4STEP_HOME_PHASE1)))
         return bad_arg(XR_PARAM, "phases");
       if (h.axis < 1 || h.axis > X4STEP_AXES || !(mode_axes(k) & (1u << (h.axis - 1))))
         return bad_arg(XR_PARAM, "axis");

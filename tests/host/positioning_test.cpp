@@ -1437,6 +1437,35 @@ TEST(Homing, Phase1BrakeMustFitTheRampLimits) {
   EXPECT_EQ(rig.Home(0, X4_HOME_AUTO, -45000, 400, 100000), X4_OK) << "without the brake, no ramp";
 }
 
+TEST(Homing, ThePauseBeforePhase2) {
+  for (bool stop : {false, true}) {
+    Rig rig;
+    HomeRig(rig, kHomeCases[0]);
+    ASSERT_EQ(rig.Home(0, X4_HOME_AUTO, -3000, 400, 100000), X4_OK);
+    for (int n = 0; rig.e.ch[0].home != X4_HOME_PHASE2 && n < 100000; n++) rig.Run(1);
+    ASSERT_EQ(rig.e.ch[0].home, X4_HOME_PHASE2);
+    // Phase 2 is due after the pause; AKTIV stays high: the run goes on.
+    EXPECT_GE(x4_engine_due(&rig.e), rig.now + X4_HOME_SETTLE_NS - 1000000);
+    EXPECT_TRUE(rig.e.ctl & X4_CTL_AKTIV);
+    EXPECT_TRUE(rig.Axis(0).state & X4_AX_REF2);
+    // Halted in the pause: it ends at once, without a step or a direction change.
+    const uint8_t data = rig.e.data;
+    ASSERT_EQ(x4_engine_halt(&rig.e, 1, stop), X4_OK);
+    for (int n = 0; x4_engine_busy(&rig.e) && n < 2; n++) x4_engine_fire(&rig.e, rig.now);  // due at once
+    EXPECT_FALSE(x4_engine_busy(&rig.e)) << (stop ? "stop" : "brake");
+    EXPECT_EQ(rig.e.data, data);
+    EXPECT_EQ(rig.Axis(0).state, 0u) << "idle, not synchronized";
+  }
+}
+
+TEST(Homing, TheBrakeIsPhase1s) {
+  Rig rig;
+  HomeRig(rig, kHomeCases[0]);
+  EXPECT_EQ(rig.Home(0, X4_HOME_PHASE2 | X4_HOME_BRAKE, 0, 400, 100000), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(rig.Home(0, X4_HOME_BRAKE, -3000, 400, 100000), X4_ERR_PARAM_FAIL);
+  EXPECT_FALSE(x4_engine_busy(&rig.e));
+}
+
 TEST(Homing, ABrakeThatRunsOffTheSwitchEndsTheRun) {
   // The narrow cam (400..420) is shorter than the 50-step brake: phase 2
   // would find its far edge. The run ends there, not synchronized.

@@ -270,7 +270,7 @@ struct x4step_goto {
 #define X4STEP_HOME_PHASE1 (1u << 0) /* at vref1 until REF becomes active */
 #define X4STEP_HOME_PHASE2 (1u << 1) /* at vref2 until REF changes again */
 #define X4STEP_HOME_AUTO (X4STEP_HOME_PHASE1 | X4STEP_HOME_PHASE2)
-/* ABI 4: phase 1 brakes past REF along the axis' profile ae */
+/* ABI 4: phase 1 brakes past REF along the axis' profile ae (with PHASE1) */
 #define X4STEP_HOME_BRAKE (1u << 2)
 
 /*
