@@ -372,11 +372,11 @@ static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
 	if (c->phase == X4_SETUP) {
 		c->phase = X4_END;
 		c->t_pending = 0;
-	}
-	else if (c->phase == X4_RISE)
+	} else if (c->phase == X4_RISE) {
 		c->phase = X4_END; /* at the time step nb was due */
-	else
+	} else {
 		c->run.last = nb - 1;
+	}
 }
 
 /* Brake channel c along its ramp (ramp), or end it at its pending event. */
