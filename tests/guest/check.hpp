@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdarg>
 #include <cstdio>
 #include <string>
 
@@ -20,6 +21,17 @@
 namespace guest {
 
 inline int failures = 0;
+
+// printf into a string, for the checks' texts.
+inline std::string F(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+inline std::string F(const char *fmt, ...) {
+  char buf[1024];
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(buf, sizeof(buf), fmt, ap);
+  va_end(ap);
+  return buf;
+}
 
 inline void Check(bool ok, const std::string &what) {
   std::printf("%s %s\n", ok ? "PASS" : "FAIL", what.c_str());

@@ -30,6 +30,7 @@ namespace {
 
 using guest::Check;
 using guest::CheckTiming;
+using guest::F;
 
 const std::string kV = "/sys/kernel/debug/x4vport/";
 
@@ -40,16 +41,6 @@ uint64_t Now() {
   timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
-
-std::string F(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string F(const char *fmt, ...) {
-  char buf[512];
-  va_list ap;
-  va_start(ap, fmt);
-  std::vsnprintf(buf, sizeof buf, fmt, ap);
-  va_end(ap);
-  return buf;
 }
 
 // The clock of each axis in the trace since the last clear: edges, and

@@ -31,22 +31,13 @@
 namespace {
 
 using guest::Check;
+using guest::F;
 using guest::Put;
 using guest::Slurp;
 
 const std::string kV = "/sys/kernel/debug/x4vport/";
 std::string dev;  // /dev/x4stepN of the virtual port
 int port = -1;    // N
-
-std::string F(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string F(const char *fmt, ...) {
-  char buf[1024];
-  va_list ap;
-  va_start(ap, fmt);
-  std::vsnprintf(buf, sizeof(buf), fmt, ap);
-  va_end(ap);
-  return buf;
-}
 
 int Ioctl(int fd, unsigned long cmd, void *arg = nullptr) { return ioctl(fd, cmd, arg) ? errno : 0; }
 

@@ -39,21 +39,12 @@ namespace {
 
 using guest::Check;
 using guest::CheckTiming;
+using guest::F;
 using guest::Throws;
 using x4step::errc;
 namespace axerr = x4step::axis_error;
 
 const std::string kV = "/sys/kernel/debug/x4vport/";
-
-std::string F(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-std::string F(const char *fmt, ...) {
-  char buf[1024];
-  va_list ap;
-  va_start(ap, fmt);
-  std::vsnprintf(buf, sizeof(buf), fmt, ap);
-  va_end(ap);
-  return buf;
-}
 
 using guest::Put;
 using guest::Slurp;
