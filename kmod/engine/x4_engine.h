@@ -104,6 +104,7 @@ enum x4_phase {
 struct x4_chan {
 	struct x4_plan run;
 	enum x4_phase phase;
+	bool no_steps; /* braked before its first step */
 	u8 stepping; /* clock bits set by the current step */
 	u8 ctl; /* AKTIV while it runs, BOOST while it ramps */
 	u8 halt_mask; /* inputs that end the move ... */

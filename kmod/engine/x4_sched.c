@@ -168,6 +168,7 @@ void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	int i;
 
 	c->phase = X4_SETUP;
+	c->no_steps = false;
 	c->n = 0;
 	c->t_cur = 0;
 	c->ctl = 0;
@@ -364,19 +365,13 @@ static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
 {
 	if (ramp && x4_plan_brake(&c->run, nb, t_nb))
 		return;
-	/*
-	 * No ramp to follow: step nb - 1 was the last. Before the first
-	 * step the move ends at once, directions untouched (its start may
-	 * lie ahead: a reference run's phase 2 after its pause).
-	 */
-	if (c->phase == X4_SETUP) {
-		c->phase = X4_END;
-		c->t_pending = 0;
-	} else if (c->phase == X4_RISE) {
+	/* No ramp to follow: step nb - 1 was the last. */
+	if (c->phase == X4_SETUP)
+		c->no_steps = true;
+	else if (c->phase == X4_RISE)
 		c->phase = X4_END; /* at the time step nb was due */
-	} else {
+	else
 		c->run.last = nb - 1;
-	}
 }
 
 /* Brake channel c along its ramp (ramp), or end it at its pending event. */
@@ -461,7 +456,7 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	/* Count the setup time from when the directions really go out. */
 	if (now_ns > c->t_pending)
 		c->origin = now_ns + e->timing.dir_setup_ns;
-	c->phase = X4_RISE;
+	c->phase = c->no_steps ? X4_END : X4_RISE;
 	c->t_pending = c->origin;
 	if (x4_phase_mode(e))
 		x4_phase_move(e, c, now_ns);
@@ -722,7 +717,12 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 		if (c->phase == X4_IDLE || !(c->run.axes & axes))
 			continue;
 		ret = X4_OK;
-		if (stop) {
+		/*
+		 * A reference run in its pause before phase 2 (or before its
+		 * first step) has no ramp to brake along: it ends at once,
+		 * rather than at its start 50 ms ahead.
+		 */
+		if (stop || (c->phase == X4_SETUP && c->home)) {
 			stop_chan(e, c);
 		} else {
 			c->home = 0;
