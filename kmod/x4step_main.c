@@ -538,7 +538,7 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 		ua.flags = X4STEP_ST_INPUTS_STALE;
 	/* Inputs never read (no controller yet) show no active switch. */
 	if (x4->inputs_ns)
-		ua.switches = (ua.inputs ^ x4->eng.sw.nc) & 0x1f;
+		ua.switches = x4_engine_active(&x4->eng, ua.inputs);
 	for (i = 0; i < X4_AXES; i++) {
 		x4_engine_axis(&x4->eng, i, &st);
 		ua.axis[i].position = st.position;

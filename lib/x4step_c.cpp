@@ -13,6 +13,9 @@
 #include <optional>
 #include <vector>
 
+extern "C" {
+#include "x4_check.h"  // the kernel's own timing check
+}
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
@@ -71,27 +74,23 @@ void refuse_while_active(const x4step::status &s) {
   if (s.active) fail(x4step::errc::is_active);
 }
 
-// The default step timing of the module (its parameters), else X4Step's:
-// out of range, the module ignored them too.
+// The default step timing of the module (its parameters), else X4Step's
+// where they fail the engine's check: the module ignored them then too.
 x4step::step_timing module_step_timing() {
-  const x4step::step_timing x4step_default;
-  x4step::step_timing t;
-  auto param = [](const char *name, std::chrono::nanoseconds &out) {
+  x4_timing k{0, 0, X4_DIR_SETUP_NS, 0};
+  const auto param = [](const char *name, uint32_t &out) {
     std::ifstream f(std::string("/sys/module/x4step/parameters/") + name);
-    long ns;
-    if (f >> ns) out = std::chrono::nanoseconds(ns);
+    uint32_t ns;
+    if (f >> ns) out = ns;
   };
-  param("pulse_ns", t.pulse);
-  param("space_ns", t.space);
-  param("dir_setup_ns", t.dir_setup);
-  param("dir_hold_ns", t.dir_hold);
-  const auto ok = [](std::chrono::nanoseconds v) {
-    return v.count() >= 0 && v <= std::chrono::milliseconds(1);
-  };
-  if (!ok(t.pulse) || !ok(t.space) || !ok(t.dir_setup) || !ok(t.dir_hold) ||
-      (t.pulse.count() && t.pulse < std::chrono::microseconds(1)))
-    return x4step_default;
-  return t;
+  param("pulse_ns", k.pulse_ns);
+  param("space_ns", k.space_ns);
+  param("dir_setup_ns", k.dir_setup_ns);
+  param("dir_hold_ns", k.dir_hold_ns);
+  if (x4_timing_check(&k, X4_MODE_CLOCK_DIR)) return {};
+  using std::chrono::nanoseconds;
+  return {nanoseconds(k.pulse_ns), nanoseconds(k.space_ns), nanoseconds(k.dir_setup_ns),
+          nanoseconds(k.dir_hold_ns)};
 }
 
 // X4Init starts from the DOS library's state, whatever an earlier

@@ -43,8 +43,7 @@ int x4_profile_check(const struct x4_profile *p)
 {
 	if (!p->vm || p->vm > X4_VEL_MAX || p->v0 > p->vm || p->ve > p->vm ||
 	    p->a0 > X4_ACC_MAX || p->ae > X4_ACC_MAX ||
-	    (p->a0 && (u64)p->vm > (u64)X4_RAMP_TIME_MAX_S * p->a0) ||
-	    (p->ae && (u64)p->vm > (u64)X4_RAMP_TIME_MAX_S * p->ae))
+	    x4_ramp_too_long(p->vm, p->a0) || x4_ramp_too_long(p->vm, p->ae))
 		return X4_ERR_PARAM_FAIL;
 	return X4_OK;
 }

@@ -65,6 +65,12 @@ struct x4_profile {
 #define X4_ACC_MAX 1000000
 #define X4_RAMP_TIME_MAX_S 3600 /* vm / a: keeps the ramp math in 64 bits */
 
+/* A ramp between rest and v at a (0: none) takes longer than the limit. */
+static inline bool x4_ramp_too_long(u32 v, u32 a)
+{
+	return a && (u64)v > (u64)X4_RAMP_TIME_MAX_S * a;
+}
+
 /*
  * Step timing of a port (driver boards need their own). pulse_ns 0 is
  * the X4Step behaviour: a symmetric clock (high = low time).

@@ -250,6 +250,12 @@ static inline bool x4_engine_rise_watched(const struct x4_engine *e)
 	       (e->cur->halt_mask | e->cur->deferred | e->cur->home);
 }
 
+/* The active switches at input levels (X4GetIn bits): after NO/NC. */
+static inline u8 x4_engine_active(const struct x4_engine *e, u8 levels)
+{
+	return (levels ^ e->sw.nc) & ((1u << X4_INPUTS) - 1);
+}
+
 /* What the port shows at rest: 1 byte, or one per SMC motor (3). */
 int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes);
 

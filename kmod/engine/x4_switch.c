@@ -186,8 +186,8 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		return X4_ERR_PARAM_FAIL;
 	/* Phase 1's brake must fit the ramp limits (at most an hour). */
 	ax = &e->prof[axis - 1];
-	if (phases & X4_HOME_BRAKE && phases & X4_HOME_PHASE1 && ax->ae &&
-	    x4_abs_s32(vref1) > (u64)X4_RAMP_TIME_MAX_S * ax->ae)
+	if (phases & X4_HOME_BRAKE && phases & X4_HOME_PHASE1 &&
+	    x4_ramp_too_long(x4_abs_s32(vref1), ax->ae))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_freq_check(e, phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 1);
 	if (!ret)
@@ -241,7 +241,7 @@ void x4_engine_sense(struct x4_engine *e, u8 levels)
 {
 	int i;
 
-	e->inputs = (levels ^ e->sw.nc) & ((1u << X4_INPUTS) - 1);
+	e->inputs = x4_engine_active(e, levels);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 		u8 released = c->deferred & (u8)~e->inputs;
