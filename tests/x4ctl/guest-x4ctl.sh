@@ -301,51 +301,47 @@ check bad-sweep-ramp 2 '' 'sweep: ramp too long for the frequency' x4ctl sweep 1
 check bad-sweep-step 2 '' 'sweep: frequency step 0 out of range' x4ctl sweep 1 100 200 400 0
 check bad-sweep-nosteps 2 '' 'sweep: no steps' x4ctl sweep 1 0 200 400 100
 
+# Start WATCHER... (an x4ctl that ends by itself once it has seen enough),
+# its output in OUT, run 'x4ctl ACTION' meanwhile, and give the watcher 5 s
+# to end; false (the watcher killed) if it did not.
+follow() { # OUT "ACTION" WATCHER...
+	f_out=$1 f_action=$2
+	shift 2
+	"$@" >"$f_out" 2>&1 &
+	f_pid=$!
+	usleep 300000
+	# shellcheck disable=SC2086
+	x4ctl $f_action >/dev/null 2>&1
+	f_n=0
+	while kill -0 "$f_pid" 2>/dev/null && [ "$f_n" -lt 50 ]; do usleep 100000; f_n=$((f_n + 1)); done
+	f_st=0
+	kill -0 "$f_pid" 2>/dev/null && kill "$f_pid" && f_st=1
+	wait "$f_pid" 2>/dev/null
+	return $f_st
+}
+
 # ---- monitor follows another controller ---------------------------------------------------
-x4ctl monitor --moves 1 >"$tmp/mon" 2>&1 &
-pid=$!
-usleep 300000
-x4ctl move 300 0 -30 --freq 3000 --ramp 10 --wait >/dev/null 2>&1
-n=0
-while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
-if kill -0 "$pid" 2>/dev/null; then
-	kill "$pid"
+if ! follow "$tmp/mon" "move 300 0 -30 --freq 3000 --ramp 10 --wait" x4ctl monitor --moves 1; then
 	fail monitor "did not end after one move: $(show "$tmp/mon")"
 elif grep -q '^move ended: steps 300 0 -30 0$' "$tmp/mon"; then
 	pass monitor
 else
 	fail monitor "$(show "$tmp/mon")"
 fi
-wait "$pid" 2>/dev/null
 
 # ---- watch: the port's events, as text and JSON ----------------------------------------------
 # A move from another x4ctl: its controller opens, the move starts and ends,
 # the controller closes and releases the port: five events.
-x4ctl watch -n 5 >"$tmp/watch" 2>&1 &
-pid=$!
-usleep 300000
-x4ctl move 40 0 -20 --freq 2000 --ramp 10 --wait >/dev/null 2>&1
-n=0
-while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
-if kill -0 "$pid" 2>/dev/null; then
-	kill "$pid"
-	fail watch "did not end after 5 events: $(show "$tmp/watch")"
-else
+if follow "$tmp/watch" "move 40 0 -20 --freq 2000 --ramp 10 --wait" x4ctl watch -n 5; then
 	pass watch
+else
+	fail watch "did not end after 5 events: $(show "$tmp/watch")"
 fi
-wait "$pid" 2>/dev/null
 has watch-opened "$tmp/watch" '^#[0-9]* [0-9]*\.[0-9]\{6\} controller: opened; at '
 has watch-started "$tmp/watch" '^#[0-9]* [0-9.]* move started: axes 1 3, X4Step move; at '
 has watch-ended "$tmp/watch" '^#[0-9]* [0-9.]* move ended: axes 1 3, completed; at '
 has watch-released "$tmp/watch" '^#[0-9]* [0-9.]* controller: released the port; at '
-x4ctl watch --json -n 3 >"$tmp/watch" 2>&1 &
-pid=$!
-usleep 300000
-x4ctl out 1 on --time 10 >/dev/null 2>&1
-n=0
-while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
-kill "$pid" 2>/dev/null
-wait "$pid" 2>/dev/null
+follow "$tmp/watch" "out 1 on --time 10" x4ctl watch --json -n 3
 has watch-json "$tmp/watch" '^{"seq":[0-9]*,"time_ns":[0-9]*,"type":"controller","axes":\[\],"how":"released","value":0,"ambiguous":false,"position":\[[-0-9,]*\]}$'
 check bad-watch-count 2 '' 'watch: count 0 out of range' x4ctl watch -n 0
 
