@@ -287,7 +287,7 @@ struct device {
         if (got == static_cast<ssize_t>(sizeof k)) return to_event(k);
         if (got < 0 && errno == ENODEV) fail(errc::lpt_not_found);
         if (got < 0 && errno != EAGAIN && errno != EINTR) fail_errno(errno, "read " + path);
-        continue;  // another thread read it
+        continue;  // a dup of the descriptor read it
       }
       if (n > 0 && (p.revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
       if (d.expired()) return std::nullopt;
@@ -415,8 +415,14 @@ namespace {
 
 const char *event_how(const event &e) {
   static const char *const kinds[] = {"X4Step move", "endless move", "goto", "reference run"};
-  static const char *const ends[] = {
-      "completed", "braked", "stopped", "at a limit", "homed", "REF found", "reference travel exceeded"};
+  static const char *const ends[] = {"completed",
+                                     "braked",
+                                     "stopped",
+                                     "at a limit",
+                                     "homed",
+                                     "REF found",
+                                     "reference travel exceeded",
+                                     "braked off the reference switch"};
   static const char *const sources[] = {"by request", "by key", "by the controller's close"};
   static const char *const switches[] = {"E+", "E-", "REF"};
   static const char *const changes[] = {"opened", "closed", "released the port"};
@@ -425,7 +431,7 @@ const char *event_how(const event &e) {
     case event_type::move_started:
       return h < 4 ? kinds[h] : "";
     case event_type::move_ended:
-      return h < 7 ? ends[h] : "";
+      return h < 8 ? ends[h] : "";
     case event_type::brake:
       return h < 3 ? sources[h] : "";
     case event_type::switch_hit:

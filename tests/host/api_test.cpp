@@ -704,3 +704,20 @@ TEST(CppApi, VersionIsMajorMinorPatch) {
   EXPECT_TRUE(std::regex_match(x4step::version(), std::regex("[0-9]+\\.[0-9]+\\.[0-9]+")))
       << x4step::version();
 }
+
+TEST(CppApi, EveryEndReasonPrints) {
+  x4step::event e;
+  e.type = x4step::event_type::move_ended;
+  e.axis_mask = 1;
+  for (unsigned how = 1; how <= static_cast<unsigned>(x4step::end_reason::ref_passed); how++) {
+    e.how = how;
+    std::ostringstream os;
+    os << e;
+    EXPECT_EQ(os.str().find("axes 1, at 0"), std::string::npos)
+        << "no text for end reason " << how << ": " << os.str();
+  }
+  e.how = static_cast<unsigned>(x4step::end_reason::ref_passed);
+  std::ostringstream os;
+  os << e;
+  EXPECT_NE(os.str().find("braked off the reference switch"), std::string::npos) << os.str();
+}
