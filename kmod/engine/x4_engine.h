@@ -20,11 +20,13 @@
  *   x4_switch.c  reference and limit switches, reference runs
  *   x4_phase.c   the SMC800/SMC1500 half-step phase output
  *   x4_status.c  what the axes are doing, for GET_AXES
+ *   x4_path.c    continuous paths: the segment queue and its planner
  */
 #ifndef X4_ENGINE_H
 #define X4_ENGINE_H
 
 #include "x4_check.h"
+#include "x4_path.h"
 #include "x4_plan.h"
 
 /*
@@ -133,6 +135,10 @@ struct x4_chan {
 	u64 t_after;
 	s32 vref2; /* reference run: phase 2 speed */
 	u32 sref;
+	bool path; /* runs the path (x4_path.c): channel 0 only */
+	bool path_cut; /* ... and was stopped: the path ends here */
+	u8 dir_fresh; /* clocks whose direction changed at dir_ready - setup */
+	u64 dir_ready; /* ... and may step from then on */
 };
 
 struct x4_engine {
@@ -170,6 +176,7 @@ struct x4_engine {
 	struct x4_chan *fired; /* the channel of the last step edge fired */
 	bool edge_shifted; /* ... and that edge moved its schedule already */
 	u32 budget; /* port writes per second, all moves together; 0: none */
+	struct x4_path path;
 };
 
 void x4_engine_init(struct x4_engine *e);

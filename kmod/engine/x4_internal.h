@@ -58,9 +58,14 @@ void x4_arm_switches(struct x4_engine *e, struct x4_chan *c);
 void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit);
 bool x4_home_next(struct x4_engine *e, struct x4_chan *c);
 
+/* x4_path.c: the path's pieces, on channel 0 */
+bool x4_path_next(struct x4_engine *e, struct x4_chan *c);
+void x4_path_ended(struct x4_engine *e, struct x4_chan *c);
+
 /* x4_phase.c: the SMC phase output */
 void x4_phase_move(struct x4_engine *e, struct x4_chan *c, u64 t);
 void x4_phase_rest(struct x4_engine *e, struct x4_chan *c);
+void x4_phase_walk(struct x4_engine *e, struct x4_chan *c);
 void x4_phase_step(struct x4_engine *e, struct x4_chan *c, u64 t);
 void x4_phase_queued(struct x4_engine *e, struct x4_chan *c);
 

@@ -113,15 +113,24 @@ static u8 clk_axes(u8 clk)
 	return axes;
 }
 
-/* Phase mode: walk the table of each motor that steps, write them. */
-void x4_phase_step(struct x4_engine *e, struct x4_chan *c, u64 t)
+/*
+ * Phase mode: walk the table of each motor that steps, in the directions
+ * of the plan that made the step (before a path's next segment replaces it).
+ */
+void x4_phase_walk(struct x4_engine *e, struct x4_chan *c)
 {
-	u8 bytes[X4_SMC_AXES];
 	int m;
 
 	for (m = 0; m < X4_SMC_AXES; m++)
 		if (c->stepping & X4_CLK_BIT(m))
 			e->smc_phase[m] = (e->smc_phase[m] + c->run.sign[m]) & 7;
+}
+
+/* Phase mode: write the patterns of the motors that stepped. */
+void x4_phase_step(struct x4_engine *e, struct x4_chan *c, u64 t)
+{
+	u8 bytes[X4_SMC_AXES];
+
 	emit(e, c, bytes, smc_patterns(e, clk_axes(c->stepping), false, bytes),
 	     t);
 }

@@ -65,12 +65,14 @@ u8 x4_mode_axes(const struct x4_engine *e)
 	return x4_phase_mode(e) ? 0x07 : 0x0f;
 }
 
-/* The axes of the running moves. */
+/* The axes of the running moves; an active path owns them all. */
 u8 x4_busy_axes(const struct x4_engine *e)
 {
 	u8 axes = 0;
 	int i;
 
+	if (x4_path_active(e))
+		return x4_mode_axes(e);
 	for (i = 0; i < X4_AXES; i++)
 		if (e->busy & (1u << i))
 			axes |= e->ch[i].run.axes;
@@ -169,6 +171,9 @@ void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 
 	c->phase = X4_SETUP;
 	c->no_steps = false;
+	c->path = false;
+	c->path_cut = false;
+	c->dir_fresh = 0;
 	c->n = 0;
 	c->t_cur = 0;
 	c->ctl = 0;
@@ -404,6 +409,7 @@ void x4_halt_chan(struct x4_chan *c, bool ramp)
 void x4_cut(struct x4_chan *c)
 {
 	c->home = 0;
+	c->path_cut = c->path;
 	x4_halt_chan(c, false);
 }
 
@@ -445,7 +451,9 @@ static u8 step_axes(struct x4_engine *e, struct x4_chan *c)
 
 /*
  * The SETUP event: the directions (phase mode: the patterns) go out, the
- * first step follows after the setup time.
+ * first step (n, at T(n): a path's piece begins before its step 1) follows
+ * after the setup time. A path does not wait as a whole: only an axis
+ * whose direction changed does, at its own next step (dir_wait()).
  */
 static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 				 u64 now_ns)
@@ -453,11 +461,16 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	const struct x4_plan *p = &c->run;
 
 	c->ctl = p->n_cruise ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
-	/* Count the setup time from when the directions really go out. */
-	if (now_ns > c->t_pending)
+	if (c->path) {
+		c->dir_fresh |= x4_clk_bits(p->axes) &
+				(u8)((e->data ^ p->dirs) << 1);
+		c->dir_ready = now_ns + e->timing.dir_setup_ns;
+	} else if (now_ns > c->t_pending) {
+		/* Count the setup time from when the directions go out. */
 		c->origin = now_ns + e->timing.dir_setup_ns;
+	}
 	c->phase = c->no_steps ? X4_END : X4_RISE;
-	c->t_pending = c->origin;
+	c->t_pending = c->origin + c->t_cur;
 	if (x4_phase_mode(e))
 		x4_phase_move(e, c, now_ns);
 	else /* axes that do not move keep their direction level */
@@ -469,6 +482,9 @@ void x4_end(struct x4_engine *e, struct x4_chan *c)
 {
 	if (c->home && x4_home_next(e, c))
 		return;
+	if (c->path)
+		x4_path_ended(e, c);
+	c->dir_fresh = 0;
 	c->home = 0;
 	c->ctl = 0;
 	c->phase = X4_IDLE;
@@ -501,10 +517,38 @@ static bool keep_min(struct x4_engine *e, struct x4_chan *c, u64 earliest)
 	return true;
 }
 
+/* Step n + 1 rises next. */
+static inline void next_step(struct x4_chan *c)
+{
+	c->n++;
+	c->t_cur = c->t_next;
+	c->phase = X4_RISE;
+	c->t_pending = c->origin + c->t_cur;
+}
+
+/*
+ * After the last step of a path's piece, at t: the next piece's step 1.
+ * Where directions change, they go out after the hold time (a SETUP).
+ */
+static void path_goes_on(struct x4_engine *e, struct x4_chan *c, u64 t)
+{
+	next_step(c);
+	if (c->dir_fresh) {
+		c->phase = X4_SETUP;
+		c->t_pending = t + e->timing.dir_hold_ns;
+	} else if (!x4_phase_mode(e)) {
+		keep_min(e, c, t + c->space_min);
+	}
+}
+
 /* After the last step: end now, or after the hold (and settle) time. */
 static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 				    u64 t)
 {
+	if (c->path && x4_path_next(e, c)) {
+		path_goes_on(e, c, t);
+		return;
+	}
 	if (!e->timing.dir_hold_ns && !x4_phase_mode(e)) {
 		x4_end(e, c);
 		return;
@@ -513,15 +557,6 @@ static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 	c->phase = X4_END;
 	c->t_pending = t + e->timing.dir_hold_ns +
 		       (x4_phase_mode(e) ? 2 * c->half_ns : 0);
-}
-
-/* Step n + 1 rises next. */
-static inline void next_step(struct x4_chan *c)
-{
-	c->n++;
-	c->t_cur = c->t_next;
-	c->phase = X4_RISE;
-	c->t_pending = c->origin + c->t_cur;
 }
 
 /* After step n's clock fell (or its pattern went out): what comes next. */
@@ -567,6 +602,30 @@ static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
 		       t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
 }
 
+/*
+ * A path's axis whose direction changed steps before the setup time has
+ * passed: the step (and the rest of the schedule) waits for it.
+ */
+static noinline bool dir_wait(struct x4_chan *c, u64 t_step, u64 now_ns)
+{
+	const struct x4_plan *p = &c->run;
+	u8 due = X4_CLK_BIT(p->leader);
+	int i;
+
+	if ((now_ns > t_step ? now_ns : t_step) >= c->dir_ready) {
+		c->dir_fresh = 0;
+		return false;
+	}
+	for (i = 0; i < X4_AXES; i++)
+		if (c->bres[i] + p->bres_inc[i] >= p->bres_2l && p->bres_inc[i])
+			due |= X4_CLK_BIT(i);
+	if (!(due & c->dir_fresh))
+		return false;
+	c->origin += c->dir_ready - t_step;
+	c->t_pending = c->dir_ready;
+	return true;
+}
+
 static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	const struct x4_plan *p = &c->run;
@@ -587,6 +646,8 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		x4_cut(c);
 		return;
 	}
+	if (c->dir_fresh && dir_wait(c, t_step, now_ns))
+		return;
 	c->stepping = step_axes(e, c);
 	if (c->n < p->last) {
 		c->t_next = x4_plan_next(&c->run, c->n + 1, c->t_cur, &ramp);
@@ -602,6 +663,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	e->fired = c;
 	e->edge_shifted = false;
 	if (x4_phase_mode(e)) {
+		x4_phase_walk(e, c);
 		step_done(e, c, now_ns);
 		c->space_min = min_of(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
 		keep_min(e, c, now_ns + c->space_min);
@@ -701,6 +763,7 @@ static void stop_chan(struct x4_engine *e, struct x4_chan *c)
 	e->data &= (u8)~(c->run.axes ? x4_clk_bits(c->run.axes) : 0);
 	e->sync &= (u8)~c->run.axes;
 	c->home = 0;
+	c->path_cut = c->path;
 	c->t_pending = 0;
 	x4_end(e, c); /* phase mode: the rest patterns are queued, due at once */
 }
@@ -711,6 +774,9 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 	int ret = X4_ERR_NOT_ACTIVE;
 	int i;
 
+	/* A path held at rest: a stop flushes it. */
+	if (stop && e->path.state == X4_PATH_HELD && axes & x4_mode_axes(e))
+		ret = x4_path_hold(e, true);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 
@@ -724,6 +790,8 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 		 */
 		if (stop || (c->phase == X4_SETUP && c->home)) {
 			stop_chan(e, c);
+		} else if (c->path) {
+			x4_path_hold(e, false); /* along the path */
 		} else {
 			c->home = 0;
 			x4_halt_chan(c, true);

@@ -9,8 +9,17 @@
 #define X4_TYPES_H
 
 #ifdef __KERNEL__
+#include <asm/barrier.h>
 #include <linux/math64.h>
 #include <linux/types.h>
+/*
+ * The path queue (x4_path.c): a writer without the lock, the timer under
+ * it. A release store publishes what was written before it (a slot, an
+ * entry speed) to the acquire load that reads the value it stored.
+ */
+#define x4_load_acquire(p) smp_load_acquire(p)
+/* Pairs with x4_load_acquire(). */
+#define x4_store_release(p, v) smp_store_release(p, v)
 /* 32-bit kernels have no 64-bit '/': every u64 division goes through here. */
 #define x4_div(a, b) div64_u64((a), (b))
 #else
@@ -18,6 +27,7 @@
 #include <stdint.h>
 typedef uint8_t u8;
 typedef int8_t s8;
+typedef uint16_t u16;
 typedef uint32_t u32;
 typedef int32_t s32;
 typedef uint64_t u64;
@@ -32,6 +42,8 @@ u64 x4_div64_u64(u64 a, u64 b);
 #else
 #define x4_div(a, b) ((u64)(a) / (u64)(b))
 #endif
+#define x4_load_acquire(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
+#define x4_store_release(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
 #endif
 
 #define X4_NSEC_PER_SEC 1000000000ull

@@ -1,0 +1,557 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * x4step engine: continuous paths (x4_path.h). The writer's half queues
+ * segments and plans their entry speeds backward (as GRBL's planner does);
+ * the timer's half runs them on channel 0, piece by piece.
+ *
+ * A segment runs in pieces, each a ProStep4 profile plan (x4_plan.c) in
+ * the segment's leader steps: from the current speed up to the cruise
+ * speed and down to the segment's exit speed, or, when the cruise speed
+ * fell below the current one (a hold, a lower override), braking to it
+ * first. Leader step j of a segment lies at path position j * length /
+ * leader; a piece starts at a step (or at rest) and its steps' times come
+ * from their index in closed form. Hold and override cut the running piece
+ * after its pending step and plan the next from there, so nothing already
+ * scheduled moves, and the path goes on from exactly where it is: a hold
+ * and a resume change no step, only when it comes.
+ *
+ * Calls the plan maths, and the channels (x4_sched.c) to begin and end.
+ */
+#include "x4_internal.h"
+
+#ifdef __KERNEL__
+#include <linux/string.h>
+#else
+#include <string.h>
+#endif
+
+static struct x4_path_slot *slot_of(const struct x4_path *pa, u32 k)
+{
+	return &pa->slot[k & (pa->depth - 1)];
+}
+
+static u64 min_u64(u64 a, u64 b)
+{
+	return a < b ? a : b;
+}
+
+/* Leader steps/s of slot s at path speed v (units/s), rounded down. */
+static u64 to_steps(const struct x4_path_slot *s, u64 v)
+{
+	return x4_div(v * s->leader, s->seg.length);
+}
+
+/* Path units/s of slot s at leader speed v (steps/s), rounded down. */
+static u64 to_path(const struct x4_path_slot *s, u64 v)
+{
+	return x4_div(v * s->seg.length, s->leader);
+}
+
+/*
+ * The fastest leader rate the port's timing and write budget allow a path
+ * (which owns the port: no other move runs beside it).
+ */
+static u64 rate_max(const struct x4_engine *e)
+{
+	const struct x4_timing *t = &e->timing;
+	u64 rate = X4_VEL_MAX, period;
+
+	if (e->budget)
+		rate = min_u64(rate, e->budget /
+			       x4_writes_per_step(e, x4_mode_axes(e)));
+	period = t->pulse_ns ? t->pulse_ns + t->space_ns : 2 * t->space_ns;
+	if (!x4_phase_mode(e) && period)
+		rate = min_u64(rate, x4_div(X4_NSEC_PER_SEC, period));
+	return rate;
+}
+
+/* Slot s's top path speed at the current override and the rate limit. */
+static u64 top_speed(const struct x4_engine *e, const struct x4_path_slot *s)
+{
+	u64 v = x4_div((u64)s->seg.v_max * e->path.override, 100);
+
+	return min_u64(v, to_path(s, rate_max(e)));
+}
+
+bool x4_path_active(const struct x4_engine *e)
+{
+	const struct x4_path *pa = &e->path;
+
+	return pa->state != X4_PATH_IDLE || pa->head != pa->tail;
+}
+
+int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
+		      u32 depth)
+{
+	struct x4_path *pa = &e->path;
+
+	if (depth & (depth - 1))
+		return X4_ERR_PARAM_FAIL;
+	if (x4_path_active(e))
+		return X4_ERR_IS_ACTIVE;
+	pa->slot = slot;
+	pa->depth = depth;
+	pa->head = 0;
+	pa->tail = 0;
+	if (!pa->override)
+		pa->override = 100;
+	return X4_OK;
+}
+
+int x4_path_check(const struct x4_engine *e, const struct x4_segment *s)
+{
+	u32 leader = 0, length = s->length;
+	u8 axes = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++) {
+		u32 n = x4_abs_s32(s->steps[i]);
+
+		if (n > X4_STEPS_MAX)
+			return X4_ERR_STEPS_TOO_HIGH;
+		if (n)
+			axes |= 1u << i;
+		if (n > leader)
+			leader = n;
+	}
+	if (!leader || !length || axes & ~x4_mode_axes(e))
+		return X4_ERR_PARAM_FAIL;
+	if (!s->v_max || !s->accel || length > X4_PATH_VALUE_MAX ||
+	    s->v_max > X4_PATH_VALUE_MAX || s->v_entry > X4_PATH_VALUE_MAX ||
+	    s->accel > X4_PATH_VALUE_MAX ||
+	    (u64)s->v_max > (u64)X4_PATH_RAMP_MAX_S * s->accel)
+		return X4_ERR_PARAM_FAIL;
+	/* The leader's acceleration: at least 1, at most the ramp maths'. */
+	if ((u64)s->accel * leader < length ||
+	    (u64)s->accel * leader > (u64)X4_ACC_MAX * length)
+		return X4_ERR_PARAM_FAIL;
+	/* Its rate at v_max: within what the port can do. */
+	if ((u64)s->v_max * leader > rate_max(e) * length)
+		return X4_ERR_RATE_BUDGET;
+	if (e->busy & ~(e->ch[0].path ? 1u : 0u))
+		return X4_ERR_IS_ACTIVE; /* other moves run */
+	if (!e->path.depth)
+		return X4_ERR_PARAM_FAIL;
+	return X4_OK;
+}
+
+u32 x4_path_room(const struct x4_engine *e)
+{
+	const struct x4_path *pa = &e->path;
+
+	return pa->depth - (pa->tail - x4_load_acquire(&pa->head));
+}
+
+/* The highest entry speed of slot s from which exit v_exit is reachable. */
+static u32 entry_for(const struct x4_engine *e, const struct x4_path_slot *s,
+		     u64 v_exit)
+{
+	u64 v = x4_isqrt(v_exit * v_exit + 2ull * s->seg.accel * s->seg.length);
+
+	v = min_u64(v, s->seg.v_entry);
+	return (u32)min_u64(v, top_speed(e, s));
+}
+
+/*
+ * Backward pass from the last segment (which ends at rest) toward the
+ * running one: each entry speed as high as its corner, its speed limit
+ * and the stop of everything after it allow. On an append the pass ends
+ * where an entry does not change (nothing before it can change either);
+ * `all` goes through (the speed limits changed).
+ */
+static void plan_back(struct x4_engine *e, bool all)
+{
+	struct x4_path *pa = &e->path;
+	u32 head = x4_load_acquire(&pa->head), k = pa->tail - 1;
+	u64 v_exit = slot_of(pa, k)->entry;
+
+	/* The timer reads the entry of head + 1 when head starts. */
+	while (k != head && k - 1 != head) {
+		struct x4_path_slot *s = slot_of(pa, --k);
+		u32 v = entry_for(e, s, v_exit);
+
+		if (v == s->entry && !all)
+			break;
+		x4_store_release(&s->entry, v);
+		v_exit = v;
+	}
+}
+
+void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
+{
+	struct x4_path *pa = &e->path;
+	struct x4_path_slot *s = slot_of(pa, pa->tail);
+	u32 leader = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (x4_abs_s32(seg->steps[i]) > leader)
+			leader = x4_abs_s32(seg->steps[i]);
+	s->seg = *seg;
+	s->leader = leader;
+	s->entry = entry_for(e, s, 0); /* the last segment stops */
+	x4_store_release(&pa->tail, pa->tail + 1);
+	plan_back(e, false);
+}
+
+void x4_path_replan(struct x4_engine *e)
+{
+	struct x4_path *pa = &e->path;
+
+	if (pa->tail == x4_load_acquire(&pa->head))
+		return;
+	x4_store_release(&slot_of(pa, pa->tail - 1)->entry,
+			 entry_for(e, slot_of(pa, pa->tail - 1), 0));
+	plan_back(e, true);
+}
+
+/* ---- the timer's half: under the engine's lock ---- */
+
+/* v^2 at step n of a profile plan, (steps/s)^2. */
+static u64 plan_speed2(const struct x4_plan *p, u64 n)
+{
+	const struct x4_profile *f = &p->prof;
+
+	if (n < p->n_cruise)
+		return (u64)f->v0 * f->v0 + 2ull * f->a0 * n;
+	if (n >= p->n_decel)
+		return (u64)f->ve * f->ve + 2ull * f->ae * (p->last - n);
+	return (u64)f->vm * f->vm;
+}
+
+/* The running segment's cruise speed now (steps/s); 0 while holding. */
+static u64 cruise(const struct x4_engine *e)
+{
+	const struct x4_path *pa = &e->path;
+
+	const struct x4_path_slot *s = slot_of(pa, pa->head);
+	u64 v;
+
+	if (pa->state != X4_PATH_RUN)
+		return 0;
+	v = to_steps(s, top_speed(e, s));
+	return v ? v : 1;
+}
+
+/*
+ * Plan the running segment's next piece into c->run, from step pa->pos at
+ * speed pa->v_end: brake to the cruise speed first where it is lower,
+ * else up to it and down to the exit speed. Every end speed is one the
+ * ramp reaches in the piece; rounding never makes a speed jump of more
+ * than a step/s.
+ */
+static void plan_piece(struct x4_engine *e, struct x4_chan *c)
+{
+	struct x4_path *pa = &e->path;
+	u64 v0 = pa->v_end, a = pa->accel, rest = pa->leader - pa->pos;
+	u64 vc = cruise(e), ve = min_u64(pa->exit, vc), d = rest;
+	struct x4_profile f = { 0 };
+
+	if (v0 > vc) {
+		/* Brake to vc, or as far as the segment lets. */
+		d = x4_div(v0 * v0 - vc * vc + 2 * a - 1, 2 * a);
+		if (d < rest) {
+			ve = vc;
+		} else {
+			d = rest;
+			ve = x4_isqrt(v0 * v0 - 2 * a * rest);
+		}
+		f.vm = (u32)v0;
+		f.ae = (u32)a;
+	} else {
+		/* Within the segment's reach: up from v0, down from v0. */
+		ve = min_u64(ve, x4_isqrt(v0 * v0 + 2 * a * rest));
+		if (v0 * v0 > ve * ve + 2 * a * rest)
+			ve = x4_isqrt(v0 * v0 - 2 * a * rest);
+		f.v0 = (u32)v0;
+		f.vm = (u32)vc;
+		f.a0 = (u32)a;
+		f.ae = (u32)a;
+	}
+	f.ve = (u32)ve;
+	x4_plan_profile(&c->run, d + 1, &f);
+	pa->piece = (u32)d;
+	pa->v_end = (u32)ve;
+	/* Step 0 of the plan is where the piece starts; its steps are 1..d. */
+	c->n = 0;
+	c->t_cur = 0;
+	c->t_next = x4_plan_time(&c->run, 1);
+	c->half_ns = c->t_next / 2;
+}
+
+/*
+ * Start the segment at head, entering at path speed v_in: its axes and
+ * Bresenham, its switches, and its exit speed, read once from the plan
+ * (or rest when nothing follows it yet).
+ */
+static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
+{
+	struct x4_path *pa = &e->path;
+	struct x4_path_slot *s = slot_of(pa, pa->head);
+	u32 tail = x4_load_acquire(&pa->tail);
+	s64 steps[X4_AXES];
+	u64 v_exit = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		steps[i] = s->seg.steps[i];
+	x4_plan_axes(&c->run, steps);
+	for (i = 0; i < X4_AXES; i++)
+		c->bres[i] = c->run.bres_2l / 2;
+	x4_arm_switches(e, c);
+	pa->started = true;
+	pa->lonely = tail == pa->head + 1;
+	if (!pa->lonely)
+		v_exit = x4_load_acquire(&slot_of(pa, pa->head + 1)->entry);
+	pa->leader = s->leader;
+	pa->accel = (u32)to_steps(s, s->seg.accel);
+	pa->exit = (u32)to_steps(s, v_exit);
+	pa->pos = 0;
+	pa->piece = 0;
+	pa->v_end = (u32)to_steps(s, v_in);
+}
+
+/* Flush the queue: the path is idle. */
+static void flush(struct x4_engine *e)
+{
+	struct x4_path *pa = &e->path;
+
+	x4_store_release(&pa->head, x4_load_acquire(&pa->tail));
+	pa->state = X4_PATH_IDLE;
+	pa->started = false;
+	pa->abort = false;
+}
+
+/*
+ * After the last step of the running piece (due at c->origin + c->t_cur):
+ * plan the next piece, possibly of the next segment, and return true; or
+ * return false when the path comes to rest here (c->path_cut: stopped).
+ * Directions that change go out after the hold time (c->dir_fresh).
+ */
+bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
+{
+	struct x4_path *pa = &e->path;
+	u64 t0 = c->origin + c->t_cur;
+	u8 dirs = c->run.dirs;
+
+	if (c->path_cut)
+		return false;
+	pa->pos += pa->piece;
+	pa->piece = 0;
+	if (pa->pos >= pa->leader) {
+		u64 v = to_path(slot_of(pa, pa->head), pa->v_end);
+
+		pa->done++;
+		pa->started = false;
+		x4_store_release(&pa->head, pa->head + 1);
+		if (pa->head == x4_load_acquire(&pa->tail)) {
+			pa->rest = X4_REST_DRY;
+			return false;
+		}
+		if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
+			pa->rest = X4_REST_HELD;
+			return false;
+		}
+		start_segment(e, c, v);
+		if (!x4_phase_mode(e))
+			c->dir_fresh = x4_clk_bits(c->run.axes) &
+				       (u8)((dirs ^ c->run.dirs) << 1);
+	} else if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
+		pa->rest = X4_REST_HELD;
+		return false;
+	}
+	plan_piece(e, c);
+	c->origin = t0;
+	return true;
+}
+
+/* The path's channel came to rest: why decides what follows. */
+void x4_path_ended(struct x4_engine *e, struct x4_chan *c)
+{
+	struct x4_path *pa = &e->path;
+
+	c->path = false;
+	if (c->path_cut || pa->rest == X4_REST_CUT) {
+		flush(e);
+		return;
+	}
+	if (pa->rest == X4_REST_HELD) {
+		pa->state = X4_PATH_HELD;
+		if (pa->abort)
+			flush(e);
+		return;
+	}
+	pa->state = X4_PATH_IDLE; /* dry: a push kicks it again */
+	pa->abort = false;
+}
+
+/* Start (or resume) the path from rest at its current place. */
+static void begin_path(struct x4_engine *e, u64 now_ns)
+{
+	struct x4_path *pa = &e->path;
+	struct x4_chan *c = &e->ch[0];
+	u64 bres[X4_AXES];
+
+	memcpy(bres, c->bres, sizeof(bres));
+	if (!pa->started)
+		start_segment(e, c, 0);
+	pa->v_end = 0;
+	pa->state = X4_PATH_RUN;
+	pa->rest = X4_REST_CUT;
+	c->home = 0;
+	plan_piece(e, c);
+	x4_begin(e, c, now_ns); /* directions now, the first step after */
+	if (pa->pos) /* resumed within a segment: its Bresenham goes on */
+		memcpy(c->bres, bres, sizeof(bres));
+	c->path = true;
+	c->rate = (u32)(rate_max(e) * x4_writes_per_step(e, x4_mode_axes(e)));
+	/* SETUP, then step 1 of the piece (x4_sched.c: begin_setup()). */
+	c->n = 1;
+	c->t_cur = x4_plan_time(&c->run, 1);
+}
+
+
+/*
+ * Make the running piece end at the step pending now, so that the next
+ * piece is planned from there with what changed (hold, override).
+ */
+static void cut_piece(struct x4_engine *e)
+{
+	struct x4_path *pa = &e->path;
+	struct x4_chan *c = &e->ch[0];
+	u8 phase = c->phase == X4_QUEUED ? c->phase_after : c->phase;
+	u64 nb;
+
+	if (!c->path)
+		return;
+	if (phase == X4_SETUP && !plan_speed2(&c->run, 0)) {
+		/* Starting from rest: nothing moved yet. */
+		if (pa->state == X4_PATH_HOLDING) {
+			c->no_steps = true; /* held before its first step */
+			pa->rest = X4_REST_HELD;
+			return;
+		}
+		pa->v_end = 0;
+		plan_piece(e, c);
+		c->n = 1;
+		c->t_cur = c->t_next;
+		return;
+	}
+	if (phase == X4_RISE || phase == X4_SETUP) /* SETUP: a junction's */
+		nb = c->n;
+	else if (phase == X4_FALL)
+		nb = c->n + 1;
+	else
+		return;
+	if (nb >= c->run.last)
+		return; /* the piece ends there anyway */
+	pa->v_end = (u32)x4_isqrt(plan_speed2(&c->run, nb));
+	pa->piece = (u32)nb;
+	c->run.last = nb;
+}
+
+/*
+ * The running segment may end faster than it started out to: new segments
+ * came, or the plan raised the entry of the one after it. Its next piece,
+ * from the pending step, brakes to the new exit speed instead.
+ */
+static void raise_exit(struct x4_engine *e)
+{
+	struct x4_path *pa = &e->path;
+	struct x4_chan *c = &e->ch[0];
+	u64 v;
+
+	if (pa->head + 1 == x4_load_acquire(&pa->tail))
+		return;
+	v = to_steps(slot_of(pa, pa->head),
+		     x4_load_acquire(&slot_of(pa, pa->head + 1)->entry));
+	if (v <= pa->exit)
+		return;
+	if (pa->lonely && c->n >= c->run.n_decel)
+		pa->starved++; /* it began to brake for want of segments */
+	pa->lonely = false;
+	pa->exit = (u32)v;
+	cut_piece(e);
+}
+
+void x4_path_kick(struct x4_engine *e, u64 now_ns)
+{
+	struct x4_path *pa = &e->path;
+
+	if (pa->state == X4_PATH_RUN && pa->started && e->ch[0].path)
+		raise_exit(e);
+	if (pa->state != X4_PATH_IDLE || pa->head == pa->tail)
+		return;
+	begin_path(e, now_ns);
+}
+
+int x4_path_hold(struct x4_engine *e, bool abort)
+{
+	struct x4_path *pa = &e->path;
+
+	switch (pa->state) {
+	case X4_PATH_IDLE:
+		return X4_ERR_NOT_ACTIVE;
+	case X4_PATH_HELD:
+		if (abort)
+			flush(e);
+		return X4_OK;
+	default:
+		pa->abort |= abort;
+		if (pa->state == X4_PATH_RUN) {
+			pa->state = X4_PATH_HOLDING;
+			cut_piece(e);
+		}
+		return X4_OK;
+	}
+}
+
+int x4_path_resume(struct x4_engine *e, u64 now_ns)
+{
+	struct x4_path *pa = &e->path;
+
+	if (pa->abort)
+		return X4_ERR_NOT_ACTIVE; /* an abort is under way */
+	if (pa->state == X4_PATH_HOLDING) {
+		pa->state = X4_PATH_RUN;
+		cut_piece(e);
+		return X4_OK;
+	}
+	if (pa->state != X4_PATH_HELD)
+		return X4_ERR_NOT_ACTIVE;
+	if (pa->head == pa->tail) {
+		pa->state = X4_PATH_IDLE; /* held at its very end */
+		return X4_OK;
+	}
+	begin_path(e, now_ns);
+	return X4_OK;
+}
+
+int x4_path_set_override(struct x4_engine *e, u32 percent)
+{
+	if (!percent || percent > X4_PATH_OVERRIDE_MAX)
+		return X4_ERR_PARAM_FAIL;
+	e->path.override = (u16)percent;
+	if (e->path.state == X4_PATH_RUN)
+		cut_piece(e);
+	return X4_OK;
+}
+
+void x4_path_get_status(const struct x4_engine *e, struct x4_path_status *st)
+{
+	const struct x4_path *pa = &e->path;
+	const struct x4_chan *c = &e->ch[0];
+	u32 head = pa->head;
+
+	st->state = pa->state;
+	st->queued = pa->tail - head;
+	st->depth = pa->depth;
+	st->override = pa->override;
+	st->done = pa->done;
+	st->starved = pa->starved;
+	st->tag = st->queued ? slot_of(pa, head)->seg.tag : 0;
+	st->speed = 0;
+	if (c->path && (c->phase == X4_RISE || c->phase == X4_FALL))
+		st->speed = (u32)to_path(slot_of(pa, head),
+					 x4_isqrt(plan_speed2(&c->run, c->n)));
+}

@@ -1,0 +1,132 @@
+/* SPDX-License-Identifier: GPL-2.0 */
+/*
+ * x4step engine: continuous paths (x4_path.c). A path is a queue of
+ * straight segments that run back to back, at path speeds planned ahead
+ * over the whole queue so that the queue as planned always ends at rest.
+ *
+ * Two contexts share the queue without a lock, as a single-producer
+ * single-consumer ring:
+ *  - the writer (a process writing segments) fills slots, publishes `tail`
+ *    and plans: backward over the queue, the highest entry speed of each
+ *    segment from which the rest of the queue can still stop;
+ *  - the timer (x4_engine_fire(), under the engine's lock) runs the segment
+ *    at `head` and frees it by advancing `head`.
+ * The timer reads a planned entry speed once, when the segment before it
+ * starts, and clamps it to what that segment can reach: so every single
+ * value the writer stores keeps the plan safe, whatever the timer reads
+ * while a pass runs, and no loop over the queue runs under the lock.
+ */
+#ifndef X4_PATH_H
+#define X4_PATH_H
+
+#include "x4_check.h"
+
+#define X4_PATH_RAMP_MAX_S 1800 /* v_max / accel: 200 % fits the ramp math */
+#define X4_PATH_VALUE_MAX 0x7fffffffu /* lengths, speeds: squares fit 64 bits */
+
+/*
+ * A segment as written by user space (validated): the axes move by
+ * `steps`, along `length` path units (any unit: user space chooses), at
+ * path speeds (units/s) up to v_max, entering at most at v_entry (the
+ * corner before it allows no more), accelerating and braking with accel
+ * (units/s^2). The leader axis' steps lie at equal path distances.
+ */
+struct x4_segment {
+	s32 steps[X4_AXES];
+	u32 length;
+	u32 v_max;
+	u32 v_entry;
+	u32 accel;
+	u64 tag;
+};
+
+/* A queued segment and its planned entry speed (path units/s). */
+struct x4_path_slot {
+	struct x4_segment seg;
+	u32 leader; /* the leader axis' steps: max |steps[i]| */
+	u32 entry; /* the writer stores it, the timer reads it (once) */
+};
+
+enum x4_path_state {
+	X4_PATH_IDLE, /* nothing runs; segments queued start at the next kick */
+	X4_PATH_RUN,
+	X4_PATH_HOLDING, /* braking along the path to rest */
+	X4_PATH_HELD, /* at rest on the path: resume, or abort */
+};
+
+/* Why the path's channel came to rest (x4_path.c, when it ends). */
+enum x4_path_rest {
+	X4_REST_CUT, /* stopped at once, or at a limit: the queue is flushed */
+	X4_REST_DRY, /* the queue ran empty */
+	X4_REST_HELD, /* a hold reached rest */
+};
+
+struct x4_path {
+	struct x4_path_slot *slot; /* `depth` slots, from the glue */
+	u32 depth; /* a power of 2; 0: no queue */
+	u32 head; /* the running (or next) segment; the timer's */
+	u32 tail; /* the next free slot; the writer's */
+	u8 state; /* enum x4_path_state, under the engine's lock */
+	u8 rest; /* enum x4_path_rest */
+	bool abort; /* flush the queue once held */
+	bool started; /* the segment at head has started */
+	bool lonely; /* it started with nothing queued after it */
+	u16 override; /* percent of v_max, 1..200 */
+	/* The running segment, in its leader's steps and steps/s. */
+	u32 leader;
+	u32 accel;
+	u32 exit; /* its planned end speed, fixed at its start */
+	u32 pos; /* steps done before the running piece */
+	u32 piece; /* steps of the running piece */
+	u32 v_end; /* speed at the end of the running piece */
+	u64 done; /* segments completed */
+	u64 starved; /* refills that came after the path began to stop */
+};
+
+#define X4_PATH_OVERRIDE_MAX 200
+
+struct x4_engine;
+struct x4_chan;
+
+/* The glue gives the queue's storage; only while no path is active. */
+int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
+		      u32 depth);
+/* Whether a segment may join the path now: X4_OK or why not. */
+int x4_path_check(const struct x4_engine *e, const struct x4_segment *s);
+/* Free slots for the writer. */
+u32 x4_path_room(const struct x4_engine *e);
+/*
+ * Writer context, no lock: queue a checked segment (room must be > 0),
+ * publish it and plan backward. The path starts at the next kick.
+ */
+void x4_path_push(struct x4_engine *e, const struct x4_segment *s);
+/* Writer context: plan the whole queue again (after an override change). */
+void x4_path_replan(struct x4_engine *e);
+/*
+ * Under the lock, after a push: start an idle path whose queue holds
+ * segments, or let the running segment end faster if the plan allows now.
+ */
+void x4_path_kick(struct x4_engine *e, u64 now_ns);
+/* Under the lock: brake along the path to rest; abort: then flush it. */
+int x4_path_hold(struct x4_engine *e, bool abort);
+/* Under the lock: go on from a hold. */
+int x4_path_resume(struct x4_engine *e, u64 now_ns);
+/* Under the lock: the feed override, percent (writer: x4_path_replan()). */
+int x4_path_set_override(struct x4_engine *e, u32 percent);
+/* An active path owns every axis of the output mode. */
+bool x4_path_active(const struct x4_engine *e);
+
+struct x4_path_status {
+	u8 state; /* enum x4_path_state */
+	u32 queued; /* segments in the queue, the running one included */
+	u32 depth;
+	u32 override;
+	u32 speed; /* path units/s now */
+	u64 tag; /* of the running (or next) segment; 0: none */
+	u64 done;
+	u64 starved;
+};
+
+void x4_path_get_status(const struct x4_engine *e, struct x4_path_status *st);
+
+#endif /* X4_PATH_H */

@@ -1,0 +1,582 @@
+// SPDX-License-Identifier: GPL-2.0
+// Unit tests of continuous paths (kmod/engine/x4_path.c): the segment
+// queue, the look-ahead planner, hold/resume/abort, feed override. The
+// checks look at what the engine emits, from outside: the step edges of
+// every axis, turned back into path positions and times, must obey the
+// physics (speed and acceleration limits, corners, stops at rest), and
+// end exactly where the segments add up to.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "engine_ref.h"
+
+using namespace x4test;
+
+namespace {
+
+constexpr uint64_t kStart = 1000;
+
+x4_segment Seg(int32_t x, int32_t y, int32_t z, int32_t a, uint32_t length, uint32_t v_max, uint32_t accel,
+               uint32_t v_entry, uint64_t tag = 0) {
+  x4_segment s{};
+  s.steps[0] = x;
+  s.steps[1] = y;
+  s.steps[2] = z;
+  s.steps[3] = a;
+  s.length = length;
+  s.v_max = v_max;
+  s.accel = accel;
+  s.v_entry = v_entry;
+  s.tag = tag;
+  return s;
+}
+
+int Leader(const x4_segment &s) {
+  int lead = 0;
+  for (int i = 1; i < X4_AXES; i++)
+    if (std::abs(s.steps[i]) > std::abs(s.steps[lead])) lead = i;
+  return lead;
+}
+
+struct Path {
+  x4_engine e;
+  std::vector<x4_path_slot> q;
+  std::vector<x4_segment> sent;
+  int32_t target[X4_AXES] = {0, 0, 0, 0};
+
+  explicit Path(uint32_t depth = 256) : q(depth) {
+    x4_engine_init(&e);
+    EXPECT_EQ(x4_path_set_queue(&e, q.data(), depth), X4_OK);
+  }
+  // As the module's write(): check, queue, plan, kick.
+  int Push(const x4_segment &s, uint64_t now = kStart) {
+    const int ret = x4_path_check(&e, &s);
+    if (ret) return ret;
+    if (!x4_path_room(&e)) return -1;
+    x4_path_push(&e, &s);
+    x4_path_kick(&e, now);
+    sent.push_back(s);
+    for (int i = 0; i < X4_AXES; i++) target[i] += s.steps[i];
+    return X4_OK;
+  }
+  x4_path_status Status() const {
+    x4_path_status st;
+    x4_path_get_status(&e, &st);
+    return st;
+  }
+  void ExpectAtTarget() const {
+    for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(e.pos_base[i] + uint32_t(e.steps[i]), uint32_t(target[i])) << "axis " << i;
+  }
+};
+
+// One leader step as the physics sees it: when, where along the path
+// (units), and the segment it belongs to.
+struct Sample {
+  double t;  // s
+  double s;  // path units
+  size_t seg;
+};
+
+// The leader steps of each segment, from the axes' rising edges: each axis
+// steps |steps[i]| times per segment, in time order.
+std::vector<Sample> LeaderSteps(const Recording &r, const std::vector<x4_segment> &segs) {
+  std::vector<Sample> out;
+  size_t idx[X4_AXES] = {0, 0, 0, 0};
+  double base = 0;
+  for (size_t k = 0; k < segs.size(); k++) {
+    const x4_segment &g = segs[k];
+    const int lead = Leader(g);
+    const uint32_t n = std::abs(g.steps[lead]);
+    for (uint32_t j = 1; j <= n; j++) {
+      if (idx[lead] + j - 1 >= r.rises[lead].size()) return out;
+      out.push_back({r.rises[lead][idx[lead] + j - 1] * 1e-9, base + double(g.length) * j / n, k});
+    }
+    for (int i = 0; i < X4_AXES; i++) idx[i] += std::abs(g.steps[i]);
+    base += g.length;
+  }
+  return out;
+}
+
+// Every triple of leader steps: the mean speeds of the two intervals
+// differ by no more than the acceleration allows in the time between their
+// middles (exact for constant acceleration), plus what rounding to whole
+// ns and to whole steps/s adds. Speeds stay within v_max (override: pct).
+// Returns the largest acceleration seen, as a fraction of the limit.
+double CheckPhysics(const std::vector<Sample> &st, const std::vector<x4_segment> &segs, double pct = 100) {
+  double worst = 0;
+  for (size_t k = 2; k < st.size(); k++) {
+    const Sample &a = st[k - 2], &b = st[k - 1], &c = st[k];
+    const double dt1 = b.t - a.t, dt2 = c.t - b.t;
+    if (dt1 <= 0 || dt2 <= 0) {
+      ADD_FAILURE() << "steps out of order at " << k;
+      return worst;
+    }
+    const double v1 = (b.s - a.s) / dt1, v2 = (c.s - b.s) / dt2;
+    const x4_segment &g1 = segs[b.seg], &g2 = segs[c.seg];
+    const double acc = std::max(g1.accel, g2.accel);
+    const double unit = std::max(double(g1.length) / std::abs(g1.steps[Leader(g1)]),
+                                 double(g2.length) / std::abs(g2.steps[Leader(g2)]));
+    const double slack = 3 * unit + std::max(v1, v2) * 4e-9 / std::min(dt1, dt2);
+    const double dv = std::fabs(v2 - v1), allowed = acc * (dt1 + dt2) / 2;
+    worst = std::max(worst, (dv - slack) / allowed);
+    if (dv > allowed * 1.001 + slack) {
+      ADD_FAILURE() << "acceleration " << dv / ((dt1 + dt2) / 2) << " > " << acc << " at leader step " << k
+                    << " (segment " << c.seg << ", v " << v1 << " -> " << v2 << ")";
+      return worst;
+    }
+    const double vmax = std::max(g1.v_max, g2.v_max) * pct / 100;
+    if (v2 > vmax * 1.001 + slack) {
+      ADD_FAILURE() << "speed " << v2 << " > v_max " << vmax << " at leader step " << k;
+      return worst;
+    }
+  }
+  return worst;
+}
+
+// The last step came at the end of a ramp to rest: its interval is at least
+// the time a stop from rest takes for one step.
+void ExpectStopsAtRest(const std::vector<Sample> &st, const std::vector<x4_segment> &segs) {
+  ASSERT_GE(st.size(), 2u);
+  const Sample &a = st[st.size() - 2], &b = st.back();
+  const double rest = std::sqrt(2 * (b.s - a.s) / segs[b.seg].accel);
+  EXPECT_GE(b.t - a.t, 0.95 * rest) << "the path ends at speed " << (b.s - a.s) / (b.t - a.t);
+}
+
+// A polygon approximating a circle of radius r steps, n chords, at v_max
+// units/s with accel; units = steps * 10. Corners from the chord angle.
+std::vector<x4_segment> Circle(int r, int n, uint32_t v_max, uint32_t accel, uint32_t v_corner) {
+  std::vector<x4_segment> out;
+  int px = r, py = 0;
+  for (int k = 1; k <= n; k++) {
+    const int x = int(std::lround(r * std::cos(2 * M_PI * k / n)));
+    const int y = int(std::lround(r * std::sin(2 * M_PI * k / n)));
+    const double len = std::hypot(x - px, y - py);
+    if (x != px || y != py)
+      out.push_back(Seg(x - px, y - py, 0, 0, uint32_t(std::lround(len * 10)), v_max, accel, v_corner, k));
+    px = x;
+    py = y;
+  }
+  return out;
+}
+
+}  // namespace
+
+// ---- validation ------------------------------------------------------------
+
+TEST(PathCheck, BadSegmentsAreRefusedAndChangeNothing) {
+  Path p;
+  const x4_segment good = Seg(100, 50, 0, 0, 1000, 5000, 50000, 5000);
+  EXPECT_EQ(x4_path_check(&p.e, &good), X4_OK);
+  struct {
+    x4_segment s;
+    int err;
+    const char *what;
+  } cases[] = {
+      {Seg(0, 0, 0, 0, 1000, 5000, 50000, 5000), X4_ERR_PARAM_FAIL, "no steps"},
+      {Seg(100, 0, 0, 0, 0, 5000, 50000, 5000), X4_ERR_PARAM_FAIL, "zero length"},
+      {Seg(100, 0, 0, 0, 1000, 0, 50000, 5000), X4_ERR_PARAM_FAIL, "no speed"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 0, 5000), X4_ERR_PARAM_FAIL, "no acceleration"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 2, 5000), X4_ERR_PARAM_FAIL, "ramp of 2500 s"},
+      {Seg(100, 0, 0, 0, 100000, 500, 500, 5000), X4_ERR_PARAM_FAIL, "leader acceleration < 1"},
+      {Seg(1000, 0, 0, 0, 1, 50, 2000, 5000), X4_ERR_PARAM_FAIL, "leader acceleration > 1e6"},
+      {Seg(100, 0, 0, 0, 1000, 500000, 5000000, 5000), X4_ERR_RATE_BUDGET, "50000 steps/s"},
+      {Seg(100, 0, 0, 0, 0x80000000u, 5000, 50000, 5000), X4_ERR_PARAM_FAIL, "length 2^31"},
+      {Seg(16777217, 0, 0, 0, 1000, 5000, 50000, 5000), X4_ERR_STEPS_TOO_HIGH, "2^24 + 1 steps"},
+  };
+  for (const auto &c : cases) EXPECT_EQ(x4_path_check(&p.e, &c.s), c.err) << c.what;
+  for (const auto &c : cases) EXPECT_NE(p.Push(c.s), X4_OK) << c.what;
+  const x4_path_status st = p.Status();
+  EXPECT_EQ(st.queued, 0u);
+  EXPECT_EQ(st.state, X4_PATH_IDLE);
+  EXPECT_FALSE(x4_engine_busy(&p.e));
+}
+
+TEST(PathCheck, PathAndMovesExcludeEachOther) {
+  Path p;
+  x4_move m = Move(100, 0, 0, 0, 1000, 0);
+  ASSERT_EQ(x4_engine_load(&p.e, &m), X4_OK);
+  ASSERT_EQ(x4_engine_start(&p.e, kStart), X4_OK);
+  EXPECT_EQ(p.Push(Seg(0, 100, 0, 0, 100, 1000, 10000, 1000)), X4_ERR_IS_ACTIVE);
+  Recording r;
+  record(p.e, r);
+  ASSERT_EQ(p.Push(Seg(0, 100, 0, 0, 100, 1000, 10000, 1000)), X4_OK);
+  EXPECT_EQ(x4_engine_load(&p.e, &m), X4_OK);
+  EXPECT_EQ(x4_engine_start(&p.e, kStart), X4_ERR_IS_ACTIVE);
+  EXPECT_EQ(x4_engine_endless(&p.e, 2, false, 1000, 0, kStart), X4_ERR_IS_LOADED);
+}
+
+// ---- one segment: the exact profile ----------------------------------------
+
+// Units = steps: the leader step j is at s = j and its time comes from the
+// trapezoid t(s) in closed form; the engine computes it in integer ns.
+TEST(PathProfile, OneSegmentMatchesTheTrapezoid) {
+  const double v = 4000, a = 40000;
+  const int n = 1000;
+  Path p;
+  ASSERT_EQ(p.Push(Seg(n, 300, 0, 0, n, uint32_t(v), uint32_t(a), 0)), X4_OK);
+  Recording r;
+  record(p.e, r);
+  const auto st = LeaderSteps(r, p.sent);
+  ASSERT_EQ(st.size(), size_t(n));
+  const double origin = (kStart + X4_DIR_SETUP_NS) * 1e-9, sa = v * v / (2 * a), ta = v / a;
+  double worst = 0;
+  for (const Sample &x : st) {
+    double t;
+    if (x.s <= sa)
+      t = std::sqrt(2 * x.s / a);
+    else if (x.s <= n - sa)
+      t = ta + (x.s - sa) / v;
+    else
+      t = 2 * ta + (n - 2 * sa) / v - std::sqrt(2 * (n - x.s) / a);
+    worst = std::max(worst, std::fabs(x.t - origin - t) * 1e9);
+  }
+  std::printf("[ edges    ] one segment against the trapezoid: max error %.1f ns\n", worst);
+  EXPECT_LT(worst, 20);
+  p.ExpectAtTarget();
+  EXPECT_EQ(p.Status().done, 1u);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+}
+
+// ---- many segments ---------------------------------------------------------
+
+TEST(PathRun, CircleRunsThroughCornersAndEndsExactly) {
+  Path p;
+  const auto segs = Circle(2000, 72, 20000, 200000, 20000);
+  for (const auto &s : segs) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  const double worst = CheckPhysics(st, p.sent);
+  ExpectStopsAtRest(st, p.sent);
+  std::printf("[ physics  ] circle of 72 chords: largest acceleration %.3f of the limit\n", worst);
+  // Look-ahead keeps speed through the corners: no interval at a
+  // junction is longer than twice the longer of its neighbours.
+  for (size_t k = 1; k + 1 < st.size(); k++) {
+    if (st[k].seg == st[k + 1].seg || st[k].seg == 0) continue;
+    const double before = st[k].t - st[k - 1].t, at = st[k + 1].t - st[k].t;
+    const double after = k + 2 < st.size() ? st[k + 2].t - st[k + 1].t : at;
+    EXPECT_LT(at, 2 * std::max(before, after)) << "gap at the junction before segment " << st[k + 1].seg;
+  }
+  // The path reached speed (about 20 000 units/s = 2000 steps/s).
+  double fastest = 0;
+  for (size_t k = 1; k < st.size(); k++) fastest = std::max(fastest, (st[k].s - st[k - 1].s) / (st[k].t - st[k - 1].t));
+  EXPECT_GT(fastest, 19000);
+  EXPECT_EQ(p.Status().done, segs.size());
+}
+
+// 400 collinear pieces of 10 steps, each far too short to reach speed and
+// stop again alone: the look-ahead over the queue lets the path run at its
+// speed through all of them.
+std::vector<x4_segment> Line(int n, uint32_t v_max) {
+  std::vector<x4_segment> out;
+  for (int k = 0; k < n; k++) out.push_back(Seg(10, 3, 0, 0, 100, v_max, 100000, v_max, k));
+  return out;
+}
+
+double Fastest(const std::vector<Sample> &st, size_t from = 1, size_t to = SIZE_MAX) {
+  double v = 0;
+  for (size_t k = std::max<size_t>(from, 1); k < std::min(to, st.size()); k++)
+    v = std::max(v, (st[k].s - st[k - 1].s) / (st[k].t - st[k - 1].t));
+  return v;
+}
+
+TEST(PathRun, LookAheadOverShortSegments) {
+  Path p(512);
+  for (const auto &s : Line(400, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  ExpectStopsAtRest(st, p.sent);
+  EXPECT_GT(Fastest(st), 19900);  // alone, one would reach sqrt(2 a s) = 4472
+}
+
+// An override raised while the path runs raises the planned speeds of the
+// whole queue (a full backward pass, not only the appended end).
+TEST(PathOverride, RaisedOverrideReplansTheQueue) {
+  Path p(512);
+  ASSERT_EQ(x4_path_set_override(&p.e, 50), X4_OK);
+  for (const auto &s : Line(400, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r, 1000);
+  ASSERT_EQ(x4_path_set_override(&p.e, 100), X4_OK);
+  x4_path_replan(&p.e);
+  x4_path_kick(&p.e, x4_engine_due(&p.e));
+  record(p.e, r);
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  EXPECT_LT(Fastest(st, 1, 400), 10000 * 1.001 + 30);
+  EXPECT_GT(Fastest(st, 1000), 19900);
+}
+
+// A sharp corner (the user's junction speed) slows the path down there.
+TEST(PathRun, CornerSpeedIsKept) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(4000, 0, 0, 0, 4000, 4000, 40000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(0, 4000, 0, 0, 4000, 4000, 40000, 500)), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  const size_t j = 4000;  // first step of segment 2
+  ASSERT_EQ(st[j].seg, 1u);
+  const double v = (st[j].s - st[j - 1].s) / (st[j].t - st[j - 1].t);
+  EXPECT_LT(v, 500 * 1.01 + 40);  // + what accelerating over one step adds
+  EXPECT_GT(v, 400);
+}
+
+// Segments arrive while the path runs, in bursts; the queue as planned
+// always ends at rest: when the writer is late the path slows down and
+// stops on it, and goes on when segments come.
+TEST(PathRun, SlowWriterNeverBreaksTheLimits) {
+  Path p(64);
+  const auto segs = Circle(3000, 400, 30000, 300000, 30000);
+  std::mt19937 rng(7);
+  size_t next = 0;
+  Recording r;
+  std::vector<uint64_t> rests;  // when the path stood, dry
+  ASSERT_EQ(p.Push(segs[next++]), X4_OK);
+  uint64_t events = 0;
+  while (next < segs.size() || x4_engine_busy(&p.e)) {
+    if (!x4_engine_busy(&p.e)) {  // ran dry and stopped: the writer comes later
+      rests.push_back(r.events.back().t_ns);
+      ASSERT_EQ(p.Push(segs[next++], rests.back() + 5000000), X4_OK);
+      continue;
+    }
+    record(p.e, r, 1);
+    if (++events % (1 + rng() % 3000) == 0 && x4_engine_busy(&p.e)) {
+      const int burst = rng() % 6;
+      for (int k = 0; k < burst && next < segs.size() && x4_path_room(&p.e); k++)
+        ASSERT_EQ(p.Push(segs[next++], x4_engine_due(&p.e)), X4_OK);
+    }
+  }
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  ExpectStopsAtRest(st, p.sent);
+  // Every standstill in between came at the end of a ramp too.
+  int stops = 0;
+  for (size_t k = 2; k < st.size(); k++) {
+    if (std::find(rests.begin(), rests.end(), uint64_t(std::llround(st[k - 1].t * 1e9))) == rests.end() &&
+        !std::any_of(rests.begin(), rests.end(), [&](uint64_t t) { return st[k - 1].t * 1e9 <= t && t < st[k].t * 1e9; }))
+      continue;
+    stops++;
+    const double last = st[k - 1].t - st[k - 2].t, rest = std::sqrt(2 * (st[k - 1].s - st[k - 2].s) / segs[st[k - 1].seg].accel);
+    EXPECT_GE(last, 0.95 * rest) << "stopped from speed before leader step " << k;
+  }
+  EXPECT_EQ(size_t(stops), rests.size());
+  std::printf("[ stream   ] 400 chords, a slow writer: %d standstills, %llu starved\n", stops,
+              (unsigned long long)p.Status().starved);
+  EXPECT_GT(stops, 0);  // the writer was slow indeed
+  EXPECT_GT(p.Status().starved, 0u);
+}
+
+// ---- hold, resume, abort, override -----------------------------------------
+
+TEST(PathHold, HoldAndResumeChangeNoStep) {
+  const auto segs = Circle(2000, 36, 20000, 100000, 20000);
+  Path ref;
+  for (const auto &s : segs) ASSERT_EQ(ref.Push(s), X4_OK);
+  Recording rr;
+  record(ref.e, rr);
+
+  Path p;
+  for (const auto &s : segs) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r, 3000);
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  EXPECT_EQ(p.Status().state, X4_PATH_HOLDING);
+  record(p.e, r);  // brakes along the path to rest
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+  EXPECT_FALSE(x4_engine_busy(&p.e));
+  const x4_move m = Move(1, 0, 0, 0, 100, 0);
+  EXPECT_EQ(x4_engine_load(&p.e, &m), X4_OK);
+  EXPECT_EQ(x4_engine_start(&p.e, kStart), X4_ERR_IS_ACTIVE);  // the path owns the axes
+  const uint64_t held_at = r.events.back().t_ns;
+  ASSERT_EQ(x4_path_resume(&p.e, held_at + 100000000), X4_OK);
+  record(p.e, r);
+  p.ExpectAtTarget();
+  for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(r.rises[i].size(), rr.rises[i].size()) << "axis " << i;
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  ExpectStopsAtRest(st, p.sent);
+  // The hold came to rest from speed along a ramp: find the standstill.
+  bool found = false;
+  for (size_t k = 2; k < st.size(); k++) {
+    if (st[k].t - st[k - 1].t < 0.05) continue;
+    found = true;
+    const double last = st[k - 1].t - st[k - 2].t;
+    EXPECT_GE(last, 0.95 * std::sqrt(2 * (st[k - 1].s - st[k - 2].s) / segs[st[k - 1].seg].accel));
+  }
+  EXPECT_TRUE(found);
+  // The step order of every axis is that of the uninterrupted run.
+  EXPECT_EQ(p.e.pos_base[0] + uint32_t(p.e.steps[0]), ref.e.pos_base[0] + uint32_t(ref.e.steps[0]));
+}
+
+TEST(PathHold, AbortAfterHoldFlushes) {
+  Path p;
+  for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r, 2000);
+  ASSERT_EQ(x4_path_hold(&p.e, true), X4_OK);  // hold, then abort
+  record(p.e, r);
+  const x4_path_status st = p.Status();
+  EXPECT_EQ(st.state, X4_PATH_IDLE);
+  EXPECT_EQ(st.queued, 0u);
+  EXPECT_EQ(x4_path_resume(&p.e, kStart), X4_ERR_NOT_ACTIVE);
+  CheckPhysics(LeaderSteps(r, p.sent), p.sent);
+  // A new path starts from here.
+  const int32_t x = p.e.pos_base[0] + int32_t(p.e.steps[0]);
+  ASSERT_EQ(p.Push(Seg(100, 0, 0, 0, 1000, 20000, 100000, 0)), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(p.e.pos_base[0] + int32_t(p.e.steps[0]), x + 100);
+}
+
+TEST(PathHold, BrakeHoldsStopFlushes) {
+  Path p;
+  for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r, 2000);
+  ASSERT_EQ(x4_engine_brake(&p.e), X4_OK);
+  EXPECT_EQ(p.Status().state, X4_PATH_HOLDING);
+  record(p.e, r);
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+  EXPECT_GT(p.Status().queued, 0u);
+  EXPECT_EQ(x4_engine_stop(&p.e), X4_OK);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  EXPECT_EQ(p.Status().queued, 0u);
+}
+
+TEST(PathHold, EmergencyStopIsImmediate) {
+  Path p;
+  for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r, 2000);
+  const size_t rises = r.rises[0].size() + r.rises[1].size();
+  ASSERT_EQ(x4_engine_stop(&p.e), X4_OK);
+  record(p.e, r);
+  EXPECT_LE(r.rises[0].size() + r.rises[1].size(), rises + 1);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  EXPECT_EQ(p.Status().queued, 0u);
+}
+
+TEST(PathOverride, HalfSpeedFromTheNextStep) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(20000, 0, 0, 0, 20000, 10000, 100000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r, 6000);  // cruising at 10 000 by now
+  ASSERT_EQ(x4_path_set_override(&p.e, 50), X4_OK);
+  x4_path_replan(&p.e);
+  record(p.e, r);
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  // The change began at once: the next intervals grow; later it cruises at 5000.
+  const size_t k = r.rises[0].size() > 3100 ? 3000 : 0;
+  ASSERT_GT(k, 0u);
+  const double v_before = 1 / (st[k].t - st[k - 1].t);
+  EXPECT_NEAR(v_before, 10000, 10);
+  const double v_mid = 1 / (st[15000].t - st[14999].t);
+  EXPECT_NEAR(v_mid, 5000, 5);
+  EXPECT_EQ(x4_path_set_override(&p.e, 0), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(x4_path_set_override(&p.e, 201), X4_ERR_PARAM_FAIL);
+}
+
+TEST(PathOverride, AboveHundredIsCappedByThePort) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(40000, 0, 0, 0, 40000, 40000, 400000, 0)), X4_OK);
+  ASSERT_EQ(x4_path_set_override(&p.e, 200), X4_OK);
+  Recording r;
+  record(p.e, r);
+  const auto st = LeaderSteps(r, p.sent);
+  double fastest = 0;
+  for (size_t k = 1; k < st.size(); k++) fastest = std::max(fastest, 1 / (st[k].t - st[k - 1].t));
+  EXPECT_LE(fastest, X4_VEL_MAX * 1.001);
+  EXPECT_GT(fastest, 44000);
+}
+
+// ---- status, switches, directions -------------------------------------------
+
+TEST(PathStatus, TagsAndCounts) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(300, 0, 0, 0, 300, 3000, 30000, 3000, 11)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(0, 300, 0, 0, 300, 3000, 30000, 3000, 22)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(-300, 0, 0, 0, 300, 3000, 30000, 3000, 33)), X4_OK);
+  x4_path_status st = p.Status();
+  EXPECT_EQ(st.queued, 3u);
+  EXPECT_EQ(st.tag, 11u);
+  EXPECT_EQ(st.state, X4_PATH_RUN);
+  std::vector<uint64_t> tags;
+  uint32_t fastest = 0;
+  while (x4_engine_busy(&p.e)) {
+    fire(p.e);
+    st = p.Status();
+    fastest = std::max(fastest, st.speed);
+    if (st.queued && (tags.empty() || tags.back() != st.tag)) tags.push_back(st.tag);
+  }
+  EXPECT_EQ(tags, (std::vector<uint64_t>{11, 22, 33}));
+  EXPECT_EQ(st.done, 3u);
+  EXPECT_EQ(st.queued, 0u);
+  EXPECT_NEAR(fastest, 3000, 30);
+}
+
+TEST(PathSwitches, LimitStopsThePathAtOnce) {
+  Path p;
+  x4_switches sw{};
+  sw.minus[0] = 1;  // the circle's first chords move X toward E-
+  ASSERT_EQ(x4_engine_set_switches(&p.e, &sw), X4_OK);
+  for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r, 500);
+  const size_t rises = r.rises[0].size();
+  x4_engine_sense(&p.e, 0x01);  // E+ of X active: X moves toward it
+  record(p.e, r);
+  EXPECT_LE(r.rises[0].size(), rises + 1);
+  EXPECT_TRUE(p.e.err[0] & X4_AXERR_LIMIT_NEG);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  EXPECT_EQ(p.Status().queued, 0u);
+}
+
+// A minor axis that reverses at a junction waits for its direction setup;
+// the others do not wait.
+TEST(PathSignals, ReversingAxisKeepsItsDirectionSetup) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(2000, 20, 0, 0, 2000, 2000, 20000, 2000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(2000, -20, 0, 0, 2000, 2000, 20000, 2000)), X4_OK);
+  Recording r;
+  uint64_t dir_change = 0;
+  uint8_t data = p.e.data;
+  bool started = false;
+  while (x4_engine_busy(&p.e)) {
+    const x4_event ev = fire(p.e);
+    if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) dir_change = ev.t_ns;
+    started = started || (ev.data & X4_CLK_MASK);
+    data = ev.data;
+    r.events.push_back(ev);
+  }
+  ASSERT_NE(dir_change, 0u);
+  // Y's first step after the change comes no sooner than the setup time.
+  uint64_t y_after = 0;
+  uint8_t prev = 0;
+  for (const auto &ev : r.events) {
+    if (ev.t_ns > dir_change && !(prev & X4_CLK_BIT(1)) && (ev.data & X4_CLK_BIT(1))) {
+      y_after = ev.t_ns;
+      break;
+    }
+    prev = ev.data;
+  }
+  ASSERT_NE(y_after, 0u);
+  EXPECT_GE(y_after - dir_change, X4_DIR_SETUP_NS);
+  p.ExpectAtTarget();
+}
