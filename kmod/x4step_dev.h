@@ -83,6 +83,7 @@ struct x4_port {
 	u8 ev_home[X4_AXES]; /* each channel's reference phase */
 	bool ev_ref_found[X4_AXES]; /* ... and whether its phase 1 saw REF */
 	u8 ev_how[X4_AXES]; /* X4STEP_END_* a channel's move ends with, or 0 */
+	bool ev_path; /* channel 0 runs a path */
 	u8 ev_braked; /* channels whose brake was asked for */
 	u8 ev_stopped; /* channels stopped at once */
 
@@ -94,6 +95,15 @@ struct x4_port {
 	 */
 	struct delayed_work release_work;
 	bool releasing;
+
+	/*
+	 * Paths (x4step_path.c): the queue's storage (the engine's path
+	 * points into it), changed under lock while no path is active.
+	 */
+	struct x4_path_slot *path_slots;
+	u32 path_cfg_flags; /* X4STEP_PATH_KEYS_ABORT */
+	bool path_room_wanted; /* a writer waits for room: wake it */
+	bool path_aborting; /* the path's end is an abort (under slock) */
 };
 
 /* One open file of /dev/x4stepN (file->private_data). */
@@ -137,6 +147,16 @@ void x4_events_open(struct x4_port *x4, struct x4_file *xf);
 __poll_t x4_events_poll(struct x4_port *x4, struct x4_file *xf);
 ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
 		       struct file *file, char __user *buf, size_t count);
+int x4_errno(int result);
+ssize_t x4_path_write(struct x4_port *x4, struct file *file,
+		      const char __user *buf, size_t count);
+__poll_t x4_path_poll(struct x4_port *x4, struct file *file);
+void x4_path_room_locked(struct x4_port *x4);
+void x4_path_brake_locked(struct x4_port *x4, u32 source);
+int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg);
+int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
+		       void __user *uarg);
+void x4_path_free(struct x4_port *x4);
 int x4_keys_init(void);
 void x4_keys_exit(void);
 

@@ -203,6 +203,19 @@ static void x4_ev_home_locked(struct x4_port *x4, int c, u8 was)
  * fired an event of channel `c` (its reference phase is worth a look);
  * `kind`: the moves that start now are of this X4STEP_KIND_*.
  */
+/* Why a path's channel came to rest: held, aborted, stopped, or done. */
+static u8 x4_ev_path_end_locked(struct x4_port *x4)
+{
+	bool aborting = x4->path_aborting;
+
+	if (x4->eng.path.state == X4_PATH_HELD)
+		return X4STEP_END_HELD;
+	x4->path_aborting = false;
+	if (x4->ev_stopped & 1)
+		return X4STEP_END_STOPPED;
+	return aborting ? X4STEP_END_ABORTED : X4STEP_END_COMPLETED;
+}
+
 void x4_events_update_locked(struct x4_port *x4, int c, u32 kind)
 {
 	const struct x4_engine *e = &x4->eng;
@@ -229,7 +242,9 @@ void x4_events_update_locked(struct x4_port *x4, int c, u32 kind)
 		if (!(ended & bit))
 			continue;
 		how = x4->ev_how[i];
-		if (!how)
+		if (!how && !i && x4->ev_path)
+			how = x4_ev_path_end_locked(x4);
+		else if (!how)
 			how = x4->ev_stopped & bit ? X4STEP_END_STOPPED :
 			      x4->ev_braked & bit ? X4STEP_END_BRAKED :
 			      X4STEP_END_COMPLETED;
@@ -240,6 +255,8 @@ void x4_events_update_locked(struct x4_port *x4, int c, u32 kind)
 	x4->ev_braked &= ~ended;
 	x4->ev_stopped &= ~ended;
 	x4->ev_busy = e->busy;
+	if (started & 1)
+		x4->ev_path = kind == X4STEP_KIND_PATH;
 	for (i = 0; i < X4_AXES; i++)
 		if (started & (1u << i))
 			x4_ev_push_locked(x4, X4STEP_EV_MOVE_STARTED,

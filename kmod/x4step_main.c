@@ -163,6 +163,7 @@ static int x4_release(struct inode *inode, struct file *file)
 		if (!x4->gone) { /* else x4_detach() released the port */
 			raw_spin_lock_irqsave(&x4->slock, flags);
 			x4_events_controller_locked(x4, X4STEP_CTL_CLOSED);
+			x4_path_brake_locked(x4, X4STEP_SRC_CLOSE);
 			if (x4_engine_busy(&x4->eng))
 				x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_CLOSE,
 						     0);
@@ -201,6 +202,7 @@ static __poll_t x4_poll(struct file *file, struct poll_table_struct *wait)
 	 * Idle, and the brake of a controller that closed is over: once
 	 * this reports POLLIN, a new controller may open.
 	 */
+	events |= x4_path_poll(x4, file);
 	if (x4_busy(x4) || READ_ONCE(x4->releasing))
 		return events;
 	return events | EPOLLIN | EPOLLRDNORM;
@@ -212,6 +214,15 @@ static ssize_t x4_read(struct file *file, char __user *buf, size_t count,
 	struct x4_file *xf = file->private_data;
 
 	return x4_events_read(xf->x4, xf, file, buf, count);
+}
+
+/* Path segments (ABI 5), from the controller: x4step_path.c. */
+static ssize_t x4_write(struct file *file, const char __user *buf,
+			size_t count, loff_t *ppos)
+{
+	if (READ_ONCE(x4_of(file)->controller) != file)
+		return -EBADF;
+	return x4_path_write(x4_of(file), file, buf, count);
 }
 
 static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
@@ -246,7 +257,7 @@ static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
 	return 0;
 }
 
-static int x4_errno(int result)
+int x4_errno(int result)
 {
 	switch (result) {
 	case X4_OK:
@@ -756,6 +767,11 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		return x4_ioctl_get_switches(x4, uarg);
 	case X4STEP_GET_AXES:
 		return x4_ioctl_get_axes(x4, uarg);
+	case X4STEP_GET_PATH:
+	case X4STEP_GET_PATH_CONFIG:
+		return x4_path_ioctl_read(x4, cmd, uarg);
+	case X4STEP_SET_PATH_CONFIG:
+	case X4STEP_PATH_CTL:
 	case X4STEP_SET_PROFILE:
 	case X4STEP_GOTO:
 	case X4STEP_HOME:
@@ -837,6 +853,10 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_SET_CONFIG:
 		ret = x4_ioctl_set_config(x4, uarg);
 		break;
+	case X4STEP_SET_PATH_CONFIG:
+	case X4STEP_PATH_CTL:
+		ret = x4_path_ioctl(x4, cmd, uarg);
+		break;
 	default: /* X4STEP_SET_STEP_TIMING */
 		ret = x4_ioctl_set_step_timing(x4, uarg);
 		break;
@@ -852,6 +872,7 @@ static const struct file_operations x4_fops = {
 	.release = x4_release,
 	.poll = x4_poll,
 	.read = x4_read,
+	.write = x4_write,
 	.unlocked_ioctl = x4_ioctl,
 	.compat_ioctl = compat_ptr_ioctl,
 	.llseek = noop_llseek,
@@ -863,6 +884,7 @@ static void x4_dev_release(struct device *dev)
 
 	parport_put_port(x4->port);
 	x4_events_free(x4);
+	x4_path_free(x4);
 	kfree(x4);
 }
 

@@ -273,6 +273,7 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	e->shifted_ns = 0;
 	x4_arm_locked(x4, earliest);
 	x4_note_ends_locked(x4);
+	x4_path_room_locked(x4);
 out:
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return HRTIMER_NORESTART;
@@ -432,6 +433,7 @@ int x4_port_brake_locked(struct x4_port *x4, u8 axes, u32 source, u32 code)
 	int ret;
 
 	lockdep_assert_held(&x4->slock);
+	x4_path_brake_locked(x4, source);
 	ret = x4_engine_halt(&x4->eng, axes, false);
 	if (ret == X4_OK) {
 		x4->brake_time_ns = ktime_get_ns();

@@ -93,8 +93,6 @@ int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
 	pa->depth = depth;
 	pa->head = 0;
 	pa->tail = 0;
-	if (!pa->override)
-		pa->override = 100;
 	return X4_OK;
 }
 

@@ -26,6 +26,7 @@ void x4_engine_init(struct x4_engine *e)
 	e->cur = e->ch;
 	e->timing.dir_setup_ns = X4_DIR_SETUP_NS;
 	e->budget = X4_WRITE_BUDGET;
+	e->path.override = 100;
 	for (i = 0; i < X4_AXES; i++)
 		e->prof[i] = prof;
 }
@@ -35,7 +36,7 @@ int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
 {
 	if (x4_timing_check(t, mode))
 		return X4_ERR_PARAM_FAIL;
-	if (x4_engine_busy(e))
+	if (x4_engine_busy(e) || x4_path_active(e))
 		return X4_ERR_IS_ACTIVE;
 	e->timing = *t;
 	e->mode = mode;

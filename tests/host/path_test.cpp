@@ -72,7 +72,8 @@ struct Path {
     return st;
   }
   void ExpectAtTarget() const {
-    for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(e.pos_base[i] + uint32_t(e.steps[i]), uint32_t(target[i])) << "axis " << i;
+    for (int i = 0; i < X4_AXES; i++)
+      EXPECT_EQ(e.pos_base[i] + uint32_t(e.steps[i]), uint32_t(target[i])) << "axis " << i;
   }
 };
 
@@ -267,7 +268,8 @@ TEST(PathRun, CircleRunsThroughCornersAndEndsExactly) {
   }
   // The path reached speed (about 20 000 units/s = 2000 steps/s).
   double fastest = 0;
-  for (size_t k = 1; k < st.size(); k++) fastest = std::max(fastest, (st[k].s - st[k - 1].s) / (st[k].t - st[k - 1].t));
+  for (size_t k = 1; k < st.size(); k++)
+    fastest = std::max(fastest, (st[k].s - st[k - 1].s) / (st[k].t - st[k - 1].t));
   EXPECT_GT(fastest, 19000);
   EXPECT_EQ(p.Status().done, segs.size());
 }
@@ -368,11 +370,11 @@ TEST(PathRun, SlowWriterNeverBreaksTheLimits) {
   // Every standstill in between came at the end of a ramp too.
   int stops = 0;
   for (size_t k = 2; k < st.size(); k++) {
-    if (std::find(rests.begin(), rests.end(), uint64_t(std::llround(st[k - 1].t * 1e9))) == rests.end() &&
-        !std::any_of(rests.begin(), rests.end(), [&](uint64_t t) { return st[k - 1].t * 1e9 <= t && t < st[k].t * 1e9; }))
-      continue;
+    const auto stood = [&](uint64_t t) { return st[k - 1].t * 1e9 <= t && t < st[k].t * 1e9; };
+    if (!std::any_of(rests.begin(), rests.end(), stood)) continue;
     stops++;
-    const double last = st[k - 1].t - st[k - 2].t, rest = std::sqrt(2 * (st[k - 1].s - st[k - 2].s) / segs[st[k - 1].seg].accel);
+    const double last = st[k - 1].t - st[k - 2].t,
+                 rest = std::sqrt(2 * (st[k - 1].s - st[k - 2].s) / segs[st[k - 1].seg].accel);
     EXPECT_GE(last, 0.95 * rest) << "stopped from speed before leader step " << k;
   }
   EXPECT_EQ(size_t(stops), rests.size());

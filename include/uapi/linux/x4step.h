@@ -42,10 +42,11 @@
 /*
  * 2: positioning; 3: GET_TIMING counts every event, and shifts;
  * 4: events through read() (x4step_event, POLLPRI), X4STEP_SET_OUTPUTS,
- * status reads that leave an unclaimed port alone (X4STEP_ST_INPUTS_STALE).
+ * status reads that leave an unclaimed port alone (X4STEP_ST_INPUTS_STALE);
+ * 5: continuous paths (x4step_segment through write(), X4STEP_PATH_*).
  * A version only adds: a program built for version N runs on any >= N.
  */
-#define X4STEP_ABI_VERSION 4
+#define X4STEP_ABI_VERSION 5
 #define X4STEP_AXES 4
 #define X4STEP_MAX_BRAKE_CODES 20
 
@@ -405,6 +406,7 @@ struct x4step_axes {
 #define X4STEP_KIND_ENDLESS 2 /* X4STEP_MOVE_ENDLESS */
 #define X4STEP_KIND_GOTO 3 /* X4STEP_GOTO: one per axis that moves */
 #define X4STEP_KIND_HOME 4 /* X4STEP_HOME */
+#define X4STEP_KIND_PATH 5 /* ABI 5: a path started, or resumed from a hold */
 
 /* How moves end (how of X4STEP_EV_MOVE_ENDED). */
 #define X4STEP_END_COMPLETED 1 /* as planned */
@@ -416,6 +418,8 @@ struct x4step_axes {
 #define X4STEP_END_REF_FOUND 6 /* a phase-1-only run found REF */
 #define X4STEP_END_REF_TRAVEL 7 /* a reference phase went beyond sref */
 #define X4STEP_END_REF_PASSED 8 /* phase 1's brake ran off the REF switch */
+#define X4STEP_END_HELD 9 /* ABI 5: a path's hold reached rest on the path */
+#define X4STEP_END_ABORTED 10 /* ABI 5: a path held, and its queue flushed */
 
 /* Who asked for a brake (how of X4STEP_EV_BRAKE). */
 #define X4STEP_SRC_IOCTL 1 /* X4STEP_BRAKE or X4STEP_HALT */
@@ -491,5 +495,91 @@ struct x4step_event {
 #define X4STEP_GET_AXES _IOR(X4STEP_IOC_MAGIC, 0x18, struct x4step_axes)
 /* ABI 4: set output signals 1 and 2. */
 #define X4STEP_SET_OUTPUTS _IOW(X4STEP_IOC_MAGIC, 0x19, struct x4step_outputs)
+
+/*
+ * Continuous paths (ABI 5). The controller streams segments with write():
+ * whole struct x4step_segment records (EINVAL for another size). A segment
+ * moves the axes by `steps` (Bresenham, as X4STEP_LOAD's moves) along
+ * `length` units of the path (a unit user space chooses: the leader axis'
+ * steps lie at equal distances), at path speeds in units/s. The module
+ * plans ahead over its queue, so that the queue as planned always ends at
+ * rest: if the writer is late, the path slows down and stops on it; when a
+ * controller closes or dies, the path holds and its queue is flushed.
+ *
+ * write() queues whole records, in order, and returns the bytes of those
+ * queued. A full queue blocks, or under O_NONBLOCK returns what fit (EAGAIN
+ * if none did); poll() reports POLLOUT when there is room. A bad record
+ * fails with EINVAL (ERANGE: faster than the port's rate, EBUSY: other
+ * moves run) and is not queued; records before it in the same write() are
+ * queued and counted. A path owns every axis while it is active (running,
+ * holding, held or queued): X4Step moves and gotos fail with EBUSY.
+ *
+ * Starts and ends show in the event stream: MOVE_STARTED (KIND_PATH), and
+ * MOVE_ENDED with COMPLETED (the queue ran empty), HELD, ABORTED, STOPPED
+ * or LIMIT. X4STEP_BRAKE and brake keys hold a path (keys: then abort,
+ * with X4STEP_PATH_KEYS_ABORT); X4STEP_STOP stops it at once and flushes.
+ */
+struct x4step_segment {
+	__s32 steps[X4STEP_AXES]; /* |steps| <= 16777216, one non-zero */
+	__u32 length; /* path units, 1..2^31 - 1 */
+	__u32 v_max; /* path units/s, 1..2^31 - 1 */
+	__u32 v_entry; /* the most the corner before it allows, units/s */
+	__u32 accel; /* path units/s^2; v_max / accel <= 1800 s */
+	__u64 tag; /* reported while it runs (e.g. a program line) */
+	__u32 flags; /* must be 0 */
+	__u32 reserved; /* must be 0 */
+};
+/*
+ * The leader's rate (v_max * leader steps / length) must fit the port's
+ * step timing and write budget at 100 % (else ERANGE); its acceleration
+ * (accel * leader / length) be 1..1000000 steps/s^2 (else EINVAL).
+ */
+
+#define X4STEP_PATH_DEPTH_MIN 256
+#define X4STEP_PATH_DEPTH_MAX 4096
+#define X4STEP_PATH_KEYS_ABORT (1u << 0) /* brake keys: hold, then abort */
+
+/* X4STEP_SET_PATH_CONFIG (only while no path is active, else EBUSY). */
+struct x4step_path_config {
+	__u32 depth; /* segments the queue holds: a power of 2, 256..4096 */
+	__u32 flags; /* X4STEP_PATH_KEYS_ABORT */
+	__u32 reserved[2];
+};
+
+#define X4STEP_PATH_HOLD 1 /* brake along the path to rest (ESRCH: none) */
+#define X4STEP_PATH_RESUME 2 /* go on from a hold */
+#define X4STEP_PATH_ABORT 3 /* hold, then flush the queue */
+#define X4STEP_PATH_OVERRIDE 4 /* value: feed override, 1..200 percent */
+
+/* X4STEP_PATH_CTL */
+struct x4step_path_ctl {
+	__u32 cmd; /* X4STEP_PATH_* */
+	__u32 value;
+	__u32 reserved[2];
+};
+
+#define X4STEP_PATH_IDLE 0
+#define X4STEP_PATH_RUN 1
+#define X4STEP_PATH_HOLDING 2
+#define X4STEP_PATH_HELD 3
+
+/* X4STEP_GET_PATH: readable on any descriptor. */
+struct x4step_path_status {
+	__u32 state; /* X4STEP_PATH_IDLE .. HELD */
+	__u32 queued; /* segments queued, the running one included */
+	__u32 depth;
+	__u32 override; /* percent */
+	__u32 speed; /* path units/s now */
+	__u32 flags; /* as configured */
+	__u64 tag; /* of the running (or next) segment, 0: none */
+	__u64 done; /* segments completed since the module was loaded */
+	__u64 starved; /* refills that came after the path began to stop */
+	__u32 reserved[4];
+};
+
+#define X4STEP_SET_PATH_CONFIG _IOW(X4STEP_IOC_MAGIC, 0x20, struct x4step_path_config)
+#define X4STEP_GET_PATH_CONFIG _IOR(X4STEP_IOC_MAGIC, 0x21, struct x4step_path_config)
+#define X4STEP_PATH_CTL _IOW(X4STEP_IOC_MAGIC, 0x22, struct x4step_path_ctl)
+#define X4STEP_GET_PATH _IOR(X4STEP_IOC_MAGIC, 0x23, struct x4step_path_status)
 
 #endif /* _UAPI_LINUX_X4STEP_H */

@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: GPL-2.0
+/*
+ * x4step: continuous paths (ABI 5), the glue of kmod/engine/x4_path.c.
+ * The controller streams segments with write(); each is checked under the
+ * raw lock, queued and planned without it (the planner's backward pass may
+ * walk the whole queue: process context, never the timer), and the path
+ * is kicked under the lock. X4STEP_PATH_CTL holds, resumes, aborts and
+ * overrides; X4STEP_GET_PATH reports. The queue's storage belongs to the
+ * port (kvcalloc: up to 4096 segments) and changes only while no path is
+ * active.
+ */
+#include <linux/fs.h>
+#include <linux/mm.h>
+#include <linux/poll.h>
+#include <linux/sched/signal.h>
+#include <linux/slab.h>
+#include <linux/uaccess.h>
+
+#include "x4step_dev.h"
+
+#define X4_PATH_CHUNK 8 /* records copied at a time: on the stack */
+
+/* A new queue of `depth` slots, the old one freed; lock held. */
+static int x4_path_resize(struct x4_port *x4, u32 depth)
+{
+	struct x4_path_slot *slots, *old = x4->path_slots;
+	unsigned long flags;
+	int ret;
+
+	lockdep_assert_held(&x4->lock);
+	if (x4->eng.path.depth == depth)
+		return 0;
+	slots = kvcalloc(depth, sizeof(*slots), GFP_KERNEL);
+	if (!slots)
+		return -ENOMEM;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_path_set_queue(&x4->eng, slots, depth);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (ret) {
+		kvfree(slots);
+		return x4_errno(ret);
+	}
+	x4->path_slots = slots;
+	kvfree(old);
+	return 0;
+}
+
+void x4_path_free(struct x4_port *x4)
+{
+	kvfree(x4->path_slots);
+}
+
+static int x4_kick(struct x4_engine *e, const void *arg, u64 now_ns)
+{
+	x4_path_kick(e, now_ns);
+	return X4_OK;
+}
+
+static int x4_resume(struct x4_engine *e, const void *arg, u64 now_ns)
+{
+	return x4_path_resume(e, now_ns);
+}
+
+/* Check one record and queue it (room known); lock held. */
+static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
+{
+	struct x4_segment seg;
+	unsigned long flags;
+	int ret, i;
+
+	if (r->flags || r->reserved)
+		return -EINVAL;
+	for (i = 0; i < X4_AXES; i++)
+		seg.steps[i] = r->steps[i];
+	seg.length = r->length;
+	seg.v_max = r->v_max;
+	seg.v_entry = r->v_entry;
+	seg.accel = r->accel;
+	seg.tag = r->tag;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_path_check(&x4->eng, &seg);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (ret)
+		return x4_errno(ret);
+	x4_path_push(&x4->eng, &seg); /* the writer's half: no raw lock */
+	return 0;
+}
+
+static bool x4_path_has_room(struct x4_port *x4)
+{
+	return x4_path_room(&x4->eng) || READ_ONCE(x4->gone);
+}
+
+ssize_t x4_path_write(struct x4_port *x4, struct file *file,
+		      const char __user *buf, size_t count)
+{
+	struct x4step_segment rec[X4_PATH_CHUNK];
+	size_t done = 0, n, i;
+	int ret = 0;
+
+	if (count % sizeof(rec[0]))
+		return -EINVAL;
+	if (mutex_lock_interruptible(&x4->lock))
+		return -ERESTARTSYS;
+	if (x4->gone)
+		ret = -ENODEV;
+	else if (!x4->path_slots)
+		ret = x4_path_resize(x4, X4STEP_PATH_DEPTH_MIN);
+	while (!ret && done < count) {
+		n = min_t(size_t, (count - done) / sizeof(rec[0]),
+			  min_t(u32, X4_PATH_CHUNK, x4_path_room(&x4->eng)));
+		if (!n) { /* full: wait without the lock (hold, abort) */
+			if (done)
+				break;
+			if (file->f_flags & O_NONBLOCK) {
+				ret = -EAGAIN;
+				break;
+			}
+			WRITE_ONCE(x4->path_room_wanted, true);
+			mutex_unlock(&x4->lock);
+			ret = wait_event_interruptible(x4->wait,
+						       x4_path_has_room(x4));
+			if (!ret && mutex_lock_interruptible(&x4->lock))
+				ret = -ERESTARTSYS;
+			if (ret)
+				return ret;
+			if (x4->gone)
+				ret = -ENODEV;
+			continue;
+		}
+		if (copy_from_user(rec, buf + done, n * sizeof(rec[0]))) {
+			ret = -EFAULT;
+			break;
+		}
+		for (i = 0; i < n && !ret; i++) {
+			ret = x4_path_queue(x4, &rec[i]);
+			if (!ret)
+				done += sizeof(rec[0]);
+		}
+		x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
+	}
+	mutex_unlock(&x4->lock);
+	return done ? done : ret;
+}
+
+/* POLLOUT for the controller while the queue has room. */
+__poll_t x4_path_poll(struct x4_port *x4, struct file *file)
+{
+	if (READ_ONCE(x4->controller) != file)
+		return 0;
+	if (!READ_ONCE(x4->path_slots) || x4_path_room(&x4->eng))
+		return EPOLLOUT | EPOLLWRNORM;
+	WRITE_ONCE(x4->path_room_wanted, true);
+	return 0;
+}
+
+/* The timer freed slots a writer waits for: wake it (slock held). */
+void x4_path_room_locked(struct x4_port *x4)
+{
+	if (READ_ONCE(x4->path_room_wanted) && x4_path_room(&x4->eng)) {
+		WRITE_ONCE(x4->path_room_wanted, false);
+		irq_work_queue(&x4->wake_work);
+	}
+}
+
+/* Brake a path: hold it, and flush it too for `source` (slock held). */
+void x4_path_brake_locked(struct x4_port *x4, u32 source)
+{
+	bool abort = source == X4STEP_SRC_CLOSE ||
+		     (source == X4STEP_SRC_KEY &&
+		      x4->path_cfg_flags & X4STEP_PATH_KEYS_ABORT);
+
+	lockdep_assert_held(&x4->slock);
+	if (abort && x4_path_active(&x4->eng)) {
+		x4->path_aborting = true;
+		x4_path_hold(&x4->eng, true);
+	}
+}
+
+static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
+{
+	struct x4_engine *e = &x4->eng;
+	unsigned long flags;
+	int ret;
+
+	if (c->reserved[0] || c->reserved[1] ||
+	    (c->value && c->cmd != X4STEP_PATH_OVERRIDE))
+		return -EINVAL;
+	switch (c->cmd) {
+	case X4STEP_PATH_HOLD:
+	case X4STEP_PATH_ABORT:
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		ret = x4_path_hold(e, c->cmd == X4STEP_PATH_ABORT);
+		if (!ret && c->cmd == X4STEP_PATH_ABORT)
+			x4->path_aborting = true;
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		return x4_errno(ret);
+	case X4STEP_PATH_RESUME:
+		return x4_errno(x4_port_run(x4, x4_resume, NULL,
+					    X4STEP_KIND_PATH));
+	case X4STEP_PATH_OVERRIDE:
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		ret = x4_path_set_override(e, c->value);
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		if (ret)
+			return x4_errno(ret);
+		x4_path_replan(e); /* the writer's half: no raw lock */
+		x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
+		return 0;
+	default:
+		return -EINVAL;
+	}
+}
+
+static int x4_path_set_config(struct x4_port *x4,
+			      const struct x4step_path_config *c)
+{
+	int ret = 0;
+
+	if (c->reserved[0] || c->reserved[1] ||
+	    c->flags & ~X4STEP_PATH_KEYS_ABORT)
+		return -EINVAL;
+	if (c->depth && (c->depth < X4STEP_PATH_DEPTH_MIN ||
+			 c->depth > X4STEP_PATH_DEPTH_MAX ||
+			 c->depth & (c->depth - 1)))
+		return -EINVAL;
+	if (c->depth)
+		ret = x4_path_resize(x4, c->depth);
+	if (!ret)
+		WRITE_ONCE(x4->path_cfg_flags, c->flags);
+	return ret;
+}
+
+/* The path ioctls of the controller; lock held. */
+int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg)
+{
+	union {
+		struct x4step_path_ctl ctl;
+		struct x4step_path_config cfg;
+	} k;
+
+	lockdep_assert_held(&x4->lock);
+	if (cmd == X4STEP_PATH_CTL) {
+		if (copy_from_user(&k.ctl, uarg, sizeof(k.ctl)))
+			return -EFAULT;
+		return x4_path_ctl(x4, &k.ctl);
+	}
+	if (copy_from_user(&k.cfg, uarg, sizeof(k.cfg)))
+		return -EFAULT;
+	return x4_path_set_config(x4, &k.cfg);
+}
+
+/* The path's reading ioctls, on any descriptor. */
+int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
+		       void __user *uarg)
+{
+	struct x4step_path_config cfg;
+	struct x4step_path_status st;
+	struct x4_path_status s;
+	unsigned long flags;
+
+	if (cmd == X4STEP_GET_PATH_CONFIG) {
+		memset(&cfg, 0, sizeof(cfg));
+		cfg.depth = x4->eng.path.depth ? x4->eng.path.depth :
+						 X4STEP_PATH_DEPTH_MIN;
+		cfg.flags = READ_ONCE(x4->path_cfg_flags);
+		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
+	}
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	x4_path_get_status(&x4->eng, &s);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	memset(&st, 0, sizeof(st));
+	st.state = s.state;
+	st.queued = s.queued;
+	st.depth = s.depth ? s.depth : X4STEP_PATH_DEPTH_MIN;
+	st.override = s.override ? s.override : 100;
+	st.speed = s.speed;
+	st.flags = READ_ONCE(x4->path_cfg_flags);
+	st.tag = s.tag;
+	st.done = s.done;
+	st.starved = s.starved;
+	return copy_to_user(uarg, &st, sizeof(st)) ? -EFAULT : 0;
+}
