@@ -28,7 +28,7 @@
  *   using x4step::axis;
  *   x4step::controller c(1);
  *   x4step::switches sw;
- *   sw.ref[0] = 1;                                            // REF of axis 1 on input 1 (pin 15)
+ *   sw.ref[axis::x.index()] = 1;                              // REF of axis 1 on input 1 (pin 15)
  *   c.set_switches(sw);
  *   c.home(axis::x, x4step::homing{});                        // both phases
  *   c.wait_axes(axis::x);
@@ -49,7 +49,9 @@
  * are not synchronized, so use an object from one thread at a time (or
  * lock around it). Distinct objects are independent, also on one port.
  * The free functions (check(), version(), ...) may be called from any
- * thread.
+ * thread. The values (axis, axis_set, profile, homing, step_timing,
+ * config, status, event, ...) hold no descriptor: copies of them may be
+ * used in any thread.
  */
 #ifndef X4STEP_HPP
 #define X4STEP_HPP
@@ -121,7 +123,8 @@ class axis {
   constexpr int index() const noexcept { return n_ - 1; }            ///< 0..3, for the std::arrays here
   constexpr unsigned bit() const noexcept { return 1u << index(); }  ///< in an axis_set's mask
 
-  /// The axes by name, as the SMC boards call the first three.
+  /// The axes by name: x, y, z as the SMC boards call the first three, a
+  /// for the fourth (as CNC names a rotary axis).
   static const axis x, y, z, a;
 
   friend constexpr bool operator==(axis l, axis r) noexcept { return l.n_ == r.n_; }
@@ -165,7 +168,7 @@ class axis_set {
   /// Walks the axes of the set, lowest first.
   class iterator {
    public:
-    using iterator_category = std::forward_iterator_tag;
+    using iterator_category = std::input_iterator_tag;  // yields axes by value
     using value_type = axis;
     using difference_type = std::ptrdiff_t;
     using pointer = void;
