@@ -167,6 +167,9 @@ void need_axes(axis_set s) {
   if (s.empty()) fail(errc::param_fail);
 }
 
+// The axes of a mask from the kernel (bits beyond axis 4 name none).
+axis_set axes_of(uint32_t mask) { return axis_set(mask & axis_set::all().mask()); }
+
 // The end of a wait; a negative timeout never comes.
 class deadline {
  public:
@@ -294,7 +297,7 @@ struct device {
         std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::nanoseconds(k.timestamp_ns)));
     e.type = static_cast<event_type>(k.type);
-    e.axes = axis_set(k.axes & axis_set::all().mask());
+    e.axes = axes_of(k.axes);
     e.how = k.how;
     e.value = k.value;
     e.ambiguous = k.flags & X4STEP_EVF_AMBIGUOUS;
@@ -562,10 +565,9 @@ void controller::set_config(const config &c) {
 config controller::get_config() const {
   x4step_config kc{};
   need().call(X4STEP_GET_CONFIG, &kc, "X4STEP_GET_CONFIG");
-  const unsigned all = axis_set::all().mask();
   return config()
-      .clock_invert(axis_set(kc.clock_invert & all))
-      .dir_invert(axis_set(kc.dir_invert & all))
+      .clock_invert(axes_of(kc.clock_invert))
+      .dir_invert(axes_of(kc.dir_invert))
       .keys_swallow((kc.flags & X4STEP_CFG_KEYS_SWALLOW) != 0)
       .mode(static_cast<output_mode>(kc.output_mode));
 }

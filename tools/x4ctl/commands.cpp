@@ -168,9 +168,9 @@ int cmd_halt_axes(const config &c) {
   const x4step::axes_status a = mon.get_axes();
   bool running = false;
   std::string named;
-  for (x4step::axis i : c.axes) {
-    running |= a[i].running;
-    named += (named.empty() ? "" : ", ") + std::to_string(i.number());
+  for (x4step::axis ax : c.axes) {
+    running |= a[ax].running;
+    named += (named.empty() ? "" : ", ") + std::to_string(ax.number());
   }
   if (!running)
     throw failure((named.size() == 1 ? "axis " + named + " is" : "axes " + named + " are") + " not moving");

@@ -71,11 +71,11 @@ void limits_command(port &p, const config &c, std::ostream &out) {
 }
 
 void zero_command(port &p, const config &c, std::ostream &out) {
-  for (x4step::axis i : c.axes) p.set_position(i, c.at);
+  for (x4step::axis ax : c.axes) p.set_position(ax, c.at);
   const x4step::axes_status a = p.get_axes();
-  for (x4step::axis i : c.axes)
-    out << axis_name(i) << " at " << a[i].position << (a[i].synced ? ", synchronized" : ", not synchronized")
-        << "\n";
+  for (x4step::axis ax : c.axes)
+    out << axis_name(ax) << " at " << a[ax].position
+        << (a[ax].synced ? ", synchronized" : ", not synchronized") << "\n";
 }
 
 coordinates start_goto_command(port &p, const config &c, std::ostream &out) {

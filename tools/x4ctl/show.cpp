@@ -93,8 +93,8 @@ std::string axis_text(const x4step::axis_status &a) {
 
 std::string positions_text(const x4step::axes_status &a, x4step::axis_set axes) {
   std::string s;
-  for (x4step::axis i : axes)
-    s += (s.empty() ? "" : " ") + std::to_string(i.number()) + "=" + std::to_string(a[i].position);
+  for (x4step::axis ax : axes)
+    s += (s.empty() ? "" : " ") + std::to_string(ax.number()) + "=" + std::to_string(a[ax].position);
   return s;
 }
 
