@@ -20,29 +20,49 @@
  * Positioning (the ProStep4 model): each axis keeps a machine coordinate,
  * updated by every step of every kind of move, and can move on its own to
  * a coordinate with its own ramp, run a reference run, and stop at limit
- * switches. Axes are numbered 1..4; in an axis mask bit i is axis i + 1.
+ * switches. An axis is a x4step::axis (axis::x .. axis::a, or axis{1} ..
+ * axis{4}), several are a x4step::axis_set (axis::x | axis::z): never a
+ * bare integer, so that an axis number cannot be taken for a mask.
  *
  * @code
+ *   using x4step::axis;
  *   x4step::controller c(1);
  *   x4step::switches sw;
- *   sw.ref[0] = 1;                                            // REF of axis 1 on input 1 (pin 15)
+ *   sw.ref[axis::x.index()] = 1;                              // REF of axis 1 on input 1 (pin 15)
  *   c.set_switches(sw);
- *   c.home(1, x4step::homing{});                              // both phases
- *   c.wait_axes(0x1);
- *   c.set_profile(1, {0, 0, 5000, 20000, 20000});
- *   c.move_to(1, 12000);
- *   c.wait_axes(0x1);
+ *   c.home(axis::x, x4step::homing{});                        // both phases
+ *   c.wait_axes(axis::x);
+ *   c.set_profile(axis::x, x4step::profile{}.top_speed(5000).accel(20000).decel(20000));
+ *   c.move_to(axis::x, 12000);
+ *   c.wait_axes(axis::x);
  *   std::cout << c.get_axes() << '\n';
  * @endcode
+ *
+ * Settings of several numbers (profile, homing, step_timing, config) are
+ * built by name, with setters that return the object:
+ * `x4step::profile{}.start_speed(100).top_speed(5000)`. A struct for C++20
+ * designated initialisers would still accept a positional
+ * `{100, 100, 5000, 20000, 20000}`, and this header serves C++17 programs.
+ * Each setter has a getter of the same name.
+ *
+ * Threads: a controller or a monitor is one open descriptor; its calls
+ * are not synchronized, so use an object from one thread at a time (or
+ * lock around it). Distinct objects are independent, also on one port.
+ * The free functions (check(), version(), ...) may be called from any
+ * thread. The values (axis, axis_set, profile, homing, step_timing,
+ * config, status, event, ...) hold no descriptor: copies of them may be
+ * used in any thread.
  */
 #ifndef X4STEP_HPP
 #define X4STEP_HPP
 
 #include <array>
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <iosfwd>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -87,6 +107,107 @@ constexpr int freq_max_hz = 20000;
 constexpr std::chrono::milliseconds ramp_max{1000};
 constexpr long steps_max = 16777216;
 
+/// One axis: 1..4, the X4Step manual's motor numbers. Made from a number
+/// only explicitly, and checked: axis{5} throws param_fail (and does not
+/// compile where a constant is needed).
+class axis {
+ public:
+  constexpr explicit axis(int number)
+      : n_(valid(number) ? number
+                         : throw error(make_error_code(errc::param_fail),
+                                       "axis " + std::to_string(number) + ": axes are 1..4")) {}
+  /// Whether axis{number} would be made rather than throw.
+  static constexpr bool valid(int number) noexcept { return number >= 1 && number <= axes; }
+
+  constexpr int number() const noexcept { return n_; }               ///< 1..4
+  constexpr int index() const noexcept { return n_ - 1; }            ///< 0..3, for the std::arrays here
+  constexpr unsigned bit() const noexcept { return 1u << index(); }  ///< in an axis_set's mask
+
+  /// The axes by name: x, y, z as the SMC boards call the first three, a
+  /// for the fourth (as CNC names a rotary axis).
+  static const axis x, y, z, a;
+
+  friend constexpr bool operator==(axis l, axis r) noexcept { return l.n_ == r.n_; }
+  friend constexpr bool operator!=(axis l, axis r) noexcept { return l.n_ != r.n_; }
+
+ private:
+  int n_;
+};
+inline constexpr axis axis::x{1}, axis::y{2}, axis::z{3}, axis::a{4};
+
+/// A set of axes: axis::x | axis::z, or one axis (which converts), or
+/// axis_set::all(). Made from a raw mask (bit i: axis i + 1) only
+/// explicitly, and checked: axis_set{0x10u} throws param_fail. Iterates
+/// its axes in increasing order: for (x4step::axis a : set) ...
+class axis_set {
+ public:
+  constexpr axis_set() noexcept = default;  ///< no axis
+  constexpr axis_set(axis a) noexcept : mask_(a.bit()) {}
+  constexpr explicit axis_set(unsigned mask)
+      : mask_(mask <= all_mask ? mask
+                               : throw error(make_error_code(errc::param_fail),
+                                             "axis mask " + std::to_string(mask) + ": axes are 1..4")) {}
+  static constexpr axis_set all() noexcept { return axis_set(all_mask); }
+
+  constexpr unsigned mask() const noexcept { return mask_; }  ///< bit i: axis i + 1
+  constexpr bool empty() const noexcept { return mask_ == 0; }
+  constexpr bool contains(axis a) const noexcept { return (mask_ & a.bit()) != 0; }
+  constexpr axis_set &operator|=(axis_set o) noexcept {
+    mask_ |= o.mask_;
+    return *this;
+  }
+  constexpr axis_set &operator&=(axis_set o) noexcept {
+    mask_ &= o.mask_;
+    return *this;
+  }
+  /// The other axes of the four.
+  constexpr axis_set operator~() const noexcept { return axis_set(~mask_ & all_mask); }
+  friend constexpr bool operator==(axis_set l, axis_set r) noexcept { return l.mask_ == r.mask_; }
+  friend constexpr bool operator!=(axis_set l, axis_set r) noexcept { return l.mask_ != r.mask_; }
+
+  /// Walks the axes of the set, lowest first.
+  class iterator {
+   public:
+    using iterator_category = std::input_iterator_tag;  // yields axes by value
+    using value_type = axis;
+    using difference_type = std::ptrdiff_t;
+    using pointer = void;
+    using reference = axis;
+
+    constexpr iterator() noexcept = default;
+    constexpr axis operator*() const {
+      int n = 1;
+      while (!(rest_ >> (n - 1) & 1u)) n++;
+      return axis(n);
+    }
+    constexpr iterator &operator++() noexcept {
+      rest_ &= rest_ - 1;  // drop the lowest axis
+      return *this;
+    }
+    constexpr iterator operator++(int) noexcept {
+      iterator was = *this;
+      ++*this;
+      return was;
+    }
+    friend constexpr bool operator==(iterator l, iterator r) noexcept { return l.rest_ == r.rest_; }
+    friend constexpr bool operator!=(iterator l, iterator r) noexcept { return l.rest_ != r.rest_; }
+
+   private:
+    friend class axis_set;
+    constexpr explicit iterator(unsigned rest) noexcept : rest_(rest) {}
+    unsigned rest_ = 0;  // the axes not walked yet
+  };
+  constexpr iterator begin() const noexcept { return iterator(mask_); }
+  constexpr iterator end() const noexcept { return iterator(0); }
+
+ private:
+  static constexpr unsigned all_mask = (1u << axes) - 1;
+  unsigned mask_ = 0;
+};
+
+constexpr axis_set operator|(axis_set l, axis_set r) noexcept { return l |= r; }
+constexpr axis_set operator&(axis_set l, axis_set r) noexcept { return l &= r; }
+
 /// An interpolated move (X4Load): the longest path leads at freq_hz.
 struct move {
   std::array<long, axes> steps{};     ///< per axis, signed
@@ -97,8 +218,8 @@ struct move {
 /// Why a move is invalid, or errc::ok.
 /// The same checks, in the same order, as the kernel's.
 errc check(const move &m) noexcept;
-/// Checks of an endless move's axis (1..4), frequency and ramp.
-errc check_endless(int axis, int freq_hz, std::chrono::milliseconds ramp) noexcept;
+/// Checks of an endless move's frequency and ramp.
+errc check_endless(int freq_hz, std::chrono::milliseconds ramp) noexcept;
 
 enum class direction { positive, negative };
 
@@ -132,20 +253,58 @@ enum class output_mode {
   smc_phase_hold = 2,  ///< the same, reduced holding current at rest
 };
 
-/// Per-port wiring.
-struct config {
-  unsigned clock_invert = 0;  ///< bit i: axis i+1 takes active-low clocks
-  unsigned dir_invert = 0;    ///< bit i: axis i+1 direction inverted
-  bool keys_swallow = false;  ///< brake keys pressed while moving do not reach applications
-  output_mode mode = output_mode::clock_dir;
+/// Per-port wiring: config{}.clock_invert(axis::x).mode(output_mode::smc_phase).
+class config {
+ public:
+  /// These axes take active-low clocks.
+  constexpr config &clock_invert(axis_set s) noexcept { return set(clock_invert_, s); }
+  /// These axes' directions are inverted.
+  constexpr config &dir_invert(axis_set s) noexcept { return set(dir_invert_, s); }
+  /// Brake keys pressed while moving do not reach applications.
+  constexpr config &keys_swallow(bool on) noexcept { return set(keys_swallow_, on); }
+  constexpr config &mode(output_mode m) noexcept { return set(mode_, m); }
+
+  constexpr axis_set clock_invert() const noexcept { return clock_invert_; }
+  constexpr axis_set dir_invert() const noexcept { return dir_invert_; }
+  constexpr bool keys_swallow() const noexcept { return keys_swallow_; }
+  constexpr output_mode mode() const noexcept { return mode_; }
+
+ private:
+  template <typename T>
+  constexpr config &set(T &field, T value) noexcept {
+    field = value;
+    return *this;
+  }
+  axis_set clock_invert_, dir_invert_;
+  bool keys_swallow_ = false;
+  output_mode mode_ = output_mode::clock_dir;
 };
 
-/// Step signal timing of a port; each time at most 1 ms.
-struct step_timing {
-  std::chrono::nanoseconds pulse{0};           ///< clock high time; 0: symmetric clock (X4Step)
-  std::chrono::nanoseconds space{0};           ///< minimum clock low time
-  std::chrono::nanoseconds dir_setup{100000};  ///< directions before the first step
-  std::chrono::nanoseconds dir_hold{0};        ///< directions after the last step
+/// Step signal timing of a port; each time at most 1 ms:
+/// step_timing{}.pulse(5us).space(5us).dir_setup(20us).
+class step_timing {
+ public:
+  using ns = std::chrono::nanoseconds;
+  /// Clock high time; 0 (default): the symmetric clock of X4Step.
+  constexpr step_timing &pulse(ns t) noexcept { return set(pulse_, t); }
+  /// Minimum clock low time; default 0.
+  constexpr step_timing &space(ns t) noexcept { return set(space_, t); }
+  /// Directions before the first step; default 100 us.
+  constexpr step_timing &dir_setup(ns t) noexcept { return set(dir_setup_, t); }
+  /// Directions held after the last step; default 0.
+  constexpr step_timing &dir_hold(ns t) noexcept { return set(dir_hold_, t); }
+
+  constexpr ns pulse() const noexcept { return pulse_; }
+  constexpr ns space() const noexcept { return space_; }
+  constexpr ns dir_setup() const noexcept { return dir_setup_; }
+  constexpr ns dir_hold() const noexcept { return dir_hold_; }
+
+ private:
+  constexpr step_timing &set(ns &field, ns value) noexcept {
+    field = value;
+    return *this;
+  }
+  ns pulse_{0}, space_{0}, dir_setup_{100000}, dir_hold_{0};
 };
 
 // ---- positioning -----------------------------------------------------------
@@ -158,12 +317,37 @@ constexpr unsigned acc_max = 1000000;  ///< steps/s^2
 /// there; a0 or ae 0: no ramp on that side. Rules: 1 <= vm <= vel_max,
 /// v0 <= vm, ve <= vm, a0, ae <= acc_max, and a ramp from rest to vm at
 /// most 3600 s long: vm / a0 and vm / ae (when not 0) at most 3600 s.
-struct profile {
-  unsigned v0 = 0;     ///< start velocity, steps/s
-  unsigned ve = 0;     ///< stop velocity, steps/s
-  unsigned vm = 1000;  ///< maximum velocity, steps/s
-  unsigned a0 = 1000;  ///< acceleration, steps/s^2
-  unsigned ae = 1000;  ///< deceleration, steps/s^2
+/// profile{}.start_speed(100).top_speed(5000).accel(20000).decel(20000).end_speed(100)
+class profile {
+ public:
+  /// v0, steps/s; default 0.
+  constexpr profile &start_speed(unsigned v) noexcept { return set(v0_, v); }
+  /// vm, steps/s; default 1000.
+  constexpr profile &top_speed(unsigned v) noexcept { return set(vm_, v); }
+  /// ve, steps/s; default 0.
+  constexpr profile &end_speed(unsigned v) noexcept { return set(ve_, v); }
+  /// a0, steps/s^2; default 1000.
+  constexpr profile &accel(unsigned a) noexcept { return set(a0_, a); }
+  /// ae, steps/s^2; default 1000.
+  constexpr profile &decel(unsigned a) noexcept { return set(ae_, a); }
+
+  constexpr unsigned start_speed() const noexcept { return v0_; }
+  constexpr unsigned top_speed() const noexcept { return vm_; }
+  constexpr unsigned end_speed() const noexcept { return ve_; }
+  constexpr unsigned accel() const noexcept { return a0_; }
+  constexpr unsigned decel() const noexcept { return ae_; }
+
+  friend constexpr bool operator==(const profile &l, const profile &r) noexcept {
+    return l.v0_ == r.v0_ && l.vm_ == r.vm_ && l.ve_ == r.ve_ && l.a0_ == r.a0_ && l.ae_ == r.ae_;
+  }
+  friend constexpr bool operator!=(const profile &l, const profile &r) noexcept { return !(l == r); }
+
+ private:
+  constexpr profile &set(unsigned &field, unsigned value) noexcept {
+    field = value;
+    return *this;
+  }
+  unsigned v0_ = 0, vm_ = 1000, ve_ = 0, a0_ = 1000, ae_ = 1000;
 };
 
 /// How halt() ends moves.
@@ -180,13 +364,38 @@ enum class halt_mode {
 /// coordinate and synchronizing the axis. Each phase travels at most sref
 /// steps. Speeds are signed (the sign is the direction), 1..vel_max
 /// steps/s; sref 1..2^31 - 1; at least one phase.
-struct homing {
-  int vref1 = -1000;
-  int vref2 = 100;
-  unsigned long sref = 100000;
-  bool phase1 = true;
-  bool phase2 = true;
-  bool brake = false;  ///< phase 1 brakes past REF along the axis' ae
+/// homing{}.phase1_speed(-2000).phase2_speed(200).max_travel(50000)
+class homing {
+ public:
+  /// vref1, steps/s, signed; default -1000.
+  constexpr homing &phase1_speed(int v) noexcept { return set(vref1_, v); }
+  /// vref2, steps/s, signed; default 100.
+  constexpr homing &phase2_speed(int v) noexcept { return set(vref2_, v); }
+  /// sref, steps per phase; default 100000.
+  constexpr homing &max_travel(unsigned long s) noexcept { return set(sref_, s); }
+  /// Run phase 1; default true.
+  constexpr homing &phase1(bool on) noexcept { return set(phase1_, on); }
+  /// Run phase 2; default true.
+  constexpr homing &phase2(bool on) noexcept { return set(phase2_, on); }
+  /// Phase 1 brakes past REF along the axis' ae; default false.
+  constexpr homing &brake(bool on) noexcept { return set(brake_, on); }
+
+  constexpr int phase1_speed() const noexcept { return vref1_; }
+  constexpr int phase2_speed() const noexcept { return vref2_; }
+  constexpr unsigned long max_travel() const noexcept { return sref_; }
+  constexpr bool phase1() const noexcept { return phase1_; }
+  constexpr bool phase2() const noexcept { return phase2_; }
+  constexpr bool brake() const noexcept { return brake_; }
+
+ private:
+  template <typename T>
+  constexpr homing &set(T &field, T value) noexcept {
+    field = value;
+    return *this;
+  }
+  int vref1_ = -1000, vref2_ = 100;
+  unsigned long sref_ = 100000;
+  bool phase1_ = true, phase2_ = true, brake_ = false;
 };
 
 /// Inputs 1..5 (X4GetIn bit 0..4) per axis, 0 = none; nc bit k: input k+1
@@ -222,7 +431,8 @@ struct axis_status {
 
 /// Every axis, the inputs, and which inputs' switches are active.
 struct axes_status {
-  std::array<axis_status, axes> axis{};
+  std::array<axis_status, axes> axis{};  ///< axis[i]: axis i + 1; or use (*this)[a]
+  const axis_status &operator[](x4step::axis a) const noexcept { return axis[a.index()]; }
   unsigned inputs = 0;           ///< X4GetIn bits
   unsigned switches_active = 0;  ///< bit k: input k + 1 is active (after NO/NC)
   bool inputs_stale = false;     ///< inputs and switches_active as last read (see status::inputs_stale)
@@ -265,11 +475,11 @@ struct event {
   std::uint64_t seq = 0;                         ///< 1, 2, 3, ... per port: a gap is events missed
   std::chrono::steady_clock::time_point time{};  ///< CLOCK_MONOTONIC
   event_type type{};
-  unsigned axis_mask = 0;             ///< the axes concerned: bit i is axis i + 1
-  unsigned how = 0;                   ///< by type: move_kind, end_reason, ...
-  unsigned value = 0;                 ///< key code (brake by key), input 1..5 (switch)
-  bool ambiguous = false;             ///< switch: the input serves other limits too
-  std::array<long, axes> position{};  ///< every axis' coordinate then
+  axis_set axes;                              ///< the axes concerned
+  unsigned how = 0;                           ///< by type: move_kind, end_reason, ...
+  unsigned value = 0;                         ///< key code (brake by key), input 1..5 (switch)
+  bool ambiguous = false;                     ///< switch: the input serves other limits too
+  std::array<long, x4step::axes> position{};  ///< every axis' coordinate then
 };
 /// "#12 move ended: axes 1 2, braked, at 100 -50 0 0"
 std::ostream &operator<<(std::ostream &os, const event &e);
@@ -284,10 +494,6 @@ std::string device_path(int lpt);
 
 /// The library's version, "major.minor.patch" (libx4stepcxx.so.major).
 const char *version() noexcept;
-
-// Threads: a controller or a monitor is one open descriptor; its calls
-// are not synchronized, so use an object from one thread at a time (or
-// lock around it). Distinct objects are independent, also on one port.
 
 /// Owns one port: the only one that moves its motors. Move-only.
 /// Destroying it while motors run brakes them along the ramp first, and
@@ -320,11 +526,11 @@ class controller {
   void start();              ///< run the loaded move; clears the counters
   void brake();              ///< decelerate along the ramp to rest
   void stop();               ///< emergency stop, no ramp
-  void move_endless(int axis, direction dir, int freq_hz, std::chrono::milliseconds ramp);
+  void move_endless(axis a, direction dir, int freq_hz, std::chrono::milliseconds ramp);
 
   status get_status() const;
   bool active() const;
-  long long steps(int axis) const;  ///< axis 1..4
+  long long steps(axis a) const;
   unsigned inputs() const;
 
   /// Block until no move runs (poll(), no spinning). False on timeout;
@@ -340,35 +546,36 @@ class controller {
   void set_step_timing(const step_timing &t);
   step_timing get_step_timing() const;
 
-  // Positioning. Axes 1..4; bad arguments throw param_fail before the
-  // kernel is asked. A move or setting of a moving axis: is_active.
+  // Positioning. Bad arguments throw param_fail before the kernel is
+  // asked; so does an empty axis_set. A move or setting of a moving axis:
+  // is_active.
 
-  void set_profile(int axis, const profile &p);
-  profile get_profile(int axis) const;
+  void set_profile(axis a, const profile &p);
+  profile get_profile(axis a) const;
   /// Independent move of one axis to a coordinate (-2^31..2^31 - 1) with its
   /// profile; other axes may be moving meanwhile, this one must be idle.
-  void move_to(int axis, long target);
-  void move_by(int axis, long distance);
-  /// Independent moves of the axes in axis_mask, all started at once: to
+  void move_to(axis a, long target);
+  void move_by(axis a, long distance);
+  /// Independent moves of the axes in the set, all started at once: to
   /// targets[i], or by them if relative. An axis at its target does not move.
-  void move_to(unsigned axis_mask, const std::array<long, axes> &targets, bool relative = false);
+  void move_to(axis_set s, const std::array<long, axes> &targets, bool relative = false);
   /// A reference run of one axis; needs its REF input (set_switches).
-  void home(int axis, const homing &h);
-  /// Brake or stop the moves of the axes in axis_mask, with the axes moving
+  void home(axis a, const homing &h);
+  /// Brake or stop the moves of the axes in the set, with the axes moving
   /// interpolated with them. not_active if none of them moves.
-  void halt(unsigned axis_mask, halt_mode how);
+  void halt(axis_set s, halt_mode how);
   /// "Stop and zero": stops the axis at once (with its interpolated
   /// partners), sets its coordinate and marks it synchronized.
-  void set_position(int axis, long position);
-  void zero(int axis) { set_position(axis, 0); }
+  void set_position(axis a, long position);
+  void zero(axis a) { set_position(a, 0); }
   /// Reference and limit inputs; only while no move runs.
   void set_switches(const switches &s);
   switches get_switches() const;
   axes_status get_axes() const;
-  axis_status axis(int axis) const;
-  /// Block until none of the axes in axis_mask runs; false on timeout
+  axis_status get_axis(axis a) const;
+  /// Block until none of the axes in the set runs; false on timeout
   /// (negative: for ever). Other axes may go on moving.
-  bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+  bool wait_axes(axis_set s, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
 
   /// The next event of the port (from the controller's open on), waiting
   /// up to timeout (negative: for ever); none on timeout or signal.
@@ -410,7 +617,7 @@ class monitor {
   bool wait(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
   axes_status get_axes() const;
   /// As controller::wait_axes.
-  bool wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+  bool wait_axes(axis_set s, std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
   /// The next event of the port, from this monitor's construction on: as
   /// controller::read_event. The module keeps the last 256 events; a
   /// monitor that fell further behind sees a gap in event::seq.

@@ -34,7 +34,6 @@ static_assert(axis_error::ref_travel == X4STEP_AXERR_REF_TRAVEL &&
 
 namespace {
 
-constexpr unsigned all_axes = (1u << axes) - 1;
 constexpr int inputs_count = 5;
 
 class category_impl : public std::error_category {
@@ -164,15 +163,12 @@ int open_device(const std::string &path, int flags) {
   return fd;
 }
 
-// Axis 1..4 as its mask bit; param_fail otherwise.
-unsigned axis_bit(int axis) {
-  if (axis < 1 || axis > axes) fail(errc::param_fail);
-  return 1u << (axis - 1);
+void need_axes(axis_set s) {
+  if (s.empty()) fail(errc::param_fail);
 }
 
-void need_mask(unsigned mask) {
-  if (mask == 0 || mask > all_axes) fail(errc::param_fail);
-}
+// The axes of a mask from the kernel (bits beyond axis 4 name none).
+axis_set axes_of(uint32_t mask) { return axis_set(mask & axis_set::all().mask()); }
 
 // The end of a wait; a negative timeout never comes.
 class deadline {
@@ -301,7 +297,7 @@ struct device {
         std::chrono::steady_clock::time_point(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::nanoseconds(k.timestamp_ns)));
     e.type = static_cast<event_type>(k.type);
-    e.axis_mask = k.axes;
+    e.axes = axes_of(k.axes);
     e.how = k.how;
     e.value = k.value;
     e.ambiguous = k.flags & X4STEP_EVF_AMBIGUOUS;
@@ -314,13 +310,13 @@ struct device {
   // another move still runs. So this looks at the axes themselves and
   // polls in slices of at most 5 ms: it returns at once when everything
   // ends, and within 5 ms when only the axes waited for end.
-  bool wait_axes(unsigned mask, std::chrono::milliseconds timeout) const {
-    need_mask(mask);
+  bool wait_axes(axis_set which, std::chrono::milliseconds timeout) const {
+    need_axes(which);
     const deadline d(timeout);
     for (;;) {
       const axes_status s = get_axes();
       bool runs = false;
-      for (int i = 0; i < axes; i++) runs |= (mask >> i & 1u) && s.axis[i].running;
+      for (axis a : which) runs |= s[a].running;
       if (!runs) return true;
       if (d.expired()) return false;
       poll_in(d.poll_ms(5));
@@ -335,10 +331,9 @@ int32_t narrow_s32(long v) {
 }
 
 // The targets of a move of one axis only.
-std::array<long, axes> one_axis(int axis, long value) {
-  axis_bit(axis);  // 1..4
+std::array<long, axes> one_axis(axis a, long value) {
   std::array<long, axes> t{};
-  t[axis - 1] = value;
+  t[a.index()] = value;
   return t;
 }
 
@@ -369,8 +364,7 @@ errc check(const move &m) noexcept {
   return static_cast<errc>(x4_move_check(&km));
 }
 
-errc check_endless(int axis, int freq_hz, std::chrono::milliseconds ramp) noexcept {
-  if (axis < 1 || axis > axes) return errc::param_fail;
+errc check_endless(int freq_hz, std::chrono::milliseconds ramp) noexcept {
   return static_cast<errc>(x4_ramp_check(
       freq_hz, static_cast<int32_t>(std::clamp<long long>(ramp.count(), -1, ramp_max.count() + 1))));
 }
@@ -383,16 +377,16 @@ std::string device_path(int lpt) {
 }
 
 errc check(const profile &p) noexcept {
-  const x4_profile kp{p.v0, p.ve, p.vm, p.a0, p.ae};
+  const x4_profile kp{p.start_speed(), p.end_speed(), p.top_speed(), p.accel(), p.decel()};
   return static_cast<errc>(x4_profile_check(&kp));
 }
 
 errc check(const homing &h) noexcept {
   const uint8_t phases =
-      (h.phase1 ? X4_HOME_PHASE1 : 0) | (h.phase2 ? X4_HOME_PHASE2 : 0) | (h.brake ? X4_HOME_BRAKE : 0);
+      (h.phase1() ? X4_HOME_PHASE1 : 0) | (h.phase2() ? X4_HOME_PHASE2 : 0) | (h.brake() ? X4_HOME_BRAKE : 0);
   // Above 32 bits sref is refused as 2^31 is.
-  const uint32_t sref = h.sref > INT32_MAX ? 0x80000000u : static_cast<uint32_t>(h.sref);
-  return static_cast<errc>(x4_home_check(phases, h.vref1, h.vref2, sref));
+  const uint32_t sref = h.max_travel() > INT32_MAX ? 0x80000000u : static_cast<uint32_t>(h.max_travel());
+  return static_cast<errc>(x4_home_check(phases, h.phase1_speed(), h.phase2_speed(), sref));
 }
 
 std::ostream &operator<<(std::ostream &os, const axes_status &s) {
@@ -454,13 +448,12 @@ std::ostream &operator<<(std::ostream &os, const event &e) {
     os << names[t];
   else
     os << "event type " << static_cast<unsigned>(e.type);
-  if (e.axis_mask) {
+  if (!e.axes.empty()) {
     os << ": axes";
-    for (int i = 0; i < axes; i++)
-      if (e.axis_mask >> i & 1u) os << ' ' << i + 1;
+    for (axis a : e.axes) os << ' ' << a.number();
   }
   const char *how = event_how(e);
-  if (*how) os << (e.axis_mask ? ", " : ": ") << how;
+  if (*how) os << (e.axes.empty() ? ": " : ", ") << how;
   if (e.type == event_type::brake && e.how == static_cast<unsigned>(brake_source::key)) os << ' ' << e.value;
   if (e.type == event_type::switch_hit) os << " on input " << e.value << (e.ambiguous ? " (ambiguous)" : "");
   os << ", at";
@@ -522,11 +515,11 @@ void controller::start() { need().call(X4STEP_START, nullptr, "X4STEP_START"); }
 void controller::brake() { need().call(X4STEP_BRAKE, nullptr, "X4STEP_BRAKE"); }
 void controller::stop() { need().call(X4STEP_STOP, nullptr, "X4STEP_STOP"); }
 
-void controller::move_endless(int axis, direction dir, int freq_hz, std::chrono::milliseconds ramp) {
+void controller::move_endless(axis a, direction dir, int freq_hz, std::chrono::milliseconds ramp) {
   const auto &d = need();
-  if (const errc e = check_endless(axis, freq_hz, ramp); e != errc::ok) fail(e);
+  if (const errc e = check_endless(freq_hz, ramp); e != errc::ok) fail(e);
   x4step_endless ke{};
-  ke.axis = axis;
+  ke.axis = a.number();
   ke.direction = dir == direction::negative ? -1 : 1;
   ke.freq_hz = freq_hz;
   ke.ramp_ms = static_cast<int32_t>(ramp.count());
@@ -536,10 +529,7 @@ void controller::move_endless(int axis, direction dir, int freq_hz, std::chrono:
 status controller::get_status() const { return need().get_status(); }
 bool controller::active() const { return get_status().active; }
 
-long long controller::steps(int axis) const {
-  if (axis < 1 || axis > axes) fail(errc::param_fail);
-  return get_status().steps[axis - 1];
-}
+long long controller::steps(axis a) const { return get_status().steps[a.index()]; }
 
 unsigned controller::inputs() const { return get_status().inputs; }
 
@@ -564,20 +554,22 @@ void controller::set_brake_codes(const std::vector<int> &codes) {
 }
 
 void controller::set_config(const config &c) {
-  if (c.clock_invert > 0xf || c.dir_invert > 0xf) fail(errc::param_fail);
   x4step_config kc{};
-  kc.clock_invert = c.clock_invert;
-  kc.dir_invert = c.dir_invert;
-  kc.flags = c.keys_swallow ? X4STEP_CFG_KEYS_SWALLOW : 0;
-  kc.output_mode = static_cast<uint32_t>(c.mode);
+  kc.clock_invert = c.clock_invert().mask();
+  kc.dir_invert = c.dir_invert().mask();
+  kc.flags = c.keys_swallow() ? X4STEP_CFG_KEYS_SWALLOW : 0;
+  kc.output_mode = static_cast<uint32_t>(c.mode());
   need().call(X4STEP_SET_CONFIG, &kc, "X4STEP_SET_CONFIG");
 }
 
 config controller::get_config() const {
   x4step_config kc{};
   need().call(X4STEP_GET_CONFIG, &kc, "X4STEP_GET_CONFIG");
-  return {kc.clock_invert, kc.dir_invert, (kc.flags & X4STEP_CFG_KEYS_SWALLOW) != 0,
-          static_cast<output_mode>(kc.output_mode)};
+  return config()
+      .clock_invert(axes_of(kc.clock_invert))
+      .dir_invert(axes_of(kc.dir_invert))
+      .keys_swallow((kc.flags & X4STEP_CFG_KEYS_SWALLOW) != 0)
+      .mode(static_cast<output_mode>(kc.output_mode));
 }
 
 void controller::set_step_timing(const step_timing &t) {
@@ -586,10 +578,10 @@ void controller::set_step_timing(const step_timing &t) {
     return static_cast<uint32_t>(v.count());
   };
   x4step_step_timing kt{};
-  kt.pulse_ns = ns(t.pulse);
-  kt.space_ns = ns(t.space);
-  kt.dir_setup_ns = ns(t.dir_setup);
-  kt.dir_hold_ns = ns(t.dir_hold);
+  kt.pulse_ns = ns(t.pulse());
+  kt.space_ns = ns(t.space());
+  kt.dir_setup_ns = ns(t.dir_setup());
+  kt.dir_hold_ns = ns(t.dir_hold());
   need().call(X4STEP_SET_STEP_TIMING, &kt, "X4STEP_SET_STEP_TIMING");
 }
 
@@ -597,83 +589,75 @@ step_timing controller::get_step_timing() const {
   x4step_step_timing kt{};
   need().call(X4STEP_GET_STEP_TIMING, &kt, "X4STEP_GET_STEP_TIMING");
   using std::chrono::nanoseconds;
-  return {nanoseconds(kt.pulse_ns), nanoseconds(kt.space_ns), nanoseconds(kt.dir_setup_ns),
-          nanoseconds(kt.dir_hold_ns)};
+  return step_timing()
+      .pulse(nanoseconds(kt.pulse_ns))
+      .space(nanoseconds(kt.space_ns))
+      .dir_setup(nanoseconds(kt.dir_setup_ns))
+      .dir_hold(nanoseconds(kt.dir_hold_ns));
 }
 
-void controller::set_profile(int axis, const profile &p) {
+void controller::set_profile(axis a, const profile &p) {
   const auto &d = need();
-  axis_bit(axis);
   if (check(p) != errc::ok) fail(errc::param_fail);
   x4step_profile kp{};
-  kp.axis = static_cast<uint32_t>(axis);
-  kp.v0 = p.v0;
-  kp.ve = p.ve;
-  kp.vm = p.vm;
-  kp.a0 = p.a0;
-  kp.ae = p.ae;
+  kp.axis = static_cast<uint32_t>(a.number());
+  kp.v0 = p.start_speed();
+  kp.ve = p.end_speed();
+  kp.vm = p.top_speed();
+  kp.a0 = p.accel();
+  kp.ae = p.decel();
   d.call(X4STEP_SET_PROFILE, &kp, "X4STEP_SET_PROFILE");
 }
 
-profile controller::get_profile(int axis) const {
+profile controller::get_profile(axis a) const {
   const auto &d = need();
-  axis_bit(axis);
   x4step_profile kp{};
-  kp.axis = static_cast<uint32_t>(axis);
+  kp.axis = static_cast<uint32_t>(a.number());
   d.call(X4STEP_GET_PROFILE, &kp, "X4STEP_GET_PROFILE");
-  return {kp.v0, kp.ve, kp.vm, kp.a0, kp.ae};
+  return profile().start_speed(kp.v0).end_speed(kp.ve).top_speed(kp.vm).accel(kp.a0).decel(kp.ae);
 }
 
-void controller::move_to(int axis, long target) {
-  need();
-  move_to(axis_bit(axis), one_axis(axis, target), false);
-}
+void controller::move_to(axis a, long target) { move_to(a, one_axis(a, target), false); }
 
-void controller::move_by(int axis, long distance) {
-  need();
-  move_to(axis_bit(axis), one_axis(axis, distance), true);
-}
+void controller::move_by(axis a, long distance) { move_to(a, one_axis(a, distance), true); }
 
-void controller::move_to(unsigned axis_mask, const std::array<long, axes> &targets, bool relative) {
+void controller::move_to(axis_set s, const std::array<long, axes> &targets, bool relative) {
   const auto &d = need();
-  need_mask(axis_mask);
+  need_axes(s);
   x4step_goto g{};
-  g.axes = axis_mask;
+  g.axes = s.mask();
   g.flags = relative ? X4STEP_GOTO_RELATIVE : 0;
-  for (int i = 0; i < axes; i++)
-    if (axis_mask >> i & 1u) g.target[i] = narrow_s32(targets[i]);
+  for (axis a : s) g.target[a.index()] = narrow_s32(targets[a.index()]);
   if (::ioctl(d.fd, X4STEP_GOTO, &g)) fail_ioctl(errno, "X4STEP_GOTO", g.result);
 }
 
-void controller::home(int axis, const homing &h) {
+void controller::home(axis a, const homing &h) {
   const auto &d = need();
-  axis_bit(axis);
   if (check(h) != errc::ok) fail(errc::param_fail);
   x4step_home kh{};
-  kh.axis = static_cast<uint32_t>(axis);
-  kh.phases = (h.phase1 ? X4STEP_HOME_PHASE1 : 0) | (h.phase2 ? X4STEP_HOME_PHASE2 : 0) |
-              (h.brake ? X4STEP_HOME_BRAKE : 0);
-  kh.vref1 = h.vref1;
-  kh.vref2 = h.vref2;
-  kh.sref = static_cast<uint32_t>(h.sref);
+  kh.axis = static_cast<uint32_t>(a.number());
+  kh.phases = (h.phase1() ? X4STEP_HOME_PHASE1 : 0) | (h.phase2() ? X4STEP_HOME_PHASE2 : 0) |
+              (h.brake() ? X4STEP_HOME_BRAKE : 0);
+  kh.vref1 = h.phase1_speed();
+  kh.vref2 = h.phase2_speed();
+  kh.sref = static_cast<uint32_t>(h.max_travel());
   if (::ioctl(d.fd, X4STEP_HOME, &kh)) fail_ioctl(errno, "X4STEP_HOME", kh.result);
 }
 
-void controller::halt(unsigned axis_mask, halt_mode how) {
+void controller::halt(axis_set s, halt_mode how) {
   const auto &d = need();
-  need_mask(axis_mask);
+  need_axes(s);
   x4step_halt kh{};
-  kh.axes = axis_mask;
+  kh.axes = s.mask();
   kh.how = how == halt_mode::stop ? X4STEP_HALT_STOP : X4STEP_HALT_BRAKE;
   d.call(X4STEP_HALT, &kh, "X4STEP_HALT");
 }
 
-void controller::set_position(int axis, long position) {
+void controller::set_position(axis a, long position) {
   const auto &d = need();
-  const unsigned bit = axis_bit(axis);
   x4step_position kp{};
-  kp.axes = bit;
-  kp.position[axis - 1] = narrow_s32(position);
+  kp.axes = a.bit();
+  kp.position[a.index()] = narrow_s32(position);
   d.call(X4STEP_SET_POSITION, &kp, "X4STEP_SET_POSITION");
 }
 
@@ -705,14 +689,10 @@ switches controller::get_switches() const {
 
 axes_status controller::get_axes() const { return need().get_axes(); }
 
-axis_status controller::axis(int axis) const {
-  const auto &d = need();
-  axis_bit(axis);
-  return d.get_axes().axis[axis - 1];
-}
+axis_status controller::get_axis(axis a) const { return need().get_axes()[a]; }
 
-bool controller::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) const {
-  return need().wait_axes(axis_mask, timeout);
+bool controller::wait_axes(axis_set s, std::chrono::milliseconds timeout) const {
+  return need().wait_axes(s, timeout);
 }
 
 std::optional<event> controller::read_event(std::chrono::milliseconds timeout) const {
@@ -728,7 +708,7 @@ void controller::close() noexcept {
   // minutes. This runs in the destructor and the noexcept move assignment,
   // so nothing is thrown: an error (the port went away: POLLERR) ends the
   // wait, and the device is closed anyway.
-  x4step_halt all{all_axes, X4STEP_HALT_BRAKE, {}};
+  x4step_halt all{axis_set::all().mask(), X4STEP_HALT_BRAKE, {}};
   ::ioctl(impl_->fd, X4STEP_HALT, &all);  // ESRCH: nothing to brake
   try {
     impl_->wait(std::chrono::milliseconds(-1));
@@ -776,9 +756,9 @@ axes_status monitor::get_axes() const {
   return impl_->get_axes();
 }
 
-bool monitor::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) const {
+bool monitor::wait_axes(axis_set s, std::chrono::milliseconds timeout) const {
   if (!impl_) fail(errc::init_not_done);
-  return impl_->wait_axes(axis_mask, timeout);
+  return impl_->wait_axes(s, timeout);
 }
 
 std::optional<event> monitor::read_event(std::chrono::milliseconds timeout) const {

@@ -89,8 +89,11 @@ x4step::step_timing module_step_timing() {
   param("dir_hold_ns", k.dir_hold_ns);
   if (x4_timing_check(&k, X4_MODE_CLOCK_DIR)) return {};
   using std::chrono::nanoseconds;
-  return {nanoseconds(k.pulse_ns), nanoseconds(k.space_ns), nanoseconds(k.dir_setup_ns),
-          nanoseconds(k.dir_hold_ns)};
+  return x4step::step_timing()
+      .pulse(nanoseconds(k.pulse_ns))
+      .space(nanoseconds(k.space_ns))
+      .dir_setup(nanoseconds(k.dir_setup_ns))
+      .dir_hold(nanoseconds(k.dir_hold_ns));
 }
 
 // X4Init starts from the DOS library's state, whatever an earlier
@@ -102,7 +105,7 @@ void dos_state(x4step::controller &c) {
   c.set_step_timing(module_step_timing());
   c.set_brake_codes({});
   c.set_switches({});
-  for (int axis = 1; axis <= x4step::axes; axis++) c.set_profile(axis, {});
+  for (x4step::axis a : x4step::axis_set::all()) c.set_profile(a, {});
 }
 
 int with_port(void (*op)(x4step::controller &)) noexcept {
@@ -139,25 +142,25 @@ int state_bits(const x4step::axis_status &a) {
 // The axis' own status, or param_fail for a bad axis.
 int axis_state(int axis, x4step::axis_status &out) noexcept {
   if (!port) return X4ErrInitNotDone;
-  return guarded([&] { out = port->axis(axis); });
+  return guarded([&] { out = port->get_axis(x4step::axis(axis)); });
 }
 
 int halt_axis(int axis, x4step::halt_mode how) noexcept {
   if (!port) return X4ErrInitNotDone;
-  if (axis < 1 || axis > x4step::axes) return X4ErrParamFail;
-  return guarded([&] { port->halt(1u << (axis - 1), how); });
+  return guarded([&] { port->halt(x4step::axis(axis), how); });
 }
 
 int move_endless(int axis, int freq, int ramp, x4step::direction dir) noexcept {
   if (!port) return X4ErrInitNotDone;
+  if (!x4step::axis::valid(axis)) return X4ErrParamFail;
   const std::chrono::milliseconds r(ramp);
-  if (const x4step::errc e = x4step::check_endless(axis, freq, r); e != x4step::errc::ok)
+  if (const x4step::errc e = x4step::check_endless(freq, r); e != x4step::errc::ok)
     return static_cast<int>(e);
   return guarded([&] {
     const x4step::status s = port->get_status();
     if (s.loaded) fail(x4step::errc::is_loaded);
     refuse_while_active(s);
-    port->move_endless(axis, dir, freq, r);
+    port->move_endless(x4step::axis(axis), dir, freq, r);
   });
 }
 
@@ -252,55 +255,58 @@ int X4SetStepTiming(long pulse_ns, long space_ns, long dir_setup_ns, long dir_ho
   if (!port) return X4ErrInitNotDone;
   using std::chrono::nanoseconds;
   return guarded([&] {
-    port->set_step_timing(
-        {nanoseconds(pulse_ns), nanoseconds(space_ns), nanoseconds(dir_setup_ns), nanoseconds(dir_hold_ns)});
+    port->set_step_timing(x4step::step_timing()
+                              .pulse(nanoseconds(pulse_ns))
+                              .space(nanoseconds(space_ns))
+                              .dir_setup(nanoseconds(dir_setup_ns))
+                              .dir_hold(nanoseconds(dir_hold_ns)));
   });
 }
 
 int X4SetOutputMode(int mode) {
   if (!port) return X4ErrInitNotDone;
   if (mode < X4MODE_CLOCK_DIR || mode > X4MODE_SMC_PHASE_HOLD) return X4ErrParamFail;
-  return guarded([&] {
-    x4step::config c = port->get_config();
-    c.mode = static_cast<x4step::output_mode>(mode);
-    port->set_config(c);
-  });
+  return guarded([&] { port->set_config(port->get_config().mode(static_cast<x4step::output_mode>(mode))); });
 }
 
 int X4SetProfile(int axis, long v0, long ve, long vm, long a0, long ae) {
   if (!port) return X4ErrInitNotDone;
   return guarded([&] {
-    port->set_profile(axis,
-                      {to_unsigned(v0), to_unsigned(ve), to_unsigned(vm), to_unsigned(a0), to_unsigned(ae)});
+    port->set_profile(x4step::axis(axis), x4step::profile()
+                                              .start_speed(to_unsigned(v0))
+                                              .end_speed(to_unsigned(ve))
+                                              .top_speed(to_unsigned(vm))
+                                              .accel(to_unsigned(a0))
+                                              .decel(to_unsigned(ae)));
   });
 }
 
 int X4MoveTo(int axis, long target) {
   if (!port) return X4ErrInitNotDone;
-  return guarded([&] { port->move_to(axis, target); });
+  return guarded([&] { port->move_to(x4step::axis(axis), target); });
 }
 
 int X4MoveBy(int axis, long distance) {
   if (!port) return X4ErrInitNotDone;
-  return guarded([&] { port->move_by(axis, distance); });
+  return guarded([&] { port->move_by(x4step::axis(axis), distance); });
 }
 
 int X4Home(int axis, long vref1, long vref2, long sref, int phases) {
   if (!port) return X4ErrInitNotDone;
   if (phases & ~(X4HOME_AUTO | X4HOME_BRAKE)) return X4ErrParamFail;
-  x4step::homing h;  // the library checks the rest
-  h.vref1 = to_speed(vref1);
-  h.vref2 = to_speed(vref2);
-  h.sref = static_cast<unsigned long>(std::max(0L, sref));
-  h.phase1 = phases & X4HOME_PHASE1;
-  h.phase2 = phases & X4HOME_PHASE2;
-  h.brake = phases & X4HOME_BRAKE;
-  return guarded([&] { port->home(axis, h); });
+  const auto h = x4step::homing()  // the library checks the rest
+                     .phase1_speed(to_speed(vref1))
+                     .phase2_speed(to_speed(vref2))
+                     .max_travel(static_cast<unsigned long>(std::max(0L, sref)))
+                     .phase1(phases & X4HOME_PHASE1)
+                     .phase2(phases & X4HOME_PHASE2)
+                     .brake(phases & X4HOME_BRAKE);
+  return guarded([&] { port->home(x4step::axis(axis), h); });
 }
 
 int X4SetPosition(int axis, long position) {
   if (!port) return X4ErrInitNotDone;
-  return guarded([&] { port->set_position(axis, position); });
+  return guarded([&] { port->set_position(x4step::axis(axis), position); });
 }
 
 int X4GetPosition(int axis, long *position) {
@@ -321,7 +327,7 @@ int X4GetAxisState(int axis, int *state, int *error) {
 
 int X4SetSwitches(int axis, int ref_input, int plus_input, int minus_input) {
   if (!port) return X4ErrInitNotDone;
-  if (axis < 1 || axis > x4step::axes) return X4ErrParamFail;
+  if (!x4step::axis::valid(axis)) return X4ErrParamFail;
   return guarded([&] {
     x4step::switches s = port->get_switches();
     s.ref[axis - 1] = ref_input;

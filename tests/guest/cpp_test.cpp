@@ -40,9 +40,9 @@ std::string OpenError(const std::string &path) {
 
 // Axis 1 at 9000 steps/s braking at 1500 steps/s^2: a 6 s brake.
 void StartLongBrakeMove(x4step::controller &c) {
-  c.set_profile(1, {0, 0, 9000, 100000, 1500});
-  c.zero(1);
-  c.move_by(1, 1000000);
+  c.set_profile(x4step::axis{1}, x4step::profile{}.top_speed(9000).accel(100000).decel(1500));
+  c.zero(x4step::axis{1});
+  c.move_by(x4step::axis{1}, 1000000);
 }
 
 // close() waits for the whole brake, however long it takes (here 6 s, more
@@ -58,7 +58,7 @@ void CloseWaitsForTheBrake() {
   x4step::axis_status a;
   const x4step::errc e = Throws([&] {
     x4step::controller next(1);
-    a = next.axis(1);
+    a = next.get_axis(x4step::axis{1});
   });
   std::printf("close() during a 6 s brake took %.1f s; axis 1 at %ld\n", s, a.position);
   Check(e == x4step::errc::ok && s > 5.5 && !a.running && a.synced,
@@ -104,7 +104,7 @@ void PortGoesAwayInDestructor() {
       x4step::controller v{std::string(dev)};
       StartLongBrakeMove(v);
       std::this_thread::sleep_for(300ms);  // at speed: braking takes 6 s
-      if (!v.axis(1).running || write(started[1], "s", 1) != 1) _exit(2);
+      if (!v.get_axis(x4step::axis{1}).running || write(started[1], "s", 1) != 1) _exit(2);
     }  // the destructor brakes and waits: the port vanishes meanwhile
     _exit(0);
   }
@@ -160,7 +160,7 @@ void EventsThroughTheLibrary() {
   };
   Check(got.size() == 5 && seq && is(0, event_type::controller, 1) && is(1, event_type::move_started, 1) &&
             is(2, event_type::move_ended, 1) && is(3, event_type::controller, 2) &&
-            is(4, event_type::controller, 3) && got[2].axis_mask == 1 &&
+            is(4, event_type::controller, 3) && got[2].axes == x4step::axis{1} &&
             got[2].position[0] == got[1].position[0] + 50,
         "monitor::read_event: opened, started, completed (+50 steps), closed, released: " + all);
   Check(all.find("move ended: axes 1, completed, at ") != std::string::npos,
@@ -205,7 +205,7 @@ int main() {
     x4step::controller moved = std::move(c);
     Check(!c && static_cast<bool>(moved), "controller moves");
     Check(Throws([&] { c.start(); }) == errc::init_not_done, "moved-from controller: init_not_done");
-    moved.move_endless(4, x4step::direction::negative, 3000, 30ms);
+    moved.move_endless(x4step::axis{4}, x4step::direction::negative, 3000, 30ms);
     Check(moved.active(), "endless move runs");
     std::this_thread::sleep_for(300ms);
   }  // destructor brakes, waits, releases

@@ -133,11 +133,11 @@ std::string Flags(const x4step::axis_status &a) {
 // Wait for the axes; a move still running after `timeout` is a failure
 // (and is stopped, so that the next checks start from rest).
 bool Wait(unsigned mask, const std::string &what, std::chrono::milliseconds timeout = 15s) {
-  const bool ended = ctl->wait_axes(mask, timeout);
+  const bool ended = ctl->wait_axes(x4step::axis_set{mask}, timeout);
   if (!ended) {
     Check(false, what + ": the move ends within " + std::to_string(timeout.count()) + " ms");
-    Throws([&] { ctl->halt(0x0f, x4step::halt_mode::stop); });
-    ctl->wait_axes(0x0f, 2s);
+    Throws([&] { ctl->halt(x4step::axis_set{0x0fu}, x4step::halt_mode::stop); });
+    ctl->wait_axes(x4step::axis_set{0x0fu}, 2s);
   }
   return ended;
 }
@@ -155,20 +155,20 @@ bool Coords(const std::string &what) {
 
 // Move an axis (own profile) so that the machine is at `target`.
 void MachineTo(int axis, long long target) {
-  ctl->move_to(axis, long(target - off[axis - 1]));
+  ctl->move_to(x4step::axis{axis}, long(target - off[axis - 1]));
   Wait(1u << (axis - 1), F("axis %d to machine %lld", axis, target));
 }
 
 // Make the module's coordinates equal the machine's (stop and set).
 void Align() {
   const Pos4 m = Machine();
-  for (int a = 1; a <= 4; a++) ctl->set_position(a, long(m[a - 1]));
+  for (int a = 1; a <= 4; a++) ctl->set_position(x4step::axis{a}, long(m[a - 1]));
   off = Pos4{};
 }
 
 bool Near(double got, double want, double rel) { return std::fabs(got - want) <= rel * std::fabs(want); }
 
-const x4step::profile kFast{0, 0, 3000, 30000, 30000};
+const x4step::profile kFast = x4step::profile{}.top_speed(3000).accel(30000).decel(30000);
 
 // ---- 1. coordinates --------------------------------------------------------
 
@@ -179,43 +179,47 @@ void TestCoordinates() {
   Check(Mod(s0) == "0 0 0 0" && m0 == Pos4{}, "start: module " + Mod(s0) + ", machine " + Str(m0));
   Check(!s0.axis[0].synced && !s0.axis[3].synced, "start: no axis synchronized");
 
-  const x4step::profile pa{0, 0, 4000, 40000, 40000};
-  const x4step::profile pb{500, 300, 2500, 10000, 20000};
-  ctl->set_profile(1, pa);
-  ctl->set_profile(2, pb);
-  const x4step::profile gb = ctl->get_profile(2);
-  Check(gb.v0 == 500 && gb.ve == 300 && gb.vm == 2500 && gb.a0 == 10000 && gb.ae == 20000,
-        F("profile of axis 2 reads back (%u %u %u %u %u)", gb.v0, gb.ve, gb.vm, gb.a0, gb.ae));
+  const x4step::profile pa = x4step::profile{}.top_speed(4000).accel(40000).decel(40000);
+  const x4step::profile pb =
+      x4step::profile{}.start_speed(500).end_speed(300).top_speed(2500).accel(10000).decel(20000);
+  ctl->set_profile(x4step::axis{1}, pa);
+  ctl->set_profile(x4step::axis{2}, pb);
+  const x4step::profile gb = ctl->get_profile(x4step::axis{2});
+  Check(gb.start_speed() == 500 && gb.end_speed() == 300 && gb.top_speed() == 2500 && gb.accel() == 10000 &&
+            gb.decel() == 20000,
+        F("profile of axis 2 reads back (%u %u %u %u %u)", gb.start_speed(), gb.end_speed(), gb.top_speed(),
+          gb.accel(), gb.decel()));
   Check(Throws([] {
-          ctl->set_profile(1, {0, 0, 45001, 1000, 1000});
+          ctl->set_profile(x4step::axis{1}, x4step::profile{}.top_speed(45001).accel(1000).decel(1000));
         }) == errc::param_fail,
         "profile vm 45001 refused (param_fail)");
   Check(Throws([] {
-          ctl->set_profile(1, {2000, 0, 1000, 1000, 1000});
+          ctl->set_profile(x4step::axis{1},
+                           x4step::profile{}.start_speed(2000).top_speed(1000).accel(1000).decel(1000));
         }) == errc::param_fail,
         "profile v0 > vm refused (param_fail)");
 
-  ctl->move_to(1, 1500);
+  ctl->move_to(x4step::axis{1}, 1500);
   Wait(0x1, "goto 1500");
-  x4step::axis_status a = ctl->axis(1);
+  x4step::axis_status a = ctl->get_axis(x4step::axis{1});
   Check(a.position == 1500 && Machine()[0] == 1500 && !a.running && a.error == 0,
         F("goto absolute 1500: module %ld, machine %lld, err 0x%x", a.position, Machine()[0], a.error));
-  ctl->move_by(1, -2300);
+  ctl->move_by(x4step::axis{1}, -2300);
   Wait(0x1, "move_by -2300");
-  a = ctl->axis(1);
+  a = ctl->get_axis(x4step::axis{1});
   Check(a.position == -800 && Machine()[0] == -800,
         F("goto relative -2300 from 1500: module %ld, machine %lld (want -800)", a.position, Machine()[0]));
   ClearTrace();
-  ctl->move_to(1, -800);
+  ctl->move_to(x4step::axis{1}, -800);
   std::this_thread::sleep_for(20ms);
-  a = ctl->axis(1);
+  a = ctl->get_axis(x4step::axis{1});
   Check(!a.running && a.position == -800 && Edges()[0].empty(),
         F("goto to the current coordinate makes no step (module %ld, %zu edges)", a.position,
           Edges()[0].size()));
 
   // Two axes at once, each with its own profile.
   ClearTrace();
-  ctl->move_to(0x3, {1000, -1200, 0, 0});
+  ctl->move_to(x4step::axis_set{0x3u}, {1000, -1200, 0, 0});
   x4step::axes_status s = A();
   Check(s.axis[0].running && s.axis[1].running, "goto of axes 1+2: both run right after the call");
   Wait(0x3, "goto axes 1+2");
@@ -233,27 +237,29 @@ void TestCoordinates() {
     // The middle third of each move is at cruise speed.
     const double c0 = Median(std::vector<double>(i0.begin() + i0.size() / 3, i0.begin() + 2 * i0.size() / 3));
     const double c1 = Median(std::vector<double>(i1.begin() + i1.size() / 3, i1.begin() + 2 * i1.size() / 3));
-    CheckTiming(Near(c0, 1e6 / pa.vm, 0.01) && Near(c1, 1e6 / pb.vm, 0.01),
+    CheckTiming(Near(c0, 1e6 / pa.top_speed(), 0.01) && Near(c1, 1e6 / pb.top_speed(), 0.01),
                 F("own profiles: cruise interval axis 1 %.1f us (1/vm %.1f), axis 2 %.1f us (1/vm %.1f)", c0,
-                  1e6 / pa.vm, c1, 1e6 / pb.vm));
+                  1e6 / pa.top_speed(), c1, 1e6 / pb.top_speed()));
     const double f0 = i0.empty() ? 0 : i0.front(), f1 = i1.empty() ? 0 : i1.front();
-    const double w0 = 1e6 * std::sqrt(2.0 / pa.a0);
-    const double w1 = 1e6 * (std::sqrt(double(pb.v0) * pb.v0 + 2.0 * pb.a0) - pb.v0) / pb.a0;
+    const double w0 = 1e6 * std::sqrt(2.0 / pa.accel());
+    const double w1 =
+        1e6 * (std::sqrt(double(pb.start_speed()) * pb.start_speed() + 2.0 * pb.accel()) - pb.start_speed()) /
+        pb.accel();
     CheckTiming(Near(f0, w0, 0.03) && Near(f1, w1, 0.03),
                 F("own profiles: first interval axis 1 %.1f us (v0 0: %.1f), axis 2 %.1f us (v0 500: %.1f)",
                   f0, w0, f1, w1));
   }
 
   // A second independent move while the first runs.
-  ctl->set_profile(1, kFast);
-  ctl->set_profile(3, {0, 0, 2000, 20000, 20000});
+  ctl->set_profile(x4step::axis{1}, kFast);
+  ctl->set_profile(x4step::axis{3}, x4step::profile{}.top_speed(2000).accel(20000).decel(20000));
   ClearTrace();
-  ctl->move_by(1, 3000);  // about 1.1 s
+  ctl->move_by(x4step::axis{1}, 3000);  // about 1.1 s
   std::this_thread::sleep_for(300ms);
-  Check(ctl->axis(1).running, "axis 1 runs its 3000-step goto");
-  Check(Throws([] { ctl->move_by(1, 10); }) == errc::is_active,
+  Check(ctl->get_axis(x4step::axis{1}).running, "axis 1 runs its 3000-step goto");
+  Check(Throws([] { ctl->move_by(x4step::axis{1}, 10); }) == errc::is_active,
         "another goto of the running axis 1: is_active");
-  const errc third = Throws([] { ctl->move_by(3, 800); });
+  const errc third = Throws([] { ctl->move_by(x4step::axis{3}, 800); });
   Check(third == errc::ok, F("goto of axis 3 while axis 1 runs is accepted (errc %d)", int(third)));
   s = A();
   Check(s.axis[0].running && s.axis[2].running, "axes 1 and 3 run at the same time");
@@ -282,20 +288,21 @@ void TestCoordinates() {
     double worst = 0, sum = 0;
     int n = 0;
     for (size_t i = 200; i + 200 < iv.size(); i++) {
-      worst = std::max(worst, std::fabs(iv[i] - 1e6 / kFast.vm));
+      worst = std::max(worst, std::fabs(iv[i] - 1e6 / kFast.top_speed()));
       sum += iv[i];
       n++;
     }
     CheckTiming(
-        worst < 25 && Near(sum / n, 1e6 / kFast.vm, 0.002),
+        worst < 25 && Near(sum / n, 1e6 / kFast.top_speed(), 0.002),
         F("axis 1's cruise undisturbed by axes 3, 4: mean %.2f us, worst deviation %.2f us (1/vm %.2f)",
-          sum / n, worst, 1e6 / kFast.vm));
+          sum / n, worst, 1e6 / kFast.top_speed()));
   }
   // The refused interpolated move stays loaded: run it now.
   const errc late = Throws([] { ctl->start(); });
   Wait(0x1, "the loaded 10-step move");
-  Check(late == errc::ok && ctl->axis(1).position == 4010,
-        F("the loaded move runs once axis 1 is idle: module %ld (want 4010)", ctl->axis(1).position));
+  Check(late == errc::ok && ctl->get_axis(x4step::axis{1}).position == 4010,
+        F("the loaded move runs once axis 1 is idle: module %ld (want 4010)",
+          ctl->get_axis(x4step::axis{1}).position));
 
   // X4Step moves update the coordinates too.
   const x4step::axes_status before = A();
@@ -308,7 +315,7 @@ void TestCoordinates() {
   for (int i = 0; i < 4; i++) ok &= s.axis[i].position == before.axis[i].position + d[i];
   Check(ok, "interpolated move (400, -300, 200, -100): module " + Mod(before) + " -> " + Mod(s));
   Coords("after the interpolated move");
-  ctl->move_endless(2, x4step::direction::negative, 2000, 20ms);
+  ctl->move_endless(x4step::axis{2}, x4step::direction::negative, 2000, 20ms);
   std::this_thread::sleep_for(200ms);
   ctl->brake();
   Wait(0xf, "endless move");
@@ -319,17 +326,18 @@ void TestCoordinates() {
 
 void TestProfile() {
   std::printf("== asymmetric profile\n");
-  const x4step::profile p{200, 500, 3000, 2000, 8000};  // v0 ve vm a0 ae
-  const double v0 = p.v0, ve = p.ve, vm = p.vm, a0 = p.a0, ae = p.ae;
+  const x4step::profile p =
+      x4step::profile{}.start_speed(200).end_speed(500).top_speed(3000).accel(2000).decel(8000);
+  const double v0 = p.start_speed(), ve = p.end_speed(), vm = p.top_speed(), a0 = p.accel(), ae = p.decel();
   const long steps = 4000;
-  ctl->set_profile(1, p);
+  ctl->set_profile(x4step::axis{1}, p);
   ClearTrace();
-  ctl->move_by(1, steps);
+  ctl->move_by(x4step::axis{1}, steps);
   // The state bits and the velocity while it runs, sampled.
   std::string phases;
   unsigned vcruise_min = ~0u, vcruise_max = 0, samples = 0, zero_v = 0;
   while (true) {
-    const x4step::axis_status a = ctl->axis(1);
+    const x4step::axis_status a = ctl->get_axis(x4step::axis{1});
     if (!a.running) break;
     const char ph = a.accelerating ? 'A' : a.cruising ? 'C' : a.decelerating ? 'D' : '?';
     if (phases.empty() || phases.back() != ph) phases += ph;
@@ -419,13 +427,13 @@ void TestProfile() {
       (steps - 1) / vm + (vm - v0) * (vm - v0) / (2 * a0 * vm) + (vm - ve) * (vm - ve) / (2 * ae * vm);
   CheckTiming(Near(total, w_total, 0.002),
               F("first to last step %.5f s (profile: %.5f s +-0.2%%)", total, w_total));
-  ctl->set_profile(1, kFast);
+  ctl->set_profile(x4step::axis{1}, kFast);
 }
 
 // ---- 3. limit switches -----------------------------------------------------
 
 void ExpectLimit(int axis, const std::string &what, long long at, unsigned err, bool allow_next = true) {
-  const x4step::axis_status a = ctl->axis(axis);
+  const x4step::axis_status a = ctl->get_axis(x4step::axis{axis});
   const long long m = Machine()[axis - 1];
   const long long step = (err & axerr::limit_pos) ? 1 : -1;
   const bool at_switch = m == at || (allow_next && m == at + step);
@@ -445,11 +453,12 @@ void Recover(const x4step::switches &sw) {
 
 void TestLimits() {
   std::printf("== limit switches\n");
-  for (int a = 1; a <= 4; a++) ctl->set_profile(a, kFast);
+  for (int a = 1; a <= 4; a++) ctl->set_profile(x4step::axis{a}, kFast);
   MachineTo(1, 0);
   MachineTo(2, 0);
   Align();
-  Check(ctl->axis(1).synced && ctl->axis(1).position == 0, "set_position: coordinate set, axis synchronized");
+  Check(ctl->get_axis(x4step::axis{1}).synced && ctl->get_axis(x4step::axis{1}).position == 0,
+        "set_position: coordinate set, axis synchronized");
 
   // Normally open, E+ above 1000 and E- below -1000, hysteresis 20.
   Switches("add 1 0 above 1000 20 no;add 1 1 below -1000 20 no");
@@ -461,25 +470,25 @@ void TestLimits() {
   Check(rb.plus[0] == 1 && rb.minus[0] == 2 && rb.nc == 0, "switches read back");
   Check((A().switches_active & 3) == 0,
         F("NO: E+ and E- (inputs 1, 2) inactive at 0 (active 0x%x)", A().switches_active));
-  ctl->move_to(1, 3000);
+  ctl->move_to(x4step::axis{1}, 3000);
   Wait(0x1, "goto 3000 into E+");
   ExpectLimit(1, "NO: goto 3000 beyond E+", 1000, axerr::limit_pos);
   Check(A().switches_active & 1, F("E+ (input 1) active (0x%x)", A().switches_active));
   const long long stopped = Machine()[0];
-  ctl->move_to(1, 2000);
+  ctl->move_to(x4step::axis{1}, 2000);
   Wait(0x1, "goto toward the active E+");
   ExpectLimit(1, "NO: goto toward the active E+ makes no step", stopped, axerr::limit_pos, false);
-  ctl->move_to(1, 0);
+  ctl->move_to(x4step::axis{1}, 0);
   Wait(0x1, "back off E+");
-  x4step::axis_status a = ctl->axis(1);
+  x4step::axis_status a = ctl->get_axis(x4step::axis{1});
   Check(a.position == 0 && Machine()[0] == 0 && a.error == 0 && (A().switches_active & 1) == 0,
         "NO: backing off E+ to 0: " + Flags(a));
-  ctl->move_to(1, -3000);
+  ctl->move_to(x4step::axis{1}, -3000);
   Wait(0x1, "goto -3000 into E-");
   ExpectLimit(1, "NO: goto -3000 beyond E-", -1000, axerr::limit_neg);
-  ctl->move_to(1, 0);
+  ctl->move_to(x4step::axis{1}, 0);
   Wait(0x1, "back off E-");
-  a = ctl->axis(1);
+  a = ctl->get_axis(x4step::axis{1});
   Check(a.position == 0 && Machine()[0] == 0 && a.error == 0, "NO: backing off E- to 0: " + Flags(a));
 
   // Normally closed, the same places.
@@ -490,20 +499,20 @@ void TestLimits() {
   Check((s.inputs & 3) == 3 && (s.switches_active & 3) == 0,
         F("NC: pins 1, 2 high at rest, E+ and E- inactive (inputs 0x%x, active 0x%x)", s.inputs,
           s.switches_active));
-  ctl->move_to(1, 3000);
+  ctl->move_to(x4step::axis{1}, 3000);
   Wait(0x1, "NC goto 3000");
   ExpectLimit(1, "NC: goto 3000 beyond E+", 1000, axerr::limit_pos);
   s = A();
   Check((s.inputs & 1) == 0 && (s.switches_active & 1),
         F("NC: E+ pin low, active (inputs 0x%x, active 0x%x)", s.inputs, s.switches_active));
-  ctl->move_to(1, -3000);
+  ctl->move_to(x4step::axis{1}, -3000);
   Wait(0x1, "NC goto -3000");
   ExpectLimit(1, "NC: from E+ back past 0 to E-", -1000, axerr::limit_neg);
   MachineTo(1, 0);
   // NC switches taken for NO: both read active at rest, nothing moves.
   sw.nc = 0;
   ctl->set_switches(sw);
-  ctl->move_to(1, 500);
+  ctl->move_to(x4step::axis{1}, 500);
   Wait(0x1, "NC switches wired as NO");
   ExpectLimit(1, "NC switches configured as NO: E+ reads active at rest, goto +500", 0, axerr::limit_pos,
               false);
@@ -514,7 +523,7 @@ void TestLimits() {
   Switches("add 1 0 above 1000 20 no;add 1 1 below -1000 20 no");
   sw.nc = 0;
   ctl->set_switches(sw);
-  ctl->zero(2);
+  ctl->zero(x4step::axis{2});
   ctl->load({{3000, 1500, 0, 0}, 3000, 20ms});
   ctl->start();
   Wait(0x3, "interpolated move into E+");
@@ -537,13 +546,14 @@ void TestLimits() {
   shared.plus = {3, 3, 0, 0};
   shared.minus = {3, 3, 0, 0};
   ctl->set_switches(shared);
-  ctl->move_to(1, 3000);
+  ctl->move_to(x4step::axis{1}, 3000);
   Wait(0x1, "shared: axis 1 +");
   ExpectLimit(1, "shared input: axis 1 alone into its E+, hit attributed to it", 1000, axerr::limit_pos);
-  Check(ctl->axis(2).error == 0, F("shared input: idle axis 2 not blamed (err 0x%x)", ctl->axis(2).error));
-  ctl->move_to(1, 0);
+  Check(ctl->get_axis(x4step::axis{2}).error == 0,
+        F("shared input: idle axis 2 not blamed (err 0x%x)", ctl->get_axis(x4step::axis{2}).error));
+  ctl->move_to(x4step::axis{1}, 0);
   Wait(0x1, "shared: axis 1 backs off");
-  a = ctl->axis(1);
+  a = ctl->get_axis(x4step::axis{1});
   Check(a.position == 0 && Machine()[0] == 0 && a.error == 0,
         "shared input: goto backs axis 1 off E+ although its E- is the same active input: " + Flags(a));
   if (Machine()[0] != 0) {
@@ -553,7 +563,7 @@ void TestLimits() {
     ctl->load({{200, 0, 0, 0}, 2000, 0ms});
     ctl->start();
     Wait(0x1, "X4 move further into E+");
-    a = ctl->axis(1);
+    a = ctl->get_axis(x4step::axis{1});
     Check(
         Machine()[0] == 1000 && Edges()[0].empty(),
         F("after the refused back-off: an X4 move of +200 further into the active E+ makes no step (machine "
@@ -562,30 +572,31 @@ void TestLimits() {
     Recover(shared);
   }
   // Backing off with an X4 move.
-  ctl->move_to(1, 3000);
+  ctl->move_to(x4step::axis{1}, 3000);
   Wait(0x1, "shared: axis 1 + again");
   ExpectLimit(1, "shared input: axis 1 into its E+ again", 1000, axerr::limit_pos);
   ctl->load({{-1000, 0, 0, 0}, 3000, 20ms});
   ctl->start();
   Wait(0x1, "shared: X4 back-off");
-  a = ctl->axis(1);
+  a = ctl->get_axis(x4step::axis{1});
   Check(Machine()[0] == 0 && a.position == 0 && a.error == 0,
         "shared input: an X4 move (-1000) backs axis 1 off E+: machine " + std::to_string(Machine()[0]) +
             ", " + Flags(a));
   if (Machine()[0] != 0) Recover(shared);
-  ctl->move_to(2, -3000);
+  ctl->move_to(x4step::axis{2}, -3000);
   Wait(0x2, "shared: axis 2 -");
   ExpectLimit(2, "shared input: axis 2 alone into its E-", -1000, axerr::limit_neg);
-  Check(ctl->axis(1).error == 0, F("shared input: idle axis 1 not blamed (err 0x%x)", ctl->axis(1).error));
-  ctl->move_to(2, 0);
+  Check(ctl->get_axis(x4step::axis{1}).error == 0,
+        F("shared input: idle axis 1 not blamed (err 0x%x)", ctl->get_axis(x4step::axis{1}).error));
+  ctl->move_to(x4step::axis{2}, 0);
   Wait(0x2, "shared: axis 2 backs off");
-  a = ctl->axis(2);
+  a = ctl->get_axis(x4step::axis{2});
   Check(a.position == 0 && Machine()[1] == 0 && a.error == 0,
         "shared input: goto backs axis 2 off E- although its E+ is the same active input: " + Flags(a));
   if (Machine()[1] != 0) Recover(shared);
   // Both moving toward the shared input: axis 1 (faster) reaches its E+ first.
-  ctl->set_profile(2, {0, 0, 1500, 30000, 30000});
-  ctl->move_to(0x3, {3000, -3000, 0, 0});
+  ctl->set_profile(x4step::axis{2}, x4step::profile{}.top_speed(1500).accel(30000).decel(30000));
+  ctl->move_to(x4step::axis_set{0x3u}, {3000, -3000, 0, 0});
   Wait(0x3, "shared: axes 1 and 2");
   s = A();
   const Pos4 m2 = Machine();
@@ -596,8 +607,8 @@ void TestLimits() {
           "0x%x "
           "(want E- | ambiguous 0x%x)",
           m2[1], s.axis[1].position, s.axis[1].error, axerr::limit_neg | axerr::ambiguous));
-  ctl->set_profile(2, kFast);
-  ctl->move_to(0x3, {0, 0, 0, 0});
+  ctl->set_profile(x4step::axis{2}, kFast);
+  ctl->move_to(x4step::axis_set{0x3u}, {0, 0, 0, 0});
   Wait(0x3, "shared: both back");
   s = A();
   Check(s.axis[0].position == 0 && s.axis[1].position == 0 && s.axis[0].error == 0 && s.axis[1].error == 0,
@@ -620,7 +631,7 @@ struct HomeRun {
 HomeRun Home(const x4step::homing &h, std::chrono::milliseconds halt_after = 0ms,
              x4step::halt_mode how = x4step::halt_mode::stop) {
   HomeRun r;
-  const errc err = Throws([&] { ctl->home(3, h); });
+  const errc err = Throws([&] { ctl->home(x4step::axis{3}, h); });
   if (err != errc::ok) {
     Check(false, F("home(3) accepted (errc %d)", int(err)));
     return r;
@@ -628,37 +639,37 @@ HomeRun Home(const x4step::homing &h, std::chrono::milliseconds halt_after = 0ms
   const auto t0 = std::chrono::steady_clock::now();
   bool halted = false;
   for (;;) {
-    const x4step::axis_status a = ctl->axis(3);
+    const x4step::axis_status a = ctl->get_axis(x4step::axis{3});
     r.ref1 |= a.ref1;
     r.ref2 |= a.ref2;
     if (!a.running) break;
     if (halt_after > 0ms && !halted && std::chrono::steady_clock::now() - t0 >= halt_after) {
-      ctl->halt(0x4, how);
+      ctl->halt(x4step::axis_set{0x4u}, how);
       halted = true;
     }
     if (std::chrono::steady_clock::now() - t0 > 20s) break;
     std::this_thread::sleep_for(2ms);
   }
   Wait(0x4, "reference run");
-  r.end = ctl->axis(3);
+  r.end = ctl->get_axis(x4step::axis{3});
   r.machine = Machine()[2];
   return r;
 }
 
 void TestHoming() {
   std::printf("== homing\n");
-  ctl->set_profile(3, kFast);
+  ctl->set_profile(x4step::axis{3}, kFast);
   Align();
   x4step::switches sw;
   sw.ref[2] = 4;  // input 4, X4GetIn bit 3
   ctl->set_switches(sw);
-  Check(Throws([] { ctl->home(4, x4step::homing{}); }) == errc::param_fail,
+  Check(Throws([] { ctl->home(x4step::axis{4}, x4step::homing{}); }) == errc::param_fail,
         "home of an axis without REF refused");
 
   // vref1 negative, vref2 positive: REF below -700, hysteresis 25.
   Switches("add 3 3 below -700 25 no");
   MachineTo(3, 0);
-  HomeRun r = Home({-2000, 500, 5000, true, true});
+  HomeRun r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(500).max_travel(5000));
   Check(r.ref1 && r.ref2, F("auto (-2000, +500): state showed phase 1 %d and phase 2 %d", r.ref1, r.ref2));
   Check(
       r.end.position == 0 && r.end.synced && r.end.error == 0 && !r.end.running && r.machine == -674,
@@ -666,13 +677,13 @@ void TestHoming() {
         "released past -700 + 25), %s",
         r.machine, Flags(r.end).c_str()));
   off[2] = r.machine - r.end.position;
-  ctl->move_to(3, 100);
+  ctl->move_to(x4step::axis{3}, 100);
   Wait(0x4, "after homing");
   Coords("after homing, goto 100");
 
   // The opposite direction: REF above 700.
   Switches("add 3 3 above 700 25 no");
-  r = Home({2000, -500, 5000, true, true});
+  r = Home(x4step::homing{}.phase1_speed(2000).phase2_speed(-500).max_travel(5000));
   Check(r.end.position == 0 && r.end.synced && r.end.error == 0 && r.machine == 674 && r.ref1 && r.ref2,
         F("auto (+2000, -500): coordinate 0 at machine %lld (want 674: REF at >= 700, released below 700 - "
           "25), %s",
@@ -683,7 +694,7 @@ void TestHoming() {
   // -600: two NC switches in parallel, read as NO, are active only between.
   Switches("add 3 3 below -800 0 nc;add 3 3 above -600 0 nc");
   Check((A().switches_active & 8) == 0, "REF cam inactive at machine 674");
-  r = Home({-2000, -500, 5000, true, true});
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(-500).max_travel(5000));
   Check(
       r.end.position == 0 && r.end.synced && r.end.error == 0 && r.machine == -800 && r.ref1 && r.ref2,
       F("auto (-2000, -500) through a cam: coordinate 0 at machine %lld (want -800, the cam's far edge), %s",
@@ -693,52 +704,55 @@ void TestHoming() {
   // Phase 1 alone, then phase 2 alone.
   Switches("add 3 3 below -700 25 no");
   MachineTo(3, 0);
-  r = Home({-2000, 500, 5000, true, false});
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(500).max_travel(5000).phase2(false));
   Check(r.ref1 && !r.ref2 && !r.end.synced && r.end.error == 0 && r.machine == -700 &&
             r.machine - r.end.position == off[2],
         F("phase 1 alone: stops where REF becomes active, machine %lld (want -700), coordinate kept (module "
           "%ld), %s",
           r.machine, r.end.position, Flags(r.end).c_str()));
-  r = Home({-2000, 500, 5000, false, true});
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(500).max_travel(5000).phase1(false));
   Check(r.ref2 && !r.ref1 && r.end.synced && r.end.position == 0 && r.machine == -674,
         F("phase 2 alone: coordinate 0 at machine %lld (want -674), %s", r.machine, Flags(r.end).c_str()));
   off[2] = r.machine - r.end.position;
   // With the brake: on past REF along the profile's ae, the step at which
   // it sees REF and ceil(2000^2 / 2 ae) more.
-  const long long brake = 1 + (2000LL * 2000 + 2LL * kFast.ae - 1) / (2LL * kFast.ae);
+  const long long brake = 1 + (2000LL * 2000 + 2LL * kFast.decel() - 1) / (2LL * kFast.decel());
   MachineTo(3, 0);
-  r = Home({-2000, 500, 5000, true, false, true});
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(500).max_travel(5000).phase2(false).brake(true));
   Check(r.ref1 && !r.end.synced && r.end.error == 0 && r.machine == -700 - brake,
         F("phase 1 alone, --brake: machine %lld (want %lld), %s", r.machine, -700 - brake,
           Flags(r.end).c_str()));
-  r = Home({-2000, 500, 5000, false, true});  // synchronized again
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(500).max_travel(5000).phase1(
+      false));  // synchronized again
   Check(r.end.synced && r.machine == -674, F("phase 2 after the brake: machine %lld (want -674)", r.machine));
   off[2] = r.machine - r.end.position;
 
   // Halted during a reference run: not synchronized.
   MachineTo(3, 0);
-  Check(ctl->axis(3).synced, "axis 3 synced before the halted runs");
-  r = Home({-1000, 500, 5000, true, true}, 200ms, x4step::halt_mode::stop);
+  Check(ctl->get_axis(x4step::axis{3}).synced, "axis 3 synced before the halted runs");
+  r = Home(x4step::homing{}.phase1_speed(-1000).phase2_speed(500).max_travel(5000), 200ms,
+           x4step::halt_mode::stop);
   Check(!r.end.synced && !r.end.running && r.machine < 0 && r.machine > -700 &&
             r.machine - r.end.position == off[2],
         F("reference run stopped (halt stop) in phase 1: machine %lld, %s, coordinate kept", r.machine,
           Flags(r.end).c_str()));
-  ctl->zero(3);
+  ctl->zero(x4step::axis{3});
   off[2] = Machine()[2];
-  r = Home({-1000, 500, 5000, true, true}, 200ms, x4step::halt_mode::brake);
+  r = Home(x4step::homing{}.phase1_speed(-1000).phase2_speed(500).max_travel(5000), 200ms,
+           x4step::halt_mode::brake);
   Check(!r.end.synced && !r.end.running && r.machine - r.end.position == off[2],
         F("reference run braked (halt brake) in phase 1: machine %lld, %s", r.machine, Flags(r.end).c_str()));
 
   // sref exceeded.
   MachineTo(3, 0);
-  ctl->zero(3);
+  ctl->zero(x4step::axis{3});
   off[2] = Machine()[2];
-  r = Home({-2000, 500, 300, true, true});
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(500).max_travel(300));
   Check(r.end.error == axerr::ref_travel && !r.end.synced && r.machine == -300 && r.end.position == -300,
         F("sref 300 exceeded in phase 1: machine %lld (want -300), %s (want err ref_travel 0x%x)", r.machine,
           Flags(r.end).c_str(), axerr::ref_travel));
   MachineTo(3, -1500);
-  r = Home({-2000, 1000, 300, false, true});
+  r = Home(x4step::homing{}.phase1_speed(-2000).phase2_speed(1000).max_travel(300).phase1(false));
   Check(r.end.error == axerr::ref_travel && !r.end.synced && r.machine == -1200,
         F("sref 300 exceeded in phase 2 (REF still active): machine %lld (want -1200), %s", r.machine,
           Flags(r.end).c_str()));
@@ -751,39 +765,39 @@ void TestHoming() {
 
 void TestSync() {
   std::printf("== synchronization\n");
-  ctl->set_profile(4, kFast);
-  ctl->set_profile(3, kFast);
+  ctl->set_profile(x4step::axis{4}, kFast);
+  ctl->set_profile(x4step::axis{3}, kFast);
   auto zero = [](int axis) {
-    ctl->zero(axis);
+    ctl->zero(x4step::axis{axis});
     off[axis - 1] = Machine()[axis - 1];
   };
   auto run = [&](const std::string &what, const std::function<void()> &halt, bool want_sync) {
     zero(3);
     zero(4);
-    ctl->move_by(4, 3000);
+    ctl->move_by(x4step::axis{4}, 3000);
     std::this_thread::sleep_for(300ms);
-    const bool ran = ctl->axis(4).running;
+    const bool ran = ctl->get_axis(x4step::axis{4}).running;
     halt();
     Wait(0x8, what);
-    const x4step::axis_status a = ctl->axis(4);
+    const x4step::axis_status a = ctl->get_axis(x4step::axis{4});
     const long long m = Machine()[3] - off[3];
     Check(
         ran && !a.running && a.synced == want_sync && a.position == m && a.position > 0 && a.position < 3000,
         F("%s during a goto: %s (want %s), stopped at %ld of 3000, machine agrees (%lld)", what.c_str(),
           a.synced ? "synced" : "not synced", want_sync ? "synced" : "not synced", a.position, m));
-    Check(ctl->axis(3).synced, what + ": idle axis 3 keeps its sync");
+    Check(ctl->get_axis(x4step::axis{3}).synced, what + ": idle axis 3 keeps its sync");
   };
   zero(4);
-  x4step::axis_status a = ctl->axis(4);
+  x4step::axis_status a = ctl->get_axis(x4step::axis{4});
   Check(a.synced && a.position == 0, "zero(): coordinate 0, synced: " + Flags(a));
   run(
       "controller::stop() (X4Stop)", [] { ctl->stop(); }, false);
   run(
       "controller::brake() (X4Brake)", [] { ctl->brake(); }, true);
   run(
-      "halt(stop)", [] { ctl->halt(0x8, x4step::halt_mode::stop); }, false);
+      "halt(stop)", [] { ctl->halt(x4step::axis_set{0x8u}, x4step::halt_mode::stop); }, false);
   run(
-      "halt(brake)", [] { ctl->halt(0x8, x4step::halt_mode::brake); }, true);
+      "halt(brake)", [] { ctl->halt(x4step::axis_set{0x8u}, x4step::halt_mode::brake); }, true);
   // X4Stop of an interpolated move.
   zero(4);
   ctl->load({{0, 0, 0, 3000}, 3000, 20ms});
@@ -791,7 +805,7 @@ void TestSync() {
   std::this_thread::sleep_for(300ms);
   ctl->stop();
   Wait(0x8, "interpolated move stopped");
-  a = ctl->axis(4);
+  a = ctl->get_axis(x4step::axis{4});
   Check(!a.synced, "X4Stop of an interpolated move clears its axis' sync: " + Flags(a));
   Coords("after the sync tests");
 }
@@ -801,7 +815,7 @@ void TestSync() {
 void TestOutside() {
   std::printf("== coordinates against QEMU's port trace\n");
   x4step::controller c0("/dev/x4step0");
-  for (int a = 1; a <= 4; a++) c0.set_profile(a, kFast);
+  for (int a = 1; a <= 4; a++) c0.set_profile(x4step::axis{a}, kFast);
   long last[4] = {};
   auto seg = [&](const std::string &what) {
     const x4step::axes_status s = c0.get_axes();
@@ -816,18 +830,18 @@ void TestOutside() {
   const x4step::axes_status s0 = c0.get_axes();
   for (int i = 0; i < 4; i++) last[i] = s0.axis[i].position;
   std::printf("COORD0 %s\n", Mod(s0).c_str());
-  c0.move_to(1, 1200);
-  c0.wait_axes(0xf, 10s);
+  c0.move_to(x4step::axis{1}, 1200);
+  c0.wait_axes(x4step::axis_set{0xfu}, 10s);
   seg("goto 1 1200");
-  c0.move_to(2, -700);
-  c0.wait_axes(0xf, 10s);
+  c0.move_to(x4step::axis{2}, -700);
+  c0.wait_axes(x4step::axis_set{0xfu}, 10s);
   seg("goto 2 -700");
-  c0.move_by(1, -2000);
-  c0.wait_axes(0xf, 10s);
+  c0.move_by(x4step::axis{1}, -2000);
+  c0.wait_axes(x4step::axis_set{0xfu}, 10s);
   seg("goto 1 by -2000");
   c0.load({{300, -200, 100, 50}, 2000, 20ms});
   c0.start();
-  c0.wait_axes(0xf, 10s);
+  c0.wait_axes(x4step::axis_set{0xfu}, 10s);
   seg("interpolated (300, -200, 100, 50)");
   const x4step::axes_status s = c0.get_axes();
   Check(s.axis[0].position == s0.axis[0].position - 500 && s.axis[1].position == s0.axis[1].position - 900 &&

@@ -27,6 +27,18 @@
 
 using namespace std::chrono_literals;
 
+// The errc a call throws, errc::ok if none.
+template <typename F>
+x4step::errc thrown(F &&f) {
+  try {
+    f();
+  } catch (const x4step::error &e) {
+    EXPECT_EQ(&e.code().category(), &x4step::category()) << e.what();
+    return static_cast<x4step::errc>(e.code().value());
+  }
+  return x4step::errc::ok;
+}
+
 TEST(CApi, BeforeInit) {
   EXPECT_EQ(X4ReInit(), X4ErrInitNotDone);
   EXPECT_EQ(X4Load(1, 0, 0, 0, 1000, 50), X4ErrInitNotDone);
@@ -97,9 +109,68 @@ TEST(CppApi, CheckMatchesTheManual) {
   EXPECT_EQ(x4step::check(move{{1, 0, 0, 0}, 1000, -1ms}), errc::param_fail);
   EXPECT_EQ(x4step::check(move{{1, 0, 0, 0}, 1000, std::chrono::milliseconds(1LL << 40)}),
             errc::ramp_too_high);
-  EXPECT_EQ(x4step::check_endless(0, 1000, 0ms), errc::param_fail);
-  EXPECT_EQ(x4step::check_endless(4, 1000, 0ms), errc::ok);
-  EXPECT_EQ(x4step::check_endless(1, 20, 50ms), errc::ramp_freq);
+  EXPECT_EQ(x4step::check_endless(1000, 0ms), errc::ok);
+  EXPECT_EQ(x4step::check_endless(20, 50ms), errc::ramp_freq);
+}
+
+// Axes are 1..4 and sets of them; integers become either only explicitly
+// (what does not compile is tests/lib/typed-axes.sh's).
+TEST(CppApi, AxesAndAxisSets) {
+  using x4step::axis;
+  using x4step::axis_set;
+  static_assert(axis::x.number() == 1 && axis::y.number() == 2 && axis::z.number() == 3 &&
+                axis::a.number() == 4);
+  static_assert(axis{3}.index() == 2 && axis{3}.bit() == 0x4u);
+  static_assert((axis::x | axis::z).mask() == 0x5u);
+  static_assert(axis_set::all().mask() == 0xfu && axis_set().empty());
+  static_assert(~(axis::x | axis::z) == (axis::y | axis::a));
+  static_assert(((axis::x | axis::y) & (axis::y | axis::z)) == axis_set(axis::y));
+  EXPECT_TRUE(axis::valid(1) && axis::valid(4));
+  EXPECT_FALSE(axis::valid(0) || axis::valid(5) || axis::valid(-1));
+  for (int bad : {0, 5, -1}) EXPECT_EQ(thrown([&] { axis{bad}; }), x4step::errc::param_fail) << bad;
+  EXPECT_EQ(thrown([] { axis_set{0x10u}; }), x4step::errc::param_fail);
+  EXPECT_EQ(thrown([] { axis_set{~0u}; }), x4step::errc::param_fail);
+  EXPECT_EQ(axis_set{0x9u}, axis::x | axis::a);
+  EXPECT_TRUE((axis::y | axis::a).contains(axis::a));
+  EXPECT_FALSE((axis::y | axis::a).contains(axis::z));
+  std::vector<int> walked;
+  for (axis a : axis::a | axis::x | axis::z) walked.push_back(a.number());
+  EXPECT_EQ(walked, (std::vector<int>{1, 3, 4}));
+  EXPECT_EQ(std::distance(axis_set::all().begin(), axis_set::all().end()), 4);
+  EXPECT_EQ(axis_set().begin(), axis_set().end());
+}
+
+// Each setter sets its own value: none is taken for another.
+TEST(CppApi, SettingsAreBuiltByName) {
+  constexpr auto p = x4step::profile{}.start_speed(1).top_speed(2).end_speed(3).accel(4).decel(5);
+  static_assert(p.start_speed() == 1 && p.top_speed() == 2 && p.end_speed() == 3 && p.accel() == 4 &&
+                p.decel() == 5);
+  constexpr x4step::profile d;  // the kernel's default
+  static_assert(d.start_speed() == 0 && d.top_speed() == 1000 && d.end_speed() == 0 && d.accel() == 1000 &&
+                d.decel() == 1000);
+  constexpr auto h =
+      x4step::homing{}.phase1_speed(-7).phase2_speed(8).max_travel(9).phase1(false).phase2(true).brake(true);
+  static_assert(h.phase1_speed() == -7 && h.phase2_speed() == 8 && h.max_travel() == 9 && !h.phase1() &&
+                h.phase2() && h.brake());
+  constexpr x4step::homing hd;
+  static_assert(hd.phase1_speed() == -1000 && hd.phase2_speed() == 100 && hd.max_travel() == 100000 &&
+                hd.phase1() && hd.phase2() && !hd.brake());
+  using std::chrono::nanoseconds;
+  constexpr auto t = x4step::step_timing{}.pulse(1ns).space(2ns).dir_setup(3ns).dir_hold(4ns);
+  static_assert(t.pulse() == 1ns && t.space() == 2ns && t.dir_setup() == 3ns && t.dir_hold() == 4ns);
+  constexpr x4step::step_timing td;
+  static_assert(td.pulse() == 0ns && td.space() == 0ns && td.dir_setup() == 100us && td.dir_hold() == 0ns);
+  using x4step::axis;
+  constexpr auto c = x4step::config{}
+                         .clock_invert(axis::y)
+                         .dir_invert(axis::x | axis::a)
+                         .keys_swallow(true)
+                         .mode(x4step::output_mode::smc_phase);
+  static_assert(c.clock_invert() == axis::y && c.dir_invert() == (axis::x | axis::a) && c.keys_swallow() &&
+                c.mode() == x4step::output_mode::smc_phase);
+  constexpr x4step::config cd;
+  static_assert(cd.clock_invert().empty() && cd.dir_invert().empty() && !cd.keys_swallow() &&
+                cd.mode() == x4step::output_mode::clock_dir);
 }
 
 TEST(CppApi, ErrorsCarryTheX4Codes) {
@@ -143,39 +214,41 @@ TEST(CApi, ExtensionsBeforeInit) {
 TEST(CppApi, ProfileRules) {
   using x4step::errc;
   using x4step::profile;
-  EXPECT_EQ(x4step::check(profile{}), errc::ok);  // the kernel's default
-  EXPECT_EQ(x4step::check(profile{0, 0, 45000, 1000000, 1000000}), errc::ok);
-  EXPECT_EQ(x4step::check(profile{100, 200, 1000, 0, 0}), errc::ok);  // no ramps: jumps
-  EXPECT_EQ(x4step::check(profile{1000, 1000, 1000, 1, 1}), errc::ok);
-  EXPECT_EQ(x4step::check(profile{0, 0, 0, 1000, 1000}), errc::param_fail);        // vm 0
-  EXPECT_EQ(x4step::check(profile{0, 0, 45001, 1000, 1000}), errc::param_fail);    // vm
-  EXPECT_EQ(x4step::check(profile{1001, 0, 1000, 1000, 1000}), errc::param_fail);  // v0 > vm
-  EXPECT_EQ(x4step::check(profile{0, 1001, 1000, 1000, 1000}), errc::param_fail);  // ve > vm
-  EXPECT_EQ(x4step::check(profile{0, 0, 1000, 1000001, 1000}), errc::param_fail);
-  EXPECT_EQ(x4step::check(profile{0, 0, 1000, 1000, 1000001}), errc::param_fail);
+  const profile p;  // 0 -> 1000 steps/s, a0 = ae = 1000: the kernel's default
+  EXPECT_EQ(x4step::check(p), errc::ok);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(45000).accel(1000000).decel(1000000)), errc::ok);
+  EXPECT_EQ(x4step::check(profile(p).start_speed(100).end_speed(200).accel(0).decel(0)), errc::ok);  // jumps
+  EXPECT_EQ(x4step::check(profile(p).start_speed(1000).end_speed(1000).accel(1).decel(1)), errc::ok);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(0)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(45001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).start_speed(1001)), errc::param_fail);  // v0 > vm
+  EXPECT_EQ(x4step::check(profile(p).end_speed(1001)), errc::param_fail);    // ve > vm
+  EXPECT_EQ(x4step::check(profile(p).accel(1000001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).decel(1000001)), errc::param_fail);
   // vm / a at most 3600 s: 36000 steps/s at 10 steps/s^2 just fits, from any v0.
-  EXPECT_EQ(x4step::check(profile{0, 0, 36000, 10, 10}), errc::ok);
-  EXPECT_EQ(x4step::check(profile{0, 0, 36001, 10, 1000}), errc::param_fail);
-  EXPECT_EQ(x4step::check(profile{0, 0, 36001, 1000, 10}), errc::param_fail);
-  EXPECT_EQ(x4step::check(profile{30000, 0, 36001, 10, 1000}), errc::param_fail);
-  EXPECT_EQ(x4step::check(profile{0, 30000, 36001, 1000, 10}), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(36000).accel(10).decel(10)), errc::ok);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(36001).accel(10)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(36001).decel(10)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(36001).start_speed(30000).accel(10)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(36001).end_speed(30000).decel(10)), errc::param_fail);
 }
 
 TEST(CppApi, HomingRules) {
   using x4step::errc;
   using x4step::homing;
-  EXPECT_EQ(x4step::check(homing{}), errc::ok);
-  EXPECT_EQ(x4step::check(homing{45000, -45000, 1, true, true}), errc::ok);
-  EXPECT_EQ(x4step::check(homing{-1, 1, 2147483647, true, true}), errc::ok);
-  EXPECT_EQ(x4step::check(homing{0, 100, 1000, true, true}), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing{0, 100, 1000, false, true}), errc::ok);  // phase 1 unused
-  EXPECT_EQ(x4step::check(homing{100, 0, 1000, true, false}), errc::ok);  // phase 2 unused
-  EXPECT_EQ(x4step::check(homing{100, 0, 1000, true, true}), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing{45001, 100, 1000, true, true}), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing{100, -45001, 1000, true, true}), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing{100, 100, 0, true, true}), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing{100, 100, 2147483648UL, true, true}), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing{100, 100, 1000, false, false}), errc::param_fail);
+  const homing h;  // -1000 then 100 steps/s, 100000 steps, both phases
+  EXPECT_EQ(x4step::check(h), errc::ok);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(45000).phase2_speed(-45000).max_travel(1)), errc::ok);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(-1).phase2_speed(1).max_travel(2147483647)), errc::ok);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(0)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(0).phase1(false)), errc::ok);  // phase 1 unused
+  EXPECT_EQ(x4step::check(homing(h).phase2_speed(0).phase2(false)), errc::ok);  // phase 2 unused
+  EXPECT_EQ(x4step::check(homing(h).phase2_speed(0)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(45001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).phase2_speed(-45001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).max_travel(0)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).max_travel(2147483648UL)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).phase1(false).phase2(false)), errc::param_fail);
 }
 
 TEST(CppApi, AxesStatusPrints) {
@@ -290,40 +363,20 @@ class FakeKernel : public ::testing::Test {
   fake_kernel &k = fake_kernel::get();
 };
 
-// The errc a call throws, errc::ok if none.
-template <typename F>
-x4step::errc thrown(F &&f) {
-  try {
-    f();
-  } catch (const x4step::error &e) {
-    EXPECT_EQ(&e.code().category(), &x4step::category()) << e.what();
-    return static_cast<x4step::errc>(e.code().value());
-  }
-  return x4step::errc::ok;
-}
-
 TEST_F(FakeKernel, BadArgumentsNeverReachTheKernel) {
   using x4step::errc;
   x4step::controller c("/dev/zero");
   k.calls.clear();
+  using x4step::axis;
   const std::array<long, 4> t{};
-  EXPECT_EQ(thrown([&] { c.set_profile(0, {}); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.set_profile(5, {}); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.set_profile(1, {2000, 0, 1000, 1000, 1000}); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.get_profile(0); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.move_to(0, 100); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.move_to(1, 2147483648L); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.move_by(4, -2147483649L); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.move_to(0u, t); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.move_to(0x10u, t); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.move_to(0x2u, {0, 1L << 40, 0, 0}); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.home(0, {}); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.home(1, {0, 100, 1000, true, true}); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.halt(0, x4step::halt_mode::brake); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.halt(0x1f, x4step::halt_mode::stop); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.set_position(5, 0); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.zero(0); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.set_position(1, 1L << 31); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.set_profile(axis::x, x4step::profile{}.start_speed(2000)); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(axis::x, 2147483648L); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_by(axis::a, -2147483649L); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(x4step::axis_set(), t); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.move_to(axis::y, {0, 1L << 40, 0, 0}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.home(axis::x, x4step::homing{}.phase1_speed(0)); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.halt(x4step::axis_set(), x4step::halt_mode::brake); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.set_position(axis::x, 1L << 31); }), errc::param_fail);
   x4step::switches s;
   s.ref[2] = 6;
   EXPECT_EQ(thrown([&] { c.set_switches(s); }), errc::param_fail);
@@ -333,9 +386,7 @@ TEST_F(FakeKernel, BadArgumentsNeverReachTheKernel) {
   s.minus[0] = 0;
   s.nc = 0x20;
   EXPECT_EQ(thrown([&] { c.set_switches(s); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.axis(0); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.wait_axes(0); }), errc::param_fail);
-  EXPECT_EQ(thrown([&] { c.wait_axes(0x10); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.wait_axes(x4step::axis_set()); }), errc::param_fail);
   EXPECT_TRUE(k.calls.empty());
 }
 
@@ -352,32 +403,34 @@ TEST_F(FakeKernel, ArgumentsAsTheKernelWantsThem) {
     std::memcpy(&v, args.back().data(), sizeof v);
     return v;
   };
-  c.set_profile(2, {10, 20, 3000, 4000, 5000});
+  using x4step::axis;
+  c.set_profile(axis::y,
+                x4step::profile{}.start_speed(10).end_speed(20).top_speed(3000).accel(4000).decel(5000));
   const auto p = last(x4step_profile{});
   EXPECT_EQ(k.calls.back(), X4STEP_SET_PROFILE);
   EXPECT_EQ(p.axis, 2u);
   EXPECT_EQ(std::vector<unsigned>({p.v0, p.ve, p.vm, p.a0, p.ae}),
             std::vector<unsigned>({10, 20, 3000, 4000, 5000}));
 
-  c.move_to(3, -2147483648L);
+  c.move_to(axis::z, -2147483648L);
   auto g = last(x4step_goto{});
   EXPECT_EQ(k.calls.back(), X4STEP_GOTO);
   EXPECT_EQ(g.axes, 0x4u);
   EXPECT_EQ(g.flags, 0u);
   EXPECT_EQ(g.target[2], INT32_MIN);
-  c.move_by(1, -5);
+  c.move_by(axis::x, -5);
   g = last(x4step_goto{});
   EXPECT_EQ(g.axes, 0x1u);
   EXPECT_EQ(g.flags, unsigned(X4STEP_GOTO_RELATIVE));
   EXPECT_EQ(g.target[0], -5);
-  c.move_to(0x9u, {100, 1L << 40, 0, -300});  // axes outside the mask are not looked at
+  c.move_to(axis::x | axis::a, {100, 1L << 40, 0, -300});  // axes outside the set are not looked at
   g = last(x4step_goto{});
   EXPECT_EQ(g.axes, 0x9u);
   EXPECT_EQ(g.target[0], 100);
   EXPECT_EQ(g.target[1], 0);
   EXPECT_EQ(g.target[3], -300);
 
-  c.home(4, {-500, 50, 7000, false, true});
+  c.home(axis::a, x4step::homing{}.phase1_speed(-500).phase2_speed(50).max_travel(7000).phase1(false));
   const auto h = last(x4step_home{});
   EXPECT_EQ(h.axis, 4u);
   EXPECT_EQ(h.phases, unsigned(X4STEP_HOME_PHASE2));
@@ -385,16 +438,16 @@ TEST_F(FakeKernel, ArgumentsAsTheKernelWantsThem) {
   EXPECT_EQ(h.vref2, 50);
   EXPECT_EQ(h.sref, 7000u);
 
-  c.halt(0x6, x4step::halt_mode::stop);
+  c.halt(axis::y | axis::z, x4step::halt_mode::stop);
   const auto hl = last(x4step_halt{});
   EXPECT_EQ(hl.axes, 0x6u);
   EXPECT_EQ(hl.how, unsigned(X4STEP_HALT_STOP));
 
-  c.zero(2);
+  c.zero(axis::y);
   auto pos = last(x4step_position{});
   EXPECT_EQ(pos.axes, 0x2u);
   EXPECT_EQ(pos.position[1], 0);
-  c.set_position(4, -77);
+  c.set_position(axis::a, -77);
   pos = last(x4step_position{});
   EXPECT_EQ(pos.axes, 0x8u);
   EXPECT_EQ(pos.position[3], -77);
@@ -447,11 +500,13 @@ TEST_F(FakeKernel, ReadsAxesAndSwitches) {
   EXPECT_TRUE(s.axis[0].decelerating);
   EXPECT_FALSE(s.axis[0].accelerating || s.axis[0].cruising || s.axis[0].synced);
   EXPECT_EQ(s.axis[0].velocity, 321u);
-  EXPECT_EQ(c.axis(3).position, INT32_MAX);
-  EXPECT_TRUE(c.axis(3).synced);
-  EXPECT_TRUE(c.axis(3).ref2);
-  EXPECT_FALSE(c.axis(3).running);
-  EXPECT_EQ(c.axis(3).error, x4step::axis_error::limit_neg);
+  using x4step::axis;
+  EXPECT_EQ(c.get_axis(axis::z).position, INT32_MAX);
+  EXPECT_TRUE(c.get_axis(axis::z).synced);
+  EXPECT_TRUE(c.get_axis(axis::z).ref2);
+  EXPECT_FALSE(c.get_axis(axis::z).running);
+  EXPECT_EQ(c.get_axis(axis::z).error, x4step::axis_error::limit_neg);
+  EXPECT_EQ(s[axis::x].velocity, 321u);
   EXPECT_EQ(s.inputs, 0x15u);
   EXPECT_EQ(s.switches_active, 0x4u);
   const x4step::switches sw = c.get_switches();
@@ -459,10 +514,10 @@ TEST_F(FakeKernel, ReadsAxesAndSwitches) {
   EXPECT_EQ(sw.plus, (std::array<int, 4>{0, 0, 0, 5}));
   EXPECT_EQ(sw.minus, (std::array<int, 4>{1, 0, 0, 0}));
   EXPECT_EQ(sw.nc, 0x11u);
-  const x4step::profile p = c.get_profile(3);
-  EXPECT_EQ(p.vm, 2500u);
-  EXPECT_EQ(p.a0, 7u);
-  EXPECT_EQ(thrown([&] { c.get_profile(2); }), x4step::errc::param_fail);
+  const x4step::profile p = c.get_profile(axis::z);
+  EXPECT_EQ(p.top_speed(), 2500u);
+  EXPECT_EQ(p.accel(), 7u);
+  EXPECT_EQ(thrown([&] { c.get_profile(axis::y); }), x4step::errc::param_fail);
 }
 
 // The errnos of the UAPI become the X4 codes, as for the older ioctls.
@@ -470,23 +525,24 @@ TEST_F(FakeKernel, ErrnosBecomeX4Codes) {
   using x4step::errc;
   x4step::controller c("/dev/zero");
   refuse(X4STEP_GOTO, EINVAL, X4ErrParamFail);
-  EXPECT_EQ(thrown([&] { c.move_to(1, 10); }), errc::param_fail);
+  using x4step::axis;
+  EXPECT_EQ(thrown([&] { c.move_to(axis::x, 10); }), errc::param_fail);
   refuse(X4STEP_GOTO, EINVAL, X4ErrFreqTooHigh);  // e.g. vm beyond the step timing
-  EXPECT_EQ(thrown([&] { c.move_to(1, 10); }), errc::freq_too_high);
+  EXPECT_EQ(thrown([&] { c.move_to(axis::x, 10); }), errc::freq_too_high);
   refuse(X4STEP_GOTO, EBUSY);
-  EXPECT_EQ(thrown([&] { c.move_by(1, 10); }), errc::is_active);
+  EXPECT_EQ(thrown([&] { c.move_by(axis::x, 10); }), errc::is_active);
   refuse(X4STEP_HOME, EINVAL, X4ErrParamFail);  // no REF input
-  EXPECT_EQ(thrown([&] { c.home(1, {}); }), errc::param_fail);
+  EXPECT_EQ(thrown([&] { c.home(axis::x, {}); }), errc::param_fail);
   refuse(X4STEP_HOME, EBUSY);
-  EXPECT_EQ(thrown([&] { c.home(1, {}); }), errc::is_active);
+  EXPECT_EQ(thrown([&] { c.home(axis::x, {}); }), errc::is_active);
   refuse(X4STEP_HALT, ESRCH);
-  EXPECT_EQ(thrown([&] { c.halt(1, x4step::halt_mode::brake); }), errc::not_active);
+  EXPECT_EQ(thrown([&] { c.halt(axis::x, x4step::halt_mode::brake); }), errc::not_active);
   refuse(X4STEP_SET_SWITCHES, EBUSY);
   EXPECT_EQ(thrown([&] { c.set_switches({}); }), errc::is_active);
   refuse(X4STEP_SET_PROFILE, EBUSY);
-  EXPECT_EQ(thrown([&] { c.set_profile(1, {}); }), errc::is_active);
+  EXPECT_EQ(thrown([&] { c.set_profile(axis::x, {}); }), errc::is_active);
   refuse(X4STEP_SET_POSITION, ENODEV);
-  EXPECT_EQ(thrown([&] { c.zero(1); }), errc::lpt_not_found);
+  EXPECT_EQ(thrown([&] { c.zero(axis::x); }), errc::lpt_not_found);
   refuse(X4STEP_GET_AXES, EFAULT);
   try {
     c.get_axes();
@@ -509,18 +565,19 @@ TEST_F(FakeKernel, WaitAxesLooksAtTheAxesOnly) {
     }
     return 0;
   };
-  EXPECT_TRUE(c.wait_axes(0x2, 1000ms));
+  using x4step::axis;
+  EXPECT_TRUE(c.wait_axes(axis::y, 1000ms));
   EXPECT_EQ(reads, 4);
-  EXPECT_TRUE(c.wait_axes(0x1));  // never ran
+  EXPECT_TRUE(c.wait_axes(axis::x));  // never ran
   const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_FALSE(c.wait_axes(0xa, 30ms));
+  EXPECT_FALSE(c.wait_axes(axis::y | axis::a, 30ms));
   const auto took = std::chrono::steady_clock::now() - t0;
   EXPECT_GE(took, 30ms);
   EXPECT_LT(took, 1000ms);
-  EXPECT_FALSE(c.wait_axes(0x8, 0ms));
+  EXPECT_FALSE(c.wait_axes(axis::a, 0ms));
   x4step::monitor m("/dev/zero");
-  EXPECT_TRUE(m.wait_axes(0x2, 0ms));
-  EXPECT_FALSE(m.wait_axes(0x8, 10ms));
+  EXPECT_TRUE(m.wait_axes(axis::y, 0ms));
+  EXPECT_FALSE(m.wait_axes(axis::a, 10ms));
   EXPECT_TRUE(m.get_axes().axis[3].running);
 }
 
@@ -529,12 +586,14 @@ TEST_F(FakeKernel, ClosedControllerSaysInitNotDone) {
   c.close();
   k.calls.clear();
   // State before arguments: even bad ones.
-  EXPECT_EQ(thrown([&] { c.move_to(0, 1); }), x4step::errc::init_not_done);
-  EXPECT_EQ(thrown([&] { c.move_by(9, 1); }), x4step::errc::init_not_done);
-  EXPECT_EQ(thrown([&] { c.set_profile(0, {}); }), x4step::errc::init_not_done);
+  using x4step::axis;
+  EXPECT_EQ(thrown([&] { c.move_to(axis::x, 1L << 40); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.move_by(axis::a, 1); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.set_profile(axis::x, x4step::profile{}.top_speed(0)); }),
+            x4step::errc::init_not_done);
   EXPECT_EQ(thrown([&] { c.get_axes(); }), x4step::errc::init_not_done);
-  EXPECT_EQ(thrown([&] { c.wait_axes(0); }), x4step::errc::init_not_done);
-  EXPECT_EQ(thrown([&] { c.zero(1); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.wait_axes(x4step::axis_set()); }), x4step::errc::init_not_done);
+  EXPECT_EQ(thrown([&] { c.zero(axis::x); }), x4step::errc::init_not_done);
   EXPECT_TRUE(k.calls.empty());
 }
 
@@ -708,7 +767,7 @@ TEST(CppApi, VersionIsMajorMinorPatch) {
 TEST(CppApi, EveryEndReasonPrints) {
   x4step::event e;
   e.type = x4step::event_type::move_ended;
-  e.axis_mask = 1;
+  e.axes = x4step::axis::x;
   for (unsigned how = 1; how <= static_cast<unsigned>(x4step::end_reason::ref_passed); how++) {
     e.how = how;
     std::ostringstream os;

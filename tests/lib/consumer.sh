@@ -24,7 +24,7 @@ grep -q "^libdir=/" "$libdir/pkgconfig/x4step.pc" || { echo "x4step.pc: libdir n
 # shellcheck disable=SC2046
 gcc -o "$tmp/pc_c" "$here/consumer/use.c" $(pkg-config --cflags --libs x4step)
 LD_LIBRARY_PATH=$libdir "$tmp/pc_c"
-printf '#include <x4step.hpp>\n#include <cstdio>\nint main() { std::printf("%%s\\n", x4step::make_error_code(x4step::errc::lpt_not_found).message().c_str()); try { x4step::controller c(4); } catch (const x4step::error &e) { return e.code() == x4step::errc::lpt_not_found ? 0 : 1; } return 1; }\n' >"$tmp/use.cpp"
+printf '#include <x4step.hpp>\n#include <cstdio>\nstatic_assert((x4step::axis::x | x4step::axis::z).mask() == 5, "typed axes in C++17");\nint main() { std::printf("%%s\\n", x4step::make_error_code(x4step::errc::lpt_not_found).message().c_str()); try { x4step::controller c(4); } catch (const x4step::error &e) { return e.code() == x4step::errc::lpt_not_found ? 0 : 1; } return 1; }\n' >"$tmp/use.cpp"
 # shellcheck disable=SC2046
 g++ -std=c++17 -o "$tmp/pc_cxx" "$tmp/use.cpp" $(pkg-config --cflags --libs x4stepcxx)
 LD_LIBRARY_PATH=$libdir "$tmp/pc_cxx"

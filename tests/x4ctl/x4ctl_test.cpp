@@ -183,7 +183,7 @@ TEST(Cli, MoveThenErrors) {
 
 TEST(Cli, Jog) {
   config c = parse({"jog", "3", "-", "--freq", "500", "--time", "250"});
-  EXPECT_EQ(c.axis, 3);
+  EXPECT_EQ(c.axis, x4step::axis::z);
   EXPECT_EQ(c.dir, x4step::direction::negative);
   EXPECT_EQ(c.move.freq_hz, 500);
   EXPECT_EQ(c.time, milliseconds(250));
@@ -201,7 +201,7 @@ TEST(Cli, Jog) {
 
 TEST(Cli, Sweep) {
   const config c = parse({"sweep", "2", "1000", "200", "500", "20"});
-  EXPECT_EQ(c.axis, 2);
+  EXPECT_EQ(c.axis, x4step::axis::y);
   EXPECT_EQ(c.move.steps[1], 1000);
   EXPECT_EQ(c.sweep_from, 200);
   EXPECT_EQ(c.sweep_to, 500);
@@ -312,7 +312,7 @@ TEST(Cli, Mode) {
 TEST(Cli, Profile) {
   config c = parse({"profile", "2"});
   EXPECT_EQ(c.cmd, subcommand::profile);
-  EXPECT_EQ(c.axis, 2);
+  EXPECT_EQ(c.axis, x4step::axis::y);
   EXPECT_FALSE(c.v0 || c.ve || c.vm || c.a0 || c.ae);
   c = parse({"profile", "4", "--v0", "0", "--ve=45000", "--vm", "45000", "--a0", "1000000", "--ae=0"});
   EXPECT_EQ(c.v0, 0u);
@@ -338,12 +338,12 @@ TEST(Cli, Profile) {
 TEST(Cli, Goto) {
   config c = parse({"goto", "1=1000", "3=-2147483648"});
   EXPECT_EQ(c.cmd, subcommand::go_to);
-  EXPECT_EQ(c.axis_mask, 0x5u);
+  EXPECT_EQ(c.axes.mask(), 0x5u);
   EXPECT_EQ(c.targets, (std::array<long, 4>{1000, 0, -2147483648L, 0}));
   EXPECT_FALSE(c.relative);
   EXPECT_FALSE(c.no_wait);
   c = parse({"goto", "4=-5", "--relative", "--no-wait", "2=2147483647"});
-  EXPECT_EQ(c.axis_mask, 0xau);
+  EXPECT_EQ(c.axes.mask(), 0xau);
   EXPECT_EQ(c.targets, (std::array<long, 4>{0, 2147483647L, 0, -5}));
   EXPECT_TRUE(c.relative);
   EXPECT_TRUE(c.no_wait);
@@ -365,20 +365,20 @@ TEST(Cli, Goto) {
 TEST(Cli, Home) {
   config c = parse({"home", "3"});
   EXPECT_EQ(c.cmd, subcommand::home);
-  EXPECT_EQ(c.axis, 3);
-  EXPECT_EQ(c.homing.vref1, -1000);  // the library's defaults
-  EXPECT_EQ(c.homing.vref2, 100);
-  EXPECT_EQ(c.homing.sref, 100000ul);
-  EXPECT_TRUE(c.homing.phase1 && c.homing.phase2);
+  EXPECT_EQ(c.axis, x4step::axis::z);
+  EXPECT_EQ(c.homing.phase1_speed(), -1000);  // the library's defaults
+  EXPECT_EQ(c.homing.phase2_speed(), 100);
+  EXPECT_EQ(c.homing.max_travel(), 100000ul);
+  EXPECT_TRUE(c.homing.phase1() && c.homing.phase2());
   c = parse({"home", "1", "--vref1", "45000", "--vref2=-1", "--sref", "2147483647", "--phase", "2"});
-  EXPECT_EQ(c.homing.vref1, 45000);
-  EXPECT_EQ(c.homing.vref2, -1);
-  EXPECT_EQ(c.homing.sref, 2147483647ul);
-  EXPECT_FALSE(c.homing.phase1);
-  EXPECT_TRUE(c.homing.phase2);
+  EXPECT_EQ(c.homing.phase1_speed(), 45000);
+  EXPECT_EQ(c.homing.phase2_speed(), -1);
+  EXPECT_EQ(c.homing.max_travel(), 2147483647ul);
+  EXPECT_FALSE(c.homing.phase1());
+  EXPECT_TRUE(c.homing.phase2());
   c = parse({"home", "1", "--phase=1"});
-  EXPECT_TRUE(c.homing.phase1);
-  EXPECT_FALSE(c.homing.phase2);
+  EXPECT_TRUE(c.homing.phase1());
+  EXPECT_FALSE(c.homing.phase2());
   const std::string vref =
       " out of range: use -45000 to -1 or 1 to 45000 steps/s (the sign is the direction)";
   EXPECT_EQ(usage_message({"home", "1", "--vref1", "0"}), "home: vref1 0" + vref);
@@ -395,7 +395,7 @@ TEST(Cli, Home) {
 TEST(Cli, ZeroHaltLimits) {
   config c = parse({"zero", "1", "4"});
   EXPECT_EQ(c.cmd, subcommand::zero);
-  EXPECT_EQ(c.axis_mask, 0x9u);
+  EXPECT_EQ(c.axes.mask(), 0x9u);
   EXPECT_EQ(c.at, 0);
   EXPECT_EQ(parse({"zero", "2", "--at", "-1500"}).at, -1500);
   EXPECT_EQ(usage_message({"zero"}), "zero: missing arguments");
@@ -405,7 +405,7 @@ TEST(Cli, ZeroHaltLimits) {
 
   c = parse({"halt", "2", "3"});
   EXPECT_EQ(c.cmd, subcommand::halt);
-  EXPECT_EQ(c.axis_mask, 0x6u);
+  EXPECT_EQ(c.axes.mask(), 0x6u);
   EXPECT_FALSE(c.halt_stop);
   EXPECT_TRUE(parse({"halt", "1", "--stop"}).halt_stop);
   EXPECT_TRUE(parse({"halt", "1", "-s"}).halt_stop);
@@ -414,15 +414,15 @@ TEST(Cli, ZeroHaltLimits) {
 
   c = parse({"limits"});
   EXPECT_EQ(c.cmd, subcommand::limits);
-  EXPECT_EQ(c.axis_mask, 0u);
+  EXPECT_TRUE(c.axes.empty());
   EXPECT_FALSE(c.ref || c.plus || c.minus || c.nc);
   c = parse({"limits", "2", "--ref", "3", "--plus=1", "--minus", "none"});
-  EXPECT_EQ(c.axis, 2);
-  EXPECT_EQ(c.axis_mask, 0x2u);
+  EXPECT_EQ(c.axis, x4step::axis::y);
+  EXPECT_EQ(c.axes.mask(), 0x2u);
   EXPECT_EQ(c.ref, 3);
   EXPECT_EQ(c.plus, 1);
   EXPECT_EQ(c.minus, 0);
-  EXPECT_EQ(parse({"limits", "1"}).axis_mask, 0x1u);  // shows
+  EXPECT_EQ(parse({"limits", "1"}).axes, x4step::axis::x);  // shows
   EXPECT_EQ(parse({"limits", "--nc", "1,3,5"}).nc, 0x15u);
   EXPECT_EQ(parse({"limits", "--nc", "4"}).nc, 0x8u);
   EXPECT_EQ(parse({"limits", "--nc", "0x1f"}).nc, 0x1fu);
@@ -824,7 +824,8 @@ class fake_port : public port {
     stops++;
     s_.active = false;
   }
-  void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) override {
+  void move_endless(x4step::axis a, x4step::direction dir, int freq_hz, milliseconds ramp) override {
+    const int axis = a.number();
     refuse(freq_hz, axis == 4);
     endless.emplace_back(axis, dir, freq_hz, ramp.count());
     begin(true);
@@ -850,10 +851,10 @@ class fake_port : public port {
   }
   x4step::config get_config() const override { return cfg; }
   void set_step_timing(const x4step::step_timing &t) override {
-    for (const auto ns : {t.pulse, t.space, t.dir_setup, t.dir_hold})
+    for (const auto ns : {t.pulse(), t.space(), t.dir_setup(), t.dir_hold()})
       if (ns.count() < 0 || ns.count() > 1000000)
         throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
-    if (t.pulse.count() && t.pulse.count() < 1000)
+    if (t.pulse().count() && t.pulse().count() < 1000)
       throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
     if (s_.active) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
     timing = t;
@@ -874,15 +875,17 @@ class fake_port : public port {
   std::vector<std::pair<unsigned, x4step::halt_mode>> halts;
   int profile_sets = 0, switch_sets = 0;
 
-  void set_profile(int axis, const x4step::profile &p) override {
+  void set_profile(x4step::axis a, const x4step::profile &p) override {
+    const int axis = a.number();
     if (x4step::check(p) != x4step::errc::ok)
       throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
     if (ax_.axis.at(axis - 1).running) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
     profiles[axis - 1] = p;
     profile_sets++;
   }
-  x4step::profile get_profile(int axis) const override { return profiles.at(axis - 1); }
-  void move_to(unsigned axis_mask, const coordinates &targets, bool relative) override {
+  x4step::profile get_profile(x4step::axis a) const override { return profiles.at(a.index()); }
+  void move_to(x4step::axis_set axes, const coordinates &targets, bool relative) override {
+    const unsigned axis_mask = axes.mask();
     refuse(1000, axis_mask & 8u);
     if (runs(axis_mask)) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
     gotos.emplace_back(axis_mask, targets, relative);
@@ -894,17 +897,19 @@ class fake_port : public port {
       a.running = own_[i].to != a.position;
     }
   }
-  void home(int axis, const x4step::homing &h) override {
+  void home(x4step::axis ax, const x4step::homing &h) override {
+    const int axis = ax.number();
     if (!sw.ref.at(axis - 1)) throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
     homes.emplace_back(axis, h);
     x4step::axis_status &a = ax_.axis[axis - 1];
-    own_[axis - 1] = {a.position, a.position, 0, 0, h.phase1 ? 1 : 2, h};
+    own_[axis - 1] = {a.position, a.position, 0, 0, h.phase1() ? 1 : 2, h};
     a.error = 0;
     a.running = true;
-    a.ref1 = h.phase1;
-    a.ref2 = !h.phase1;
+    a.ref1 = h.phase1();
+    a.ref2 = !h.phase1();
   }
-  void halt(unsigned axis_mask, x4step::halt_mode how) override {
+  void halt(x4step::axis_set axes, x4step::halt_mode how) override {
+    const unsigned axis_mask = axes.mask();
     if (!runs(axis_mask)) throw x4step::error(x4step::make_error_code(x4step::errc::not_active));
     halts.emplace_back(axis_mask, how);
     for (int i = 0; i < x4step::axes; i++) {
@@ -918,14 +923,14 @@ class fake_port : public port {
       }
     }
   }
-  void set_position(int axis, long position) override {
-    x4step::axis_status &a = ax_.axis.at(axis - 1);
+  void set_position(x4step::axis ax, long position) override {
+    x4step::axis_status &a = ax_.axis.at(ax.index());
     a.running = a.ref1 = a.ref2 = false;
     a.position = position;
     a.synced = true;
   }
   void set_switches(const x4step::switches &s) override {
-    if (runs(all_axes)) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
+    if (runs(all_axes.mask())) throw x4step::error(x4step::make_error_code(x4step::errc::is_active));
     sw = s;
     switch_sets++;
   }
@@ -935,7 +940,8 @@ class fake_port : public port {
     a.inputs = inputs;
     return a;
   }
-  bool wait_axes(unsigned axis_mask, milliseconds timeout) const override {
+  bool wait_axes(x4step::axis_set axes, milliseconds timeout) const override {
+    const unsigned axis_mask = axes.mask();
     for (int i = 0; i < (timeout >= milliseconds(1000) ? 100 : 1) && runs(axis_mask); i++) advance_axes();
     return !runs(axis_mask);
   }
@@ -967,15 +973,16 @@ class fake_port : public port {
         if (++m.n < 2) continue;
         const int ref_bit = 1 << (sw.ref[i] - 1);
         if (!ref_found) {
-          a.position += (m.phase == 1 ? m.h.vref1 : m.h.vref2) > 0 ? long(m.h.sref) : -long(m.h.sref);
+          const long travel = static_cast<long>(m.h.max_travel());
+          a.position += (m.phase == 1 ? m.h.phase1_speed() : m.h.phase2_speed()) > 0 ? travel : -travel;
           a.error = x4step::axis_error::ref_travel;
           a.running = a.ref1 = a.ref2 = false;
         } else if (m.phase == 1) {
           a.position -= 300;
           ax_.switches_active |= ref_bit;  // found
           a.ref1 = false;
-          a.ref2 = m.h.phase2;
-          a.running = m.h.phase2;
+          a.ref2 = m.h.phase2();
+          a.running = m.h.phase2();
           m = {0, 0, 0, 0, 2, m.h};
         } else {
           ax_.switches_active &= ~ref_bit;  // left again
@@ -1000,9 +1007,9 @@ class fake_port : public port {
   // The module's checks of the settings (x4_engine_load, x4_engine_endless).
   void refuse(int freq_hz, bool axis4) const {
     const long long period = 1000000000LL / freq_hz;
-    const bool phase = cfg.mode != x4step::output_mode::clock_dir;
-    if (!phase && (timing.pulse.count() ? timing.pulse.count() + timing.space.count() > period
-                                        : timing.space.count() > period / 2))
+    const bool phase = cfg.mode() != x4step::output_mode::clock_dir;
+    if (!phase && (timing.pulse().count() ? timing.pulse().count() + timing.space().count() > period
+                                          : timing.space().count() > period / 2))
       throw x4step::error(x4step::make_error_code(x4step::errc::freq_too_high));
     if (phase && axis4) throw x4step::error(x4step::make_error_code(x4step::errc::param_fail));
   }
@@ -1315,7 +1322,7 @@ TEST(Sequence, ALateBrakeRequestStillEndsIt) {
 // A later move the port's settings refuse is found before anything moves.
 TEST(Sequence, RefusedLaterMoveMovesNothing) {
   fake_port p;
-  p.cfg.mode = x4step::output_mode::smc_phase;
+  p.cfg.mode(x4step::output_mode::smc_phase);
   const std::vector<x4step::move> moves{{{3, 0, 0, 0}, 1000, milliseconds(0)},
                                         {{0, 0, 0, 5}, 1000, milliseconds(0)}};
   try {
@@ -1335,7 +1342,7 @@ TEST(Sequence, RefusedPreloadBrakesTheRunningMove) {
   auto moves = manual_example();
   moves.push_back({{0, 0, 0, 9}, 1000, milliseconds(50)});
   start_moves(p, moves);
-  p.cfg.mode = x4step::output_mode::smc_phase;  // changed behind x4ctl's back
+  p.cfg.mode(x4step::output_mode::smc_phase);  // changed behind x4ctl's back
   EXPECT_THROW(follow_moves(p, con, moves), failure);
   EXPECT_EQ(p.starts, 2);
   EXPECT_EQ(p.brakes, 1);
@@ -1440,14 +1447,14 @@ TEST(Settings, TimingShowsWithoutChanging) {
 
 TEST(Settings, TimingChangesOnlyTheTimesGiven) {
   fake_port p;
-  p.timing.dir_hold = std::chrono::nanoseconds(7000);
+  p.timing.dir_hold(std::chrono::nanoseconds(7000));
   std::ostringstream out;
   timing_command(p, parse({"-p", "2", "timing", "--pulse", "10000", "--space", "90000"}), out);
   EXPECT_EQ(p.timing_sets, 1);
-  EXPECT_EQ(p.timing.pulse, std::chrono::nanoseconds(10000));
-  EXPECT_EQ(p.timing.space, std::chrono::nanoseconds(90000));
-  EXPECT_EQ(p.timing.dir_setup, std::chrono::nanoseconds(100000));  // kept
-  EXPECT_EQ(p.timing.dir_hold, std::chrono::nanoseconds(7000));     // kept
+  EXPECT_EQ(p.timing.pulse(), std::chrono::nanoseconds(10000));
+  EXPECT_EQ(p.timing.space(), std::chrono::nanoseconds(90000));
+  EXPECT_EQ(p.timing.dir_setup(), std::chrono::nanoseconds(100000));  // kept
+  EXPECT_EQ(p.timing.dir_hold(), std::chrono::nanoseconds(7000));     // kept
   EXPECT_TRUE(contains(out.str(), "device       /dev/x4step1\n")) << out.str();
   EXPECT_TRUE(contains(out.str(), "pulse        10000 ns\n")) << out.str();
   EXPECT_TRUE(contains(out.str(), "dir hold     7000 ns\n")) << out.str();
@@ -1459,14 +1466,12 @@ TEST(Settings, TimingChangesOnlyTheTimesGiven) {
             "{\"device\":\"/dev/x4step0\",\"pulse_ns\":10000,\"space_ns\":90000,\"dir_setup_ns\":0,"
             "\"dir_hold_ns\":7000,\"mode\":\"clock-dir\",\"max_freq_hz\":10000}\n");
   EXPECT_EQ(p.timing_sets, 2);
-  EXPECT_EQ(p.timing.pulse, std::chrono::nanoseconds(10000));
+  EXPECT_EQ(p.timing.pulse(), std::chrono::nanoseconds(10000));
 }
 
 TEST(Settings, ModeKeepsTheRestOfTheConfig) {
   fake_port p;
-  p.cfg.clock_invert = 0x5;
-  p.cfg.dir_invert = 0x2;
-  p.cfg.keys_swallow = true;
+  p.cfg.clock_invert(x4step::axis::x | x4step::axis::z).dir_invert(x4step::axis::y).keys_swallow(true);
   std::ostringstream out;
   mode_command(p, parse({"mode"}), out);
   EXPECT_EQ(p.config_sets, 0);
@@ -1474,14 +1479,14 @@ TEST(Settings, ModeKeepsTheRestOfTheConfig) {
   out.str("");
   mode_command(p, parse({"mode", "smc-phase"}), out);
   EXPECT_EQ(p.config_sets, 1);
-  EXPECT_EQ(p.cfg.mode, x4step::output_mode::smc_phase);
-  EXPECT_EQ(p.cfg.clock_invert, 0x5u);
-  EXPECT_EQ(p.cfg.dir_invert, 0x2u);
-  EXPECT_TRUE(p.cfg.keys_swallow);
+  EXPECT_EQ(p.cfg.mode(), x4step::output_mode::smc_phase);
+  EXPECT_EQ(p.cfg.clock_invert(), x4step::axis::x | x4step::axis::z);
+  EXPECT_EQ(p.cfg.dir_invert(), x4step::axis::y);
+  EXPECT_TRUE(p.cfg.keys_swallow());
   EXPECT_EQ(out.str(), "smc-phase: SMC800/SMC1500 half-step phase drive of axes 1..3, motors off at rest\n");
   out.str("");
   mode_command(p, parse({"mode", "smc-hold"}), out);
-  EXPECT_EQ(p.cfg.mode, x4step::output_mode::smc_phase_hold);
+  EXPECT_EQ(p.cfg.mode(), x4step::output_mode::smc_phase_hold);
   EXPECT_EQ(out.str().rfind("smc-hold: ", 0), 0u) << out.str();
   out.str("");
   mode_command(p, parse({"mode"}), out);
@@ -1492,7 +1497,7 @@ TEST(Settings, ModeKeepsTheRestOfTheConfig) {
 TEST(Settings, PhaseModeRefusesAxis4Clearly) {
   fake_console con;
   fake_port p;
-  p.cfg.mode = x4step::output_mode::smc_phase;
+  p.cfg.mode(x4step::output_mode::smc_phase);
   interpreter in(con, &p, true);
   run_lines(in, "s1\nd3\nr0\ns2\nd-2\ng");  // axes 1..3 move
   EXPECT_EQ(p.starts, 1);
@@ -1505,16 +1510,16 @@ TEST(Settings, PhaseModeRefusesAxis4Clearly) {
                  "axis 4 cannot move in smc-phase mode: the SMC800/SMC1500 boards drive axes 1 to 3 "
                  "('x4ctl mode clock-dir' for clock and direction signals)");
   }
-  p.cfg.mode = x4step::output_mode::smc_phase_hold;
+  p.cfg.mode(x4step::output_mode::smc_phase_hold);
   try {
-    start_endless(p, 4, x4step::direction::negative, 1000, milliseconds(0));
+    start_endless(p, x4step::axis::a, x4step::direction::negative, 1000, milliseconds(0));
     FAIL() << "axis 4 jogged";
   } catch (const failure &e) {
     EXPECT_TRUE(contains(e.what(), "axis 4 cannot move in smc-hold mode")) << e.what();
   }
   EXPECT_EQ(p.starts, 1);
   EXPECT_TRUE(p.endless.empty());
-  p.cfg.mode = x4step::output_mode::clock_dir;
+  p.cfg.mode(x4step::output_mode::clock_dir);
   load_move(p, x4step::move{{0, 0, 0, 5}, 1000, milliseconds(0)});  // fine with clock and direction
   EXPECT_EQ(p.loads.size(), 2u);
 }
@@ -1522,8 +1527,8 @@ TEST(Settings, PhaseModeRefusesAxis4Clearly) {
 TEST(Settings, FrequencyTooHighForTheTiming) {
   fake_console con;
   fake_port p;
-  p.timing.pulse = std::chrono::nanoseconds(100000);
-  p.timing.space = std::chrono::nanoseconds(100000);
+  p.timing.pulse(std::chrono::nanoseconds(100000));
+  p.timing.space(std::chrono::nanoseconds(100000));
   interpreter in(con, &p, true);
   run_lines(in, "d10\nf5000\nr0\ng");  // 200 us: just fits
   EXPECT_EQ(p.starts, 1);
@@ -1538,14 +1543,14 @@ TEST(Settings, FrequencyTooHighForTheTiming) {
     EXPECT_EQ(e.what(), why);
   }
   try {
-    start_endless(p, 1, x4step::direction::positive, 5001, milliseconds(0));
+    start_endless(p, x4step::axis::x, x4step::direction::positive, 5001, milliseconds(0));
     FAIL() << "jogged";
   } catch (const failure &e) {
     EXPECT_EQ(e.what(), why);
   }
   // The symmetric clock: the space in half a period.
-  p.timing.pulse = std::chrono::nanoseconds(0);
-  p.timing.space = std::chrono::nanoseconds(250000);
+  p.timing.pulse(std::chrono::nanoseconds(0));
+  p.timing.space(std::chrono::nanoseconds(250000));
   try {
     load_move(p, x4step::move{{10, 0, 0, 0}, 2001, milliseconds(0)});
     FAIL() << "loaded";
@@ -1553,7 +1558,7 @@ TEST(Settings, FrequencyTooHighForTheTiming) {
     EXPECT_TRUE(contains(e.what(), "allow at most 2000 Hz")) << e.what();
   }
   // Pulse and space do not apply to phase patterns.
-  p.cfg.mode = x4step::output_mode::smc_phase;
+  p.cfg.mode(x4step::output_mode::smc_phase);
   load_move(p, x4step::move{{10, 0, 0, 0}, 20000, milliseconds(0)});
   EXPECT_EQ(p.loads.size(), 2u);
   // Other refusals stay the library's.
@@ -1592,7 +1597,7 @@ TEST(Show, Events) {
   e.seq = 12;
   e.time = std::chrono::steady_clock::time_point(std::chrono::nanoseconds(105001234567));
   e.type = x4step::event_type::move_ended;
-  e.axis_mask = 0x3;
+  e.axes = x4step::axis_set(0x3u);
   e.how = static_cast<unsigned>(x4step::end_reason::braked);
   e.position = {100, -50, 0, 0};
   EXPECT_EQ(event_text(e), "#12 105.001234 move ended: axes 1 2, braked; at 100 -50 0 0");
@@ -1600,12 +1605,12 @@ TEST(Show, Events) {
             "{\"seq\":12,\"time_ns\":105001234567,\"type\":\"move_ended\",\"axes\":[1,2],\"how\":\"braked\","
             "\"value\":0,\"ambiguous\":false,\"position\":[100,-50,0,0]}");
   e.type = x4step::event_type::brake;
-  e.axis_mask = 0xf;
+  e.axes = x4step::axis_set(0xfu);
   e.how = static_cast<unsigned>(x4step::brake_source::key);
   e.value = 72;
   EXPECT_EQ(event_text(e), "#12 105.001234 brake: axes 1 2 3 4, by key code 72; at 100 -50 0 0");
   e.type = x4step::event_type::switch_hit;
-  e.axis_mask = 0x2;
+  e.axes = x4step::axis_set(0x2u);
   e.how = static_cast<unsigned>(x4step::switch_kind::limit_pos);
   e.value = 3;
   e.ambiguous = true;
@@ -1686,11 +1691,11 @@ TEST(Show, Positioning) {
   x4step::axes_status a;
   a.axis[0].position = 5;
   a.axis[2].position = -2147483648L;
-  EXPECT_EQ(positions_text(a, 0x5), "1=5 3=-2147483648");
+  EXPECT_EQ(positions_text(a, x4step::axis::x | x4step::axis::z), "1=5 3=-2147483648");
   EXPECT_EQ(coordinates_text(a), "5 0 -2147483648 0");
   EXPECT_EQ(input_name(0), "none");
   EXPECT_EQ(input_name(5), "input 5 (pin 11)");
-  EXPECT_EQ(profile_text(2, {100, 0, 3100, 1000, 0}),
+  EXPECT_EQ(profile_text(x4step::axis::y, x4step::profile{}.start_speed(100).top_speed(3100).decel(0)),
             "axis         2\n"
             "v0           100 steps/s (start)\n"
             "ve           0 steps/s (stop)\n"
@@ -1719,14 +1724,14 @@ TEST(Show, Positioning) {
 TEST(Show, TimingAndMode) {
   x4step::step_timing t;
   EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 20000);
-  t.space = std::chrono::nanoseconds(30000);  // symmetric clock: 60 us periods
+  t.space(std::chrono::nanoseconds(30000));  // symmetric clock: 60 us periods
   EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 16666);
-  t.pulse = std::chrono::nanoseconds(1000000);
-  t.space = std::chrono::nanoseconds(1000000);
+  t.pulse(std::chrono::nanoseconds(1000000));
+  t.space(std::chrono::nanoseconds(1000000));
   EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 500);
   EXPECT_EQ(max_freq_hz(t, x4step::output_mode::smc_phase), 20000);
-  t.pulse = std::chrono::nanoseconds(10000);
-  t.space = std::chrono::nanoseconds(40000);
+  t.pulse(std::chrono::nanoseconds(10000));
+  t.space(std::chrono::nanoseconds(40000));
   EXPECT_EQ(max_freq_hz(t, x4step::output_mode::clock_dir), 20000);
   const std::string text = timing_text(t, x4step::output_mode::smc_phase_hold, "/dev/x4step3");
   EXPECT_TRUE(contains(text, "pulse        10000 ns\n")) << text;
@@ -1748,13 +1753,13 @@ TEST(Show, TimingAndMode) {
 // A console whose brake and stop requests name some axes (`x4ctl halt 2`).
 class halt_console : public fake_console {
  public:
-  unsigned axes = all_axes;
-  unsigned requested_axes() const override { return axes; }
+  x4step::axis_set axes = all_axes;
+  x4step::axis_set requested_axes() const override { return axes; }
 };
 
 TEST(Position, ProfileShowsAndChangesOnlyWhatIsGiven) {
   fake_port p;
-  p.profiles[1] = {0, 0, 1000, 1000, 1000};
+  p.profiles[1] = x4step::profile{};
   std::ostringstream out;
   profile_command(p, parse({"profile", "2"}), out);
   EXPECT_EQ(p.profile_sets, 0);
@@ -1763,17 +1768,17 @@ TEST(Position, ProfileShowsAndChangesOnlyWhatIsGiven) {
   out.str("");
   profile_command(p, parse({"profile", "2", "--vm", "8000", "--v0", "200"}), out);
   EXPECT_EQ(p.profile_sets, 1);
-  EXPECT_EQ(p.profiles[1].v0, 200u);
-  EXPECT_EQ(p.profiles[1].vm, 8000u);
-  EXPECT_EQ(p.profiles[1].ve, 0u);     // kept
-  EXPECT_EQ(p.profiles[1].a0, 1000u);  // kept
+  EXPECT_EQ(p.profiles[1].start_speed(), 200u);
+  EXPECT_EQ(p.profiles[1].top_speed(), 8000u);
+  EXPECT_EQ(p.profiles[1].end_speed(), 0u);  // kept
+  EXPECT_EQ(p.profiles[1].accel(), 1000u);   // kept
   EXPECT_TRUE(contains(out.str(), "vm           8000 steps/s (maximum)\n")) << out.str();
   EXPECT_TRUE(contains(out.str(), "a0           1000 steps/s^2 (ramp 7.800 s)\n")) << out.str();
 }
 
 TEST(Position, ProfileThatDoesNotFitChangesNothing) {
   fake_port p;
-  p.profiles[0] = {0, 0, 1000, 1000, 1000};
+  p.profiles[0] = x4step::profile{};
   std::ostringstream out;
   try {
     profile_command(p, parse({"profile", "1", "--v0", "2000"}), out);  // above the vm the port has
@@ -1895,11 +1900,11 @@ TEST(Position, GotoEscBrakesEveryAxis) {
 TEST(Position, HaltRequestsHaltOnlyTheAxesNamed) {
   halt_console con;
   fake_port p;
-  con.axes = 0x4;
+  con.axes = x4step::axis_set(0x4u);
   con.keys = {key::brake_request};
   const axes_outcome o = [&] {
-    p.move_to(0x5, {1000, 0, 1000, 0}, false);
-    return follow_axes(p, con, 0x5);
+    p.move_to(x4step::axis::x | x4step::axis::z, {1000, 0, 1000, 0}, false);
+    return follow_axes(p, con, x4step::axis::x | x4step::axis::z);
   }();
   ASSERT_EQ(p.halts.size(), 1u);
   EXPECT_EQ(p.halts[0], std::make_pair(0x4u, x4step::halt_mode::brake));
@@ -1909,9 +1914,9 @@ TEST(Position, HaltRequestsHaltOnlyTheAxesNamed) {
   // A stop request of axis 1: it stops; another request for it finds it halted.
   fake_port q;
   con.keys = {key::stop_request, key::none, key::brake_request};
-  con.axes = 0x1;
-  q.move_to(0x5, {1000, 0, 1000, 0}, false);
-  EXPECT_EQ(follow_axes(q, con, 0x5).halted_by, "stop request");
+  con.axes = x4step::axis_set(0x1u);
+  q.move_to(x4step::axis::x | x4step::axis::z, {1000, 0, 1000, 0}, false);
+  EXPECT_EQ(follow_axes(q, con, x4step::axis::x | x4step::axis::z).halted_by, "stop request");
   ASSERT_EQ(q.halts.size(), 1u);
   EXPECT_EQ(q.halts[0], std::make_pair(0x1u, x4step::halt_mode::stop));
   EXPECT_FALSE(q.get_axes().axis[0].synced);
@@ -1919,15 +1924,15 @@ TEST(Position, HaltRequestsHaltOnlyTheAxesNamed) {
   // Requests for other axes than the followed ones are not ours.
   fake_port r;
   con.keys = {key::brake_request};
-  con.axes = 0x2;
-  r.move_to(0x1, {100, 0, 0, 0}, false);
-  EXPECT_EQ(follow_axes(r, con, 0x1).halted_by, "");
+  con.axes = x4step::axis_set(0x2u);
+  r.move_to(x4step::axis::x, {100, 0, 0, 0}, false);
+  EXPECT_EQ(follow_axes(r, con, x4step::axis::x).halted_by, "");
   EXPECT_TRUE(r.halts.empty());
 }
 
 TEST(Position, GotoInPhaseModeRefusesAxis4Clearly) {
   fake_port p;
-  p.cfg.mode = x4step::output_mode::smc_phase_hold;
+  p.cfg.mode(x4step::output_mode::smc_phase_hold);
   std::ostringstream out;
   try {
     start_goto_command(p, parse({"goto", "4=10"}), out);
@@ -1947,8 +1952,8 @@ TEST(Position, HomeBothPhases) {
   home_command(p, con, parse({"home", "2", "--vref1", "-2000", "--vref2", "50", "--sref", "9000"}), out);
   ASSERT_EQ(p.homes.size(), 1u);
   EXPECT_EQ(p.homes[0].first, 2);
-  EXPECT_EQ(p.homes[0].second.vref1, -2000);
-  EXPECT_EQ(p.homes[0].second.sref, 9000ul);
+  EXPECT_EQ(p.homes[0].second.phase1_speed(), -2000);
+  EXPECT_EQ(p.homes[0].second.max_travel(), 9000ul);
   EXPECT_EQ(out.str(),
             "home: axis 2, phase 1 at -2000 steps/s, phase 2 at 50 steps/s, at most 9000 steps each\n"
             "done: axis 2 at 0, synchronized\n");
@@ -1961,8 +1966,8 @@ TEST(Position, HomePhase1Only) {
   p.sw.ref[0] = 1;
   std::ostringstream out;
   home_command(p, con, parse({"home", "1", "--phase", "1"}), out);
-  EXPECT_TRUE(p.homes.at(0).second.phase1);
-  EXPECT_FALSE(p.homes.at(0).second.phase2);
+  EXPECT_TRUE(p.homes.at(0).second.phase1());
+  EXPECT_FALSE(p.homes.at(0).second.phase2());
   EXPECT_TRUE(contains(out.str(),
                        "done: axis 1 at -300, reference switch active (phase 1; 'x4ctl home 1 --phase 2' "
                        "completes it)\n"))
@@ -2007,19 +2012,19 @@ TEST(Term, HaltRequestsCarryTheirAxes) {
   install_signal_handlers();
   while (take_signal() != key::none) {
   }
-  ASSERT_TRUE(send_request(::getpid(), false, 0x4));
+  ASSERT_TRUE(send_request(::getpid(), false, x4step::axis_set(0x4u)));
   EXPECT_EQ(take_signal(), key::brake_request);
-  EXPECT_EQ(taken_axes(), 0x4u);
-  ASSERT_TRUE(send_request(::getpid(), true, 0x3));
+  EXPECT_EQ(taken_axes().mask(), 0x4u);
+  ASSERT_TRUE(send_request(::getpid(), true, x4step::axis_set(0x3u)));
   EXPECT_EQ(take_signal(), key::stop_request);
-  EXPECT_EQ(taken_axes(), 0x3u);
+  EXPECT_EQ(taken_axes().mask(), 0x3u);
   ::kill(::getpid(), SIGUSR1);  // `x4ctl brake`, or kill from a shell: every axis
   EXPECT_EQ(take_signal(), key::brake_request);
   EXPECT_EQ(taken_axes(), all_axes);
-  ASSERT_TRUE(send_request(::getpid(), false, 0x1));
-  ASSERT_TRUE(send_request(::getpid(), false, 0x8));  // requests add up until taken
+  ASSERT_TRUE(send_request(::getpid(), false, x4step::axis_set(0x1u)));
+  ASSERT_TRUE(send_request(::getpid(), false, x4step::axis_set(0x8u)));  // requests add up until taken
   EXPECT_EQ(take_signal(), key::brake_request);
-  EXPECT_EQ(taken_axes(), 0x9u);
+  EXPECT_EQ(taken_axes().mask(), 0x9u);
   EXPECT_EQ(take_signal(), key::none);
 }
 

@@ -213,10 +213,10 @@ long parse_steps(const std::string &text, const std::string &prefix) {
   return v;
 }
 
-int parse_axis(const std::string &text, const std::string &prefix) {
+x4step::axis parse_axis(const std::string &text, const std::string &prefix) {
   const long v = parse_number(text, prefix + "axis");
   if (v < 1 || v > x4step::axes) throw usage_error(prefix + "axis " + text + " out of range: use 1 to 4");
-  return static_cast<int>(v);
+  return x4step::axis(static_cast<int>(v));
 }
 
 milliseconds parse_time(const std::string &text, const std::string &prefix) {
@@ -314,14 +314,14 @@ unsigned parse_nc(const std::string &text, const std::string &prefix) {
 }
 
 // AXIS... as a mask: each 1..4, once.
-unsigned parse_axes(const std::vector<std::string> &ops, const std::string &prefix) {
-  unsigned mask = 0;
+x4step::axis_set parse_axes(const std::vector<std::string> &ops, const std::string &prefix) {
+  x4step::axis_set axes;
   for (const auto &o : ops) {
-    const unsigned bit = 1u << (parse_axis(o, prefix) - 1);
-    if (mask & bit) throw usage_error(prefix + "axis " + o + " given twice");
-    mask |= bit;
+    const x4step::axis a = parse_axis(o, prefix);
+    if (axes.contains(a)) throw usage_error(prefix + "axis " + o + " given twice");
+    axes |= a;
   }
-  return mask;
+  return axes;
 }
 
 void need_operands(const split_result &r, size_t min, size_t max, const std::string &prefix) {
@@ -527,25 +527,24 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.no_wait = true;
         break;
       case opt_vref1:
-        c.homing.vref1 = parse_vref(o.value, "vref1", prefix);
+        c.homing.phase1_speed(parse_vref(o.value, "vref1", prefix));
         break;
       case opt_vref2:
-        c.homing.vref2 = parse_vref(o.value, "vref2", prefix);
+        c.homing.phase2_speed(parse_vref(o.value, "vref2", prefix));
         break;
       case opt_sref:
-        c.homing.sref =
-            static_cast<unsigned long>(parse_range(o.value, "sref", 1, INT32_MAX, " steps", prefix));
+        c.homing.max_travel(
+            static_cast<unsigned long>(parse_range(o.value, "sref", 1, INT32_MAX, " steps", prefix)));
         break;
       case opt_phase: {
         const long ph = parse_number(o.value, prefix + "phase");
         if (ph != 1 && ph != 2)
           throw usage_error(prefix + "phase " + o.value + ": use 1 or 2 (both: no --phase)");
-        c.homing.phase1 = ph == 1;
-        c.homing.phase2 = ph == 2;
+        c.homing.phase1(ph == 1).phase2(ph == 2);
         break;
       }
       case opt_brake:
-        c.homing.brake = true;
+        c.homing.brake(true);
         break;
       case opt_at:
         c.at = parse_position(o.value, "position", prefix);
@@ -600,14 +599,14 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.dir = x4step::direction::negative;
       else
         throw usage_error(prefix + "direction '" + ops[1] + "': use + or -");
-      if (const auto e = x4step::check_endless(c.axis, c.move.freq_hz, c.move.ramp); e != x4step::errc::ok)
+      if (const auto e = x4step::check_endless(c.move.freq_hz, c.move.ramp); e != x4step::errc::ok)
         throw usage_error(prefix + message(e));
       break;
     }
     case subcommand::sweep: {
       need_operands(r, 5, 5, prefix);
       c.axis = parse_axis(ops[0], prefix);
-      c.move.steps[c.axis - 1] = parse_steps(ops[1], prefix);
+      c.move.steps[c.axis.index()] = parse_steps(ops[1], prefix);
       c.sweep_from = parse_freq(ops[2], prefix);
       c.sweep_to = parse_freq(ops[3], prefix);
       const long step = parse_number(ops[4], prefix + "frequency step");
@@ -669,22 +668,22 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
                             ", e.g. 1=1000");
         names.push_back(o.substr(0, eq));
       }
-      c.axis_mask = parse_axes(names, prefix);
+      c.axes = parse_axes(names, prefix);
       for (size_t i = 0; i < ops.size(); i++)
-        c.targets[parse_axis(names[i], prefix) - 1] =
+        c.targets[parse_axis(names[i], prefix).index()] =
             parse_position(ops[i].substr(names[i].size() + 1), what, prefix);
       break;
     }
     case subcommand::zero:
     case subcommand::halt:
       need_operands(r, 1, x4step::axes, prefix);
-      c.axis_mask = parse_axes(ops, prefix);
+      c.axes = parse_axes(ops, prefix);
       break;
     case subcommand::limits:
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) {
         c.axis = parse_axis(ops[0], prefix);
-        c.axis_mask = 1u << (c.axis - 1);
+        c.axes = c.axis;
       }
       if (ops.empty() && (c.ref || c.plus || c.minus))
         throw usage_error(prefix + "--ref, --plus and --minus need an AXIS, e.g. 'x4ctl limits 1 --ref 3'");

@@ -65,7 +65,7 @@ struct config {
   /// move --then: the moves after move, each with its freq and ramp; started
   /// one after the other, each preloaded while the one before it runs.
   std::vector<x4step::move> then;
-  int axis = 1;  ///< jog, sweep
+  x4step::axis axis = x4step::axis::x;  ///< jog, sweep
   x4step::direction dir = x4step::direction::positive;
   std::optional<std::chrono::milliseconds> time;  ///< jog: brake after; out: hold for
   bool wait = false;
@@ -88,7 +88,7 @@ struct config {
   std::optional<x4step::output_mode> mode;  ///< mode: the one to set; none: only show
 
   // Positioning. c.axis is the axis of profile and home.
-  unsigned axis_mask = 0;                    ///< goto, zero, halt, limits: the axes named (bit i: axis i+1)
+  x4step::axis_set axes;                     ///< goto, zero, halt, limits: the axes named
   std::array<long, x4step::axes> targets{};  ///< goto: coordinates (or distances) of the axes named
   bool relative = false;                     ///< goto: targets are distances
   bool no_wait = false;                      ///< goto: leave the moves to a background x4ctl

@@ -124,8 +124,8 @@ int cmd_move(const config &c) {
 int cmd_jog(const config &c) {
   controller_port p(open_controller(device_of(c)));
   std_console con(c.wait);
-  std::cout << "jog: axis " << c.axis << (c.dir == x4step::direction::positive ? " +" : " -") << " at "
-            << c.move.freq_hz << " Hz, ramp " << c.move.ramp.count() << " ms"
+  std::cout << "jog: axis " << c.axis.number() << (c.dir == x4step::direction::positive ? " +" : " -")
+            << " at " << c.move.freq_hz << " Hz, ramp " << c.move.ramp.count() << " ms"
             << (c.time ? ", for " + std::to_string(c.time->count()) + " ms" : "") << "\n"
             << std::flush;
   if (!c.wait) {
@@ -140,14 +140,14 @@ int cmd_jog(const config &c) {
 }
 
 // brake, stop and halt: the moves belong to the process that holds the
-// port; when that is an x4ctl, ask it to brake or stop the axes in mask.
-void ask_holder(const std::string &dev, bool stop, unsigned axis_mask) {
+// port; when that is an x4ctl, ask it to brake or stop the axes.
+void ask_holder(const std::string &dev, bool stop, x4step::axis_set axes) {
   const auto h = find_controller(dev);
   if (!h) throw failure(dev + ": a move runs, but its program is not visible here (another user's?)");
   if (!h->is_x4ctl())
     throw failure(dev + " is controlled by PID " + std::to_string(h->pid) + " (" + h->name +
                   "), not by x4ctl: brake it there, or press ESC on the console keyboard");
-  if (!send_request(h->pid, stop, axis_mask))
+  if (!send_request(h->pid, stop, axes))
     throw failure("cannot signal PID " + std::to_string(h->pid) + ": " + std::strerror(errno));
 }
 
@@ -166,20 +166,19 @@ int cmd_halt_axes(const config &c) {
   const std::string dev = device_of(c);
   const x4step::monitor mon = open_monitor(dev);
   const x4step::axes_status a = mon.get_axes();
-  unsigned running = 0;
+  bool running = false;
   std::string named;
-  for (int i = 0; i < x4step::axes; i++) {
-    if (a.axis[i].running) running |= 1u << i;
-    if (c.axis_mask >> i & 1u) named += (named.empty() ? "" : ", ") + std::to_string(i + 1);
+  for (x4step::axis ax : c.axes) {
+    running |= a[ax].running;
+    named += (named.empty() ? "" : ", ") + std::to_string(ax.number());
   }
-  if (!(c.axis_mask & running))
+  if (!running)
     throw failure((named.size() == 1 ? "axis " + named + " is" : "axes " + named + " are") + " not moving");
-  ask_holder(dev, c.halt_stop, c.axis_mask);
+  ask_holder(dev, c.halt_stop, c.axes);
   // An axis' own ramp may be long: wait for it, until Ctrl-C.
-  while (!mon.wait_axes(c.axis_mask, tick))
+  while (!mon.wait_axes(c.axes, tick))
     if (quit_requested()) throw failure("gave up waiting: the axes still move");
-  std::cout << (c.halt_stop ? "stopped: " : "braked: ") << positions_text(mon.get_axes(), c.axis_mask)
-            << "\n";
+  std::cout << (c.halt_stop ? "stopped: " : "braked: ") << positions_text(mon.get_axes(), c.axes) << "\n";
   return 0;
 }
 
@@ -273,10 +272,10 @@ int cmd_sweep(const config &c) {
   std_console con(true);
   interpreter in(con, &p, true);
   // The A command of the test program, on the given axis.
-  const std::string script = "S" + std::to_string(c.axis) + "; D" + std::to_string(c.move.steps[c.axis - 1]) +
-                             "; R" + std::to_string(c.move.ramp.count()) + "; A" +
-                             std::to_string(c.sweep_from) + "," + std::to_string(c.sweep_to) + "," +
-                             std::to_string(c.sweep_step);
+  const std::string script = "S" + std::to_string(c.axis.number()) + "; D" +
+                             std::to_string(c.move.steps[c.axis.index()]) + "; R" +
+                             std::to_string(c.move.ramp.count()) + "; A" + std::to_string(c.sweep_from) +
+                             "," + std::to_string(c.sweep_to) + "," + std::to_string(c.sweep_step);
   for (const command &cmd : parse_line(script)) in.execute(cmd);
   return 0;
 }
@@ -349,7 +348,7 @@ int cmd_goto(const config &c) {
   std_console con(!c.no_wait);
   const coordinates want = start_goto_command(p, c, std::cout);
   if (c.no_wait) {
-    hold_in_background(p, [&](console &bg) { follow_axes(p, bg, c.axis_mask); });
+    hold_in_background(p, [&](console &bg) { follow_axes(p, bg, c.axes); });
     return 0;  // the background process, after the moves
   }
   finish_goto_command(p, con, c, want, std::cout);
@@ -507,14 +506,14 @@ int dispatch(const config &c) {
 void timing_command(port &p, const config &c, std::ostream &out) {
   x4step::step_timing t = p.get_step_timing();
   if (c.pulse || c.space || c.dir_setup || c.dir_hold) {
-    if (c.pulse) t.pulse = *c.pulse;
-    if (c.space) t.space = *c.space;
-    if (c.dir_setup) t.dir_setup = *c.dir_setup;
-    if (c.dir_hold) t.dir_hold = *c.dir_hold;
+    if (c.pulse) t.pulse(*c.pulse);
+    if (c.space) t.space(*c.space);
+    if (c.dir_setup) t.dir_setup(*c.dir_setup);
+    if (c.dir_hold) t.dir_hold(*c.dir_hold);
     p.set_step_timing(t);
     t = p.get_step_timing();  // what the port took
   }
-  const x4step::output_mode m = p.get_config().mode;
+  const x4step::output_mode m = p.get_config().mode();
   const std::string dev = device_of(c);
   out << (c.json ? timing_json(t, m, dev) + "\n" : timing_text(t, m, dev));
 }
@@ -522,11 +521,11 @@ void timing_command(port &p, const config &c, std::ostream &out) {
 void mode_command(port &p, const config &c, std::ostream &out) {
   x4step::config k = p.get_config();
   if (c.mode) {
-    k.mode = *c.mode;  // the inversions and key settings stay
+    k.mode(*c.mode);  // the inversions and key settings stay
     p.set_config(k);
     k = p.get_config();
   }
-  out << mode_text(k.mode) << "\n";
+  out << mode_text(k.mode()) << "\n";
 }
 
 int run_main(const std::vector<std::string> &args) {

@@ -25,7 +25,7 @@ class port {
   virtual void start() = 0;
   virtual void brake() = 0;
   virtual void stop() = 0;
-  virtual void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) = 0;
+  virtual void move_endless(x4step::axis a, x4step::direction dir, int freq_hz, milliseconds ramp) = 0;
   virtual x4step::status get_status() const = 0;
   /// True once no move runs; false after timeout.
   virtual bool wait(milliseconds timeout) const = 0;
@@ -37,17 +37,18 @@ class port {
   virtual void set_step_timing(const x4step::step_timing &t) = 0;
   virtual x4step::step_timing get_step_timing() const = 0;
   // Positioning.
-  virtual void set_profile(int axis, const x4step::profile &p) = 0;
-  virtual x4step::profile get_profile(int axis) const = 0;
-  virtual void move_to(unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative) = 0;
-  virtual void home(int axis, const x4step::homing &h) = 0;
-  virtual void halt(unsigned axis_mask, x4step::halt_mode how) = 0;
-  virtual void set_position(int axis, long position) = 0;
+  virtual void set_profile(x4step::axis a, const x4step::profile &p) = 0;
+  virtual x4step::profile get_profile(x4step::axis a) const = 0;
+  virtual void move_to(x4step::axis_set axes, const std::array<long, x4step::axes> &targets,
+                       bool relative) = 0;
+  virtual void home(x4step::axis a, const x4step::homing &h) = 0;
+  virtual void halt(x4step::axis_set axes, x4step::halt_mode how) = 0;
+  virtual void set_position(x4step::axis a, long position) = 0;
   virtual void set_switches(const x4step::switches &s) = 0;
   virtual x4step::switches get_switches() const = 0;
   virtual x4step::axes_status get_axes() const = 0;
   /// True once none of the axes runs; false after timeout.
-  virtual bool wait_axes(unsigned axis_mask, milliseconds timeout) const = 0;
+  virtual bool wait_axes(x4step::axis_set axes, milliseconds timeout) const = 0;
 };
 
 /// A port that is a real x4step::controller.
@@ -58,8 +59,8 @@ class controller_port : public port {
   void start() override { c_.start(); }
   void brake() override { c_.brake(); }
   void stop() override { c_.stop(); }
-  void move_endless(int axis, x4step::direction dir, int freq_hz, milliseconds ramp) override {
-    c_.move_endless(axis, dir, freq_hz, ramp);
+  void move_endless(x4step::axis a, x4step::direction dir, int freq_hz, milliseconds ramp) override {
+    c_.move_endless(a, dir, freq_hz, ramp);
   }
   x4step::status get_status() const override { return c_.get_status(); }
   bool wait(milliseconds timeout) const override { return c_.wait(timeout); }
@@ -69,19 +70,19 @@ class controller_port : public port {
   x4step::config get_config() const override { return c_.get_config(); }
   void set_step_timing(const x4step::step_timing &t) override { c_.set_step_timing(t); }
   x4step::step_timing get_step_timing() const override { return c_.get_step_timing(); }
-  void set_profile(int axis, const x4step::profile &p) override { c_.set_profile(axis, p); }
-  x4step::profile get_profile(int axis) const override { return c_.get_profile(axis); }
-  void move_to(unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative) override {
-    c_.move_to(axis_mask, targets, relative);
+  void set_profile(x4step::axis a, const x4step::profile &p) override { c_.set_profile(a, p); }
+  x4step::profile get_profile(x4step::axis a) const override { return c_.get_profile(a); }
+  void move_to(x4step::axis_set axes, const std::array<long, x4step::axes> &targets, bool relative) override {
+    c_.move_to(axes, targets, relative);
   }
-  void home(int axis, const x4step::homing &h) override { c_.home(axis, h); }
-  void halt(unsigned axis_mask, x4step::halt_mode how) override { c_.halt(axis_mask, how); }
-  void set_position(int axis, long position) override { c_.set_position(axis, position); }
+  void home(x4step::axis a, const x4step::homing &h) override { c_.home(a, h); }
+  void halt(x4step::axis_set axes, x4step::halt_mode how) override { c_.halt(axes, how); }
+  void set_position(x4step::axis a, long position) override { c_.set_position(a, position); }
   void set_switches(const x4step::switches &s) override { c_.set_switches(s); }
   x4step::switches get_switches() const override { return c_.get_switches(); }
   x4step::axes_status get_axes() const override { return c_.get_axes(); }
-  bool wait_axes(unsigned axis_mask, milliseconds timeout) const override {
-    return c_.wait_axes(axis_mask, timeout);
+  bool wait_axes(x4step::axis_set axes, milliseconds timeout) const override {
+    return c_.wait_axes(axes, timeout);
   }
 
  private:
@@ -100,8 +101,8 @@ enum class key {
   stop_request,   ///< SIGUSR2 (`x4ctl stop`, `x4ctl halt --stop`)
 };
 
-/// Every axis, as an axis mask (bit i: axis i + 1).
-constexpr unsigned all_axes = (1u << x4step::axes) - 1;
+/// Every axis.
+constexpr x4step::axis_set all_axes = x4step::axis_set::all();
 
 /// The user's side: output, and keys while a move runs.
 class console {
@@ -118,9 +119,9 @@ class console {
   /// The next key, waiting up to timeout; key::none on timeout.
   /// Signals (brake/stop requests) are reported even without a keyboard.
   virtual key read_key(milliseconds timeout) = 0;
-  /// The axes (mask) the brake or stop request read last asks to halt:
+  /// The axes the brake or stop request read last asks to halt:
   /// `x4ctl halt AXIS...` names some, everything else means all.
-  virtual unsigned requested_axes() const { return all_axes; }
+  virtual x4step::axis_set requested_axes() const { return all_axes; }
 };
 
 /// keys_on() for as long as it lives.

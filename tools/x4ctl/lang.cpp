@@ -354,7 +354,7 @@ void interpreter::go() {
 void interpreter::endless(const command &c) {
   const axis_values &v = values_[axis_ - 1];
   const char *name = c.dir == x4step::direction::positive ? "M+" : "M-";
-  if (const auto e = x4step::check_endless(axis_, v.freq_hz, milliseconds(v.ramp_ms)); e != x4step::errc::ok)
+  if (const auto e = x4step::check_endless(v.freq_hz, milliseconds(v.ramp_ms)); e != x4step::errc::ok)
     throw usage_error(std::string(name) + ": " + message(e) + " (axis " + std::to_string(axis_) + ": F" +
                       std::to_string(v.freq_hz) + " R" + std::to_string(v.ramp_ms) + ")");
   if (!port_) return;
@@ -365,7 +365,8 @@ void interpreter::endless(const command &c) {
                                        : "a brake key, Ctrl-C or 'x4ctl brake' brakes")
              << "\n"
              << std::flush;
-  const outcome o = run_endless(*port_, con_, axis_, c.dir, v.freq_hz, milliseconds(v.ramp_ms), until(c));
+  const outcome o =
+      run_endless(*port_, con_, x4step::axis(axis_), c.dir, v.freq_hz, milliseconds(v.ramp_ms), until(c));
   con_.out() << describe(o, std::nullopt) << "\n";
 }
 
@@ -373,7 +374,7 @@ void interpreter::cursor() {
   const axis_values &v = values_[axis_ - 1];
   if (!con_.has_keyboard())
     throw usage_error("C: C needs a terminal for the cursor keys; in scripts use M+ or M- with a time");
-  if (const auto e = x4step::check_endless(axis_, v.freq_hz, milliseconds(v.ramp_ms)); e != x4step::errc::ok)
+  if (const auto e = x4step::check_endless(v.freq_hz, milliseconds(v.ramp_ms)); e != x4step::errc::ok)
     throw usage_error("C: " + message(e));
   if (!port_) return;
   con_.out() << "C: axis " << axis_ << " with LEFT and RIGHT (moves while the key is held), ESC ends\n"
@@ -405,8 +406,9 @@ void interpreter::cursor() {
       if (moving && dir != moving) brake_quietly(*port_);
       if (moving != dir) {
         settle();
-        start_endless(*port_, axis_, dir > 0 ? x4step::direction::positive : x4step::direction::negative,
-                      v.freq_hz, milliseconds(v.ramp_ms));
+        start_endless(*port_, x4step::axis(axis_),
+                      dir > 0 ? x4step::direction::positive : x4step::direction::negative, v.freq_hz,
+                      milliseconds(v.ramp_ms));
         moving = dir;
         pending = true;
         release_at = now + first_hold;

@@ -24,24 +24,25 @@ void halt(F &&f) {
 // A move of axis 4 in a phase mode, which the module refuses: a failure
 // that says why.
 void check_axis4(const port &p) {
-  const x4step::output_mode m = p.get_config().mode;
+  const x4step::output_mode m = p.get_config().mode();
   if (m != x4step::output_mode::clock_dir)
     throw failure(std::string("axis 4 cannot move in ") + mode_name(m) +
                   " mode: the SMC800/SMC1500 boards drive axes 1 to 3 ('x4ctl mode clock-dir' for " +
                   "clock and direction signals)");
 }
 
-// Why the port refused a move of the axes (bits 0..3) with e, if its
+// Why the port refused a move of the axes with e, if its
 // settings are the reason; rethrows e otherwise. freq_hz: the frequency of
 // an X4Step move; none for the axes' own moves (the profile's speeds).
 // Only called while e is being handled.
-[[noreturn]] void explain(const port &p, const x4step::error &e, unsigned axes, std::optional<int> freq_hz) {
-  if (e.code() == x4step::errc::param_fail && (axes & 8u)) check_axis4(p);
+[[noreturn]] void explain(const port &p, const x4step::error &e, x4step::axis_set axes,
+                          std::optional<int> freq_hz) {
+  if (e.code() == x4step::errc::param_fail && axes.contains(x4step::axis::a)) check_axis4(p);
   if (e.code() == x4step::errc::freq_too_high && freq_hz.value_or(0) <= x4step::freq_max_hz) {
-    const x4step::output_mode m = p.get_config().mode;
+    const x4step::output_mode m = p.get_config().mode();
     const x4step::step_timing t = p.get_step_timing();
-    const std::string timing = "pulse " + std::to_string(t.pulse.count()) + " ns and space " +
-                               std::to_string(t.space.count()) + " ns allow at most ";
+    const std::string timing = "pulse " + std::to_string(t.pulse().count()) + " ns and space " +
+                               std::to_string(t.space().count()) + " ns allow at most ";
     if (!freq_hz)
       throw failure("too fast for the step timing: " + timing +
                     std::to_string(max_freq_hz(t, m, static_cast<int>(x4step::vel_max))) +
@@ -55,10 +56,10 @@ void check_axis4(const port &p) {
 
 // What follow_until does to what runs, and shows meanwhile.
 struct follow_ops {
-  unsigned axes;                                   // the axes followed
-  std::function<bool()> ended;                     // waits up to a tick: true once it ended
-  std::function<void(unsigned axes)> brake, stop;  // of some of the axes
-  std::function<std::string(bool braking)> live;   // the live line
+  x4step::axis_set axes;                                   // the axes followed
+  std::function<bool()> ended;                             // waits up to a tick: true once it ended
+  std::function<void(x4step::axis_set axes)> brake, stop;  // of some of the axes
+  std::function<std::string(bool braking)> live;           // the live line
 };
 
 // Follows until ops.ended(): ESC, Ctrl-C, a brake request or the deadline
@@ -67,17 +68,17 @@ struct follow_ops {
 std::string follow_until(console &con, const follow_ops &ops, deadline until) {
   keys_guard keys(con);
   std::string why;
-  unsigned halted = 0;  // the axes braked or stopped
-  auto brake_for = [&](const char *w, unsigned axes) {
+  x4step::axis_set halted;  // the axes braked or stopped
+  auto brake_for = [&](const char *w, x4step::axis_set axes) {
     axes &= ops.axes & ~halted;
-    if (!axes) return;
+    if (axes.empty()) return;
     halted |= axes;
     if (why.empty()) why = w;
     ops.brake(axes);
   };
-  auto stop_for = [&](const char *w, unsigned axes) {
+  auto stop_for = [&](const char *w, x4step::axis_set axes) {
     axes &= ops.axes;
-    if (!axes) return;
+    if (axes.empty()) return;
     halted |= axes;
     why = w;
     ops.stop(axes);
@@ -91,7 +92,7 @@ std::string follow_until(console &con, const follow_ops &ops, deadline until) {
         brake_for("brake request", con.requested_axes());
         break;
       case key::interrupt:
-        if (!halted)
+        if (halted.empty())
           brake_for("Ctrl-C", all_axes);
         else  // a second Ctrl-C: no patience for the ramp
           stop_for("Ctrl-C, stopped", all_axes);
@@ -103,7 +104,7 @@ std::string follow_until(console &con, const follow_ops &ops, deadline until) {
         break;
     }
     if (until && steady::now() >= *until) brake_for("time up", all_axes);
-    if (con.live()) draw_live(con, ops.live(halted != 0));
+    if (con.live()) draw_live(con, ops.live(!halted.empty()));
   }
   return why;
 }
@@ -113,7 +114,7 @@ std::string live_hint(const console &con, bool braking) {
   return braking ? "  braking" : con.has_keyboard() ? "  (ESC brakes)" : "";
 }
 
-void halt_quietly(port &p, unsigned axes, x4step::halt_mode how) {
+void halt_quietly(port &p, x4step::axis_set axes, x4step::halt_mode how) {
   halt([&] { p.halt(axes, how); });
 }
 
@@ -135,37 +136,38 @@ void load_move(port &p, const x4step::move &m) {
   try {
     p.load(m);
   } catch (const x4step::error &e) {
-    unsigned axes = 0;
-    for (int i = 0; i < x4step::axes; i++)
-      if (m.steps[i]) axes |= 1u << i;
+    x4step::axis_set axes;
+    for (x4step::axis a : all_axes)
+      if (m.steps[a.index()]) axes |= a;
     explain(p, e, axes, m.freq_hz);
   }
 }
 
-void start_endless(port &p, int axis, x4step::direction dir, int freq_hz, milliseconds ramp) {
+void start_endless(port &p, x4step::axis a, x4step::direction dir, int freq_hz, milliseconds ramp) {
   try {
-    p.move_endless(axis, dir, freq_hz, ramp);
+    p.move_endless(a, dir, freq_hz, ramp);
   } catch (const x4step::error &e) {
-    explain(p, e, 1u << (axis - 1), freq_hz);
+    explain(p, e, a, freq_hz);
   }
 }
 
-void start_goto(port &p, unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative) {
+void start_goto(port &p, x4step::axis_set axes, const std::array<long, x4step::axes> &targets,
+                bool relative) {
   try {
-    p.move_to(axis_mask, targets, relative);
+    p.move_to(axes, targets, relative);
   } catch (const x4step::error &e) {
-    explain(p, e, axis_mask, std::nullopt);
+    explain(p, e, axes, std::nullopt);
   }
 }
 
-void start_home(port &p, int axis, const x4step::homing &h) {
-  if (!p.get_switches().ref.at(axis - 1))
-    throw failure("axis " + std::to_string(axis) + " has no reference switch: 'x4ctl limits " +
-                  std::to_string(axis) + " --ref INPUT' names its input (1..5)");
+void start_home(port &p, x4step::axis a, const x4step::homing &h) {
+  if (!p.get_switches().ref.at(a.index()))
+    throw failure("axis " + std::to_string(a.number()) + " has no reference switch: 'x4ctl limits " +
+                  std::to_string(a.number()) + " --ref INPUT' names its input (1..5)");
   try {
-    p.home(axis, h);
+    p.home(a, h);
   } catch (const x4step::error &e) {
-    explain(p, e, 1u << (axis - 1), std::nullopt);
+    explain(p, e, a, std::nullopt);
   }
 }
 
@@ -194,8 +196,8 @@ int leader_index(const step_counts &steps) {
 
 outcome follow(port &p, console &con, const std::optional<step_counts> &target, deadline until) {
   const int lead = target ? leader_index(*target) : 0;
-  const follow_ops ops{all_axes, [&] { return p.wait(tick); }, [&](unsigned) { brake_quietly(p); },
-                       [&](unsigned) { stop_quietly(p); },
+  const follow_ops ops{all_axes, [&] { return p.wait(tick); }, [&](x4step::axis_set) { brake_quietly(p); },
+                       [&](x4step::axis_set) { stop_quietly(p); },
                        [&](bool braking) {
                          const auto s = p.get_status();
                          if (target) return progress_line(s.steps, s.steps[lead], (*target)[lead]);
@@ -216,12 +218,12 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
   return o;
 }
 
-axes_outcome follow_axes(port &p, console &con, unsigned axis_mask, deadline until) {
+axes_outcome follow_axes(port &p, console &con, x4step::axis_set axes, deadline until) {
   const follow_ops ops{
-      axis_mask, [&] { return p.wait_axes(axis_mask, tick); },
-      [&](unsigned axes) { halt_quietly(p, axes, x4step::halt_mode::brake); },
-      [&](unsigned axes) { halt_quietly(p, axes, x4step::halt_mode::stop); },
-      [&](bool braking) { return positions_text(p.get_axes(), axis_mask) + live_hint(con, braking); }};
+      axes, [&] { return p.wait_axes(axes, tick); },
+      [&](x4step::axis_set some) { halt_quietly(p, some, x4step::halt_mode::brake); },
+      [&](x4step::axis_set some) { halt_quietly(p, some, x4step::halt_mode::stop); },
+      [&](bool braking) { return positions_text(p.get_axes(), axes) + live_hint(con, braking); }};
   axes_outcome o;
   o.halted_by = follow_until(con, ops, until);
   o.end = p.get_axes();
@@ -266,9 +268,9 @@ std::vector<outcome> follow_moves(port &p, console &con, const std::vector<x4ste
   return done;
 }
 
-outcome run_endless(port &p, console &con, int axis, x4step::direction dir, int freq_hz, milliseconds ramp,
-                    deadline until) {
-  start_endless(p, axis, dir, freq_hz, ramp);
+outcome run_endless(port &p, console &con, x4step::axis a, x4step::direction dir, int freq_hz,
+                    milliseconds ramp, deadline until) {
+  start_endless(p, a, dir, freq_hz, ramp);
   return follow(p, con, std::nullopt, until);
 }
 

@@ -37,12 +37,12 @@ struct outcome {
 /// port's settings explained: a move of axis 4 in a phase mode, a frequency
 /// the step timing cannot fit. Those throw failure; other errors pass.
 void load_move(port &p, const x4step::move &m);
-void start_endless(port &p, int axis, x4step::direction dir, int freq_hz, milliseconds ramp);
+void start_endless(port &p, x4step::axis a, x4step::direction dir, int freq_hz, milliseconds ramp);
 /// p.move_to(...), the same way.
-void start_goto(port &p, unsigned axis_mask, const std::array<long, x4step::axes> &targets, bool relative);
+void start_goto(port &p, x4step::axis_set axes, const std::array<long, x4step::axes> &targets, bool relative);
 /// p.home(...), the same way; an axis without a reference switch is refused
 /// with a failure that says how to name one.
-void start_home(port &p, int axis, const x4step::homing &h);
+void start_home(port &p, x4step::axis a, const x4step::homing &h);
 
 /// Loads and starts m and follows it until it ends. ESC, Ctrl-C, a brake
 /// request or the deadline brake it; a stop request stops it.
@@ -68,8 +68,8 @@ std::vector<outcome> follow_moves(port &p, console &con, const std::vector<x4ste
                                   const move_ended &ended = {});
 
 /// Starts an endless move and follows it until it is braked.
-outcome run_endless(port &p, console &con, int axis, x4step::direction dir, int freq_hz, milliseconds ramp,
-                    deadline until = std::nullopt);
+outcome run_endless(port &p, console &con, x4step::axis a, x4step::direction dir, int freq_hz,
+                    milliseconds ramp, deadline until = std::nullopt);
 
 /// Follows whatever runs on p, as run_move does after starting; target
 /// (the loaded steps) decides completed, and the progress bar.
@@ -81,9 +81,9 @@ struct axes_outcome {
   std::string halted_by;    ///< who halted some of them ("ESC", "brake request", ...); empty if nobody
 };
 
-/// Follows the axes in axis_mask until none of them runs. ESC, Ctrl-C or the
+/// Follows the axes until none of them runs. ESC, Ctrl-C or the
 /// deadline brake them; brake and stop requests halt those of them they name.
-axes_outcome follow_axes(port &p, console &con, unsigned axis_mask, deadline until = std::nullopt);
+axes_outcome follow_axes(port &p, console &con, x4step::axis_set axes, deadline until = std::nullopt);
 
 /// "done: 1000 800 600 400" or "halted (ESC) at 412 of 1000 steps: 412 330 247 165".
 std::string describe(const outcome &o, const std::optional<step_counts> &target);

@@ -91,11 +91,10 @@ std::string axis_text(const x4step::axis_status &a) {
   return s;
 }
 
-std::string positions_text(const x4step::axes_status &a, unsigned axis_mask) {
+std::string positions_text(const x4step::axes_status &a, x4step::axis_set axes) {
   std::string s;
-  for (int i = 0; i < x4step::axes; i++)
-    if (axis_mask >> i & 1u)
-      s += (s.empty() ? "" : " ") + std::to_string(i + 1) + "=" + std::to_string(a.axis[i].position);
+  for (x4step::axis ax : axes)
+    s += (s.empty() ? "" : " ") + std::to_string(ax.number()) + "=" + std::to_string(a[ax].position);
   return s;
 }
 
@@ -110,7 +109,7 @@ std::string input_name(int input) {
   return "input " + std::to_string(input) + " (pin " + std::to_string(input_pins[input - 1]) + ")";
 }
 
-std::string profile_text(int axis, const x4step::profile &p) {
+std::string profile_text(x4step::axis axis, const x4step::profile &p) {
   // A ramp's length in seconds, to the millisecond.
   auto ramp = [](unsigned from, unsigned to, unsigned a) {
     if (a == 0) return std::string("no ramp: jumps to ") + std::to_string(to) + " steps/s";
@@ -119,12 +118,14 @@ std::string profile_text(int axis, const x4step::profile &p) {
     return std::string("ramp ") + t + " s";
   };
   std::ostringstream o;
-  o << "axis         " << axis << "\n"
-    << "v0           " << p.v0 << " steps/s (start)\n"
-    << "ve           " << p.ve << " steps/s (stop)\n"
-    << "vm           " << p.vm << " steps/s (maximum)\n"
-    << "a0           " << p.a0 << " steps/s^2 (" << ramp(p.v0, p.vm, p.a0) << ")\n"
-    << "ae           " << p.ae << " steps/s^2 (" << ramp(p.vm, p.ve, p.ae) << ")\n";
+  o << "axis         " << axis.number() << "\n"
+    << "v0           " << p.start_speed() << " steps/s (start)\n"
+    << "ve           " << p.end_speed() << " steps/s (stop)\n"
+    << "vm           " << p.top_speed() << " steps/s (maximum)\n"
+    << "a0           " << p.accel() << " steps/s^2 (" << ramp(p.start_speed(), p.top_speed(), p.accel())
+    << ")\n"
+    << "ae           " << p.decel() << " steps/s^2 (" << ramp(p.top_speed(), p.end_speed(), p.decel())
+    << ")\n";
   return o.str();
 }
 
@@ -246,10 +247,9 @@ std::string seconds(std::chrono::steady_clock::time_point t) {
   return s;
 }
 
-std::string axes_list(unsigned mask, const char *sep) {
+std::string axes_list(x4step::axis_set axes, const char *sep) {
   std::string s;
-  for (int i = 0; i < x4step::axes; i++)
-    if (mask >> i & 1u) s += (s.empty() ? "" : sep) + std::to_string(i + 1);
+  for (x4step::axis a : axes) s += (s.empty() ? "" : sep) + std::to_string(a.number());
   return s;
 }
 
@@ -309,8 +309,8 @@ std::string event_text(const x4step::event &e) {
   }
   if (detail.empty() && how && e.type != event_type::port_gone) detail = "how " + std::to_string(how);
   std::string s = "#" + std::to_string(e.seq) + " " + seconds(e.time) + " " + what;
-  if (e.axis_mask) s += ": axes " + axes_list(e.axis_mask, " ");
-  if (!detail.empty()) s += (e.axis_mask ? ", " : ": ") + detail;
+  if (!e.axes.empty()) s += ": axes " + axes_list(e.axes, " ");
+  if (!detail.empty()) s += (e.axes.empty() ? ": " : ", ") + detail;
   step_counts pos{};
   for (int i = 0; i < x4step::axes; i++) pos[i] = e.position[i];
   return s + "; at " + steps_text(pos);
@@ -327,7 +327,7 @@ std::string event_json(const x4step::event &e) {
     o << json_string(type);
   else
     o << static_cast<unsigned>(e.type);
-  o << ",\"axes\":[" << axes_list(e.axis_mask, ",") << "],\"how\":";
+  o << ",\"axes\":[" << axes_list(e.axes, ",") << "],\"how\":";
   if (*how)
     o << json_string(how);
   else
@@ -371,7 +371,7 @@ std::string mode_text(x4step::output_mode m) {
 int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m, int cap) {
   // The module's check: pulse + space within the period, or with the
   // symmetric clock the space within half of it (integer nanoseconds).
-  const long long need = t.pulse.count() ? t.pulse.count() + t.space.count() : 2 * t.space.count();
+  const long long need = t.pulse().count() ? t.pulse().count() + t.space().count() : 2 * t.space().count();
   if (m != x4step::output_mode::clock_dir || need <= 0) return cap;
   return static_cast<int>(std::min<long long>(cap, 1000000000LL / need));
 }
@@ -380,10 +380,11 @@ std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, con
   const bool phase = m != x4step::output_mode::clock_dir;
   std::ostringstream o;
   o << "device       " << device << "\n"
-    << "pulse        " << t.pulse.count() << " ns" << (t.pulse.count() ? "" : " (symmetric clock)") << "\n"
-    << "space        " << t.space.count() << " ns\n"
-    << "dir setup    " << t.dir_setup.count() << " ns\n"
-    << "dir hold     " << t.dir_hold.count() << " ns\n"
+    << "pulse        " << t.pulse().count() << " ns" << (t.pulse().count() ? "" : " (symmetric clock)")
+    << "\n"
+    << "space        " << t.space().count() << " ns\n"
+    << "dir setup    " << t.dir_setup().count() << " ns\n"
+    << "dir hold     " << t.dir_hold().count() << " ns\n"
     << "max freq     " << max_freq_hz(t, m) << " Hz"
     << (phase ? std::string(" (") + mode_name(m) + " mode: pulse and space do not apply)" : "") << "\n";
   return o.str();
@@ -391,9 +392,9 @@ std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, con
 
 std::string timing_json(const x4step::step_timing &t, x4step::output_mode m, const std::string &device) {
   std::ostringstream o;
-  o << "{\"device\":" << json_string(device) << ",\"pulse_ns\":" << t.pulse.count()
-    << ",\"space_ns\":" << t.space.count() << ",\"dir_setup_ns\":" << t.dir_setup.count()
-    << ",\"dir_hold_ns\":" << t.dir_hold.count() << ",\"mode\":" << json_string(mode_name(m))
+  o << "{\"device\":" << json_string(device) << ",\"pulse_ns\":" << t.pulse().count()
+    << ",\"space_ns\":" << t.space().count() << ",\"dir_setup_ns\":" << t.dir_setup().count()
+    << ",\"dir_hold_ns\":" << t.dir_hold().count() << ",\"mode\":" << json_string(mode_name(m))
     << ",\"max_freq_hz\":" << max_freq_hz(t, m) << "}";
   return o.str();
 }

@@ -37,12 +37,12 @@ std::string status_json(const x4step::status &s, const x4step::axes_status &a, c
 std::string axis_text(const x4step::axis_status &a);
 /// "stopped at E+, ambiguous: ..." for x4step::axis_error bits; "" for 0.
 std::string errors_text(unsigned error);
-/// "1=1200 2=-5" for the axes in axis_mask.
-std::string positions_text(const x4step::axes_status &a, unsigned axis_mask);
+/// "1=1200 2=-5" for the axes.
+std::string positions_text(const x4step::axes_status &a, x4step::axis_set axes);
 /// "1000 -500 0 0": every coordinate.
 std::string coordinates_text(const x4step::axes_status &a);
 /// Multi-line text of `x4ctl profile`.
-std::string profile_text(int axis, const x4step::profile &p);
+std::string profile_text(x4step::axis axis, const x4step::profile &p);
 /// Multi-line text of `x4ctl limits`: each axis' switches, each input.
 std::string limits_text(const x4step::switches &s, const x4step::axes_status &a);
 /// "input 3 (pin 12)"; "none" for 0.

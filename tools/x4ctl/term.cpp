@@ -19,11 +19,13 @@ sig_atomic_t g_interrupts_taken = 0;
 std::atomic<unsigned> g_brake{0};
 std::atomic<unsigned> g_stop{0};
 static_assert(std::atomic<unsigned>::is_always_lock_free, "used in a signal handler");
-unsigned g_taken = all_axes;
+// Every axis, as the mask a signal carries.
+constexpr unsigned all_mask = all_axes.mask();
+unsigned g_taken = all_mask;
 
 void on_signal(int sig, siginfo_t *info, void *) {
   // sigqueue() from `x4ctl halt` names the axes; anything else means all.
-  const unsigned axes = info && info->si_code == SI_QUEUE ? info->si_value.sival_int & all_axes : all_axes;
+  const unsigned axes = info && info->si_code == SI_QUEUE ? info->si_value.sival_int & all_mask : all_mask;
   switch (sig) {
     case SIGINT:
       g_interrupts = g_interrupts + 1;
@@ -31,7 +33,7 @@ void on_signal(int sig, siginfo_t *info, void *) {
       break;
     case SIGTERM:
     case SIGHUP:
-      g_brake |= all_axes;
+      g_brake |= all_mask;
       g_quit = 1;
       break;
     case SIGUSR1:
@@ -79,11 +81,11 @@ key take_signal() {
   return key::none;
 }
 
-unsigned taken_axes() { return g_taken; }
+x4step::axis_set taken_axes() { return x4step::axis_set(g_taken); }
 
-bool send_request(pid_t pid, bool stop, unsigned axis_mask) {
+bool send_request(pid_t pid, bool stop, x4step::axis_set axes) {
   sigval v{};
-  v.sival_int = static_cast<int>(axis_mask);
+  v.sival_int = static_cast<int>(axes.mask());
   return ::sigqueue(pid, stop ? SIGUSR2 : SIGUSR1, v) == 0;
 }
 

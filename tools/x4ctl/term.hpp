@@ -24,10 +24,10 @@ void install_signal_handlers();
 /// The oldest pending request, each signal once; key::none if there is none.
 key take_signal();
 /// The axes of the brake or stop request take_signal returned last.
-unsigned taken_axes();
-/// Asks the x4ctl pid to brake (SIGUSR1) or stop (SIGUSR2) the axes in mask.
+x4step::axis_set taken_axes();
+/// Asks the x4ctl pid to brake (SIGUSR1) or stop (SIGUSR2) the axes.
 /// False with errno set if it cannot be signalled.
-bool send_request(pid_t pid, bool stop, unsigned axis_mask);
+bool send_request(pid_t pid, bool stop, x4step::axis_set axes);
 /// SIGINT, SIGTERM or SIGHUP came: end after the current move.
 bool quit_requested();
 
@@ -74,7 +74,7 @@ class std_console : public console {
   void keys_on() override;
   void keys_off() override;
   key read_key(milliseconds timeout) override;
-  unsigned requested_axes() const override { return taken_axes(); }
+  x4step::axis_set requested_axes() const override { return taken_axes(); }
 
  private:
   bool live_;
