@@ -577,9 +577,9 @@ struct x4step_path_status {
 	__u32 reserved[4];
 };
 
-#define X4STEP_SET_PATH_CONFIG _IOW(X4STEP_IOC_MAGIC, 0x20, struct x4step_path_config)
-#define X4STEP_GET_PATH_CONFIG _IOR(X4STEP_IOC_MAGIC, 0x21, struct x4step_path_config)
-#define X4STEP_PATH_CTL _IOW(X4STEP_IOC_MAGIC, 0x22, struct x4step_path_ctl)
-#define X4STEP_GET_PATH _IOR(X4STEP_IOC_MAGIC, 0x23, struct x4step_path_status)
+#define X4STEP_SET_PATH_CONFIG _IOW(X4STEP_IOC_MAGIC, 0x1a, struct x4step_path_config)
+#define X4STEP_GET_PATH_CONFIG _IOR(X4STEP_IOC_MAGIC, 0x1b, struct x4step_path_config)
+#define X4STEP_PATH_CTL _IOW(X4STEP_IOC_MAGIC, 0x1c, struct x4step_path_ctl)
+#define X4STEP_GET_PATH _IOR(X4STEP_IOC_MAGIC, 0x1d, struct x4step_path_status)
 
 #endif /* _UAPI_LINUX_X4STEP_H */
