@@ -423,7 +423,8 @@ const char *event_how(const event &e) {
                                      "REF found",
                                      "reference travel exceeded",
                                      "braked off the reference switch"};
-  static const char *const sources[] = {"by request", "by key", "by the controller's close"};
+  static const char *const sources[] = {"by request", "by key", "by the controller's close",
+                                        "by an emergency halt"};
   static const char *const switches[] = {"E+", "E-", "REF"};
   static const char *const changes[] = {"opened", "closed", "released the port"};
   const unsigned h = e.how - 1;
@@ -433,7 +434,7 @@ const char *event_how(const event &e) {
     case event_type::move_ended:
       return h < 8 ? ends[h] : "";
     case event_type::brake:
-      return h < 3 ? sources[h] : "";
+      return h < 4 ? sources[h] : "";
     case event_type::switch_hit:
       return h < 3 ? switches[h] : "";
     case event_type::controller:
@@ -784,6 +785,18 @@ bool monitor::wait_axes(unsigned axis_mask, std::chrono::milliseconds timeout) c
 std::optional<event> monitor::read_event(std::chrono::milliseconds timeout) const {
   if (!impl_) fail(errc::init_not_done);
   return impl_->read_event(timeout);
+}
+
+void monitor::emergency_halt(halt_mode how) const {
+  if (!impl_) fail(errc::init_not_done);
+  x4step_estop k{};
+  k.how = how == halt_mode::stop ? X4STEP_HALT_STOP : X4STEP_HALT_BRAKE;
+  if (::ioctl(impl_->fd, X4STEP_ESTOP, &k) == 0) return;
+  if (errno == ENOTTY)
+    throw error(std::make_error_code(std::errc::not_supported),
+                impl_->path +
+                    ": the x4step module is too old for an emergency halt from a monitor: update x4step.ko");
+  fail_ioctl(errno, "X4STEP_ESTOP");
 }
 
 }  // namespace x4step

@@ -887,16 +887,19 @@ std::string help_text(subcommand c) {
              (brake ? "Brake the running move along its ramp (X4Brake).\n"
                     : "Stop the running move at once, without ramp (X4Stop): an emergency stop,\n"
                       "the motors may lose steps.\n") +
-             "A move belongs to the program that started it; when that is an x4ctl (in\n"
-             "the background, another shell, or a 'run' script), it is asked to " +
+             "It reaches every move on the port, whichever program controls it (an x4ctl\n"
+             "in the background or in another shell, any other program, or the module\n"
+             "braking the moves of a program that exited): the module's emergency halt\n"
+             "is allowed to anyone who may read the port (group lp). The event stream\n"
+             "('x4ctl watch') shows it as an emergency " +
              (brake ? "brake" : "stop") +
-             ",\n"
-             "and this command waits until the motors stand and shows the steps made.\n"
+             ". Waits until the motors stand and\n"
+             "shows the steps made.\n"
              "\n"
              "Options:\n" +
              port_help +
              "\n"
-             "Exit status: 0 done; 1 no move was running, or another program holds the port.\n";
+             "Exit status: 0 done; 1 no move was running, or the port is missing.\n";
     }
     case subcommand::status:
       return "Usage: x4ctl status [OPTIONS]\n"

@@ -151,11 +151,24 @@ void ask_holder(const std::string &dev, bool stop, unsigned axis_mask) {
     throw failure("cannot signal PID " + std::to_string(h->pid) + ": " + std::strerror(errno));
 }
 
+// brake and stop: the module's emergency halt, allowed to any reader of
+// the port, whoever controls it. An x4ctl that holds the port is asked
+// first, so that it reports the halt and starts none of its --then moves;
+// the emergency halt follows at once, whether it heard or not (a stopped
+// or hung holder). A module without the emergency halt: the request only.
 int cmd_halt(const config &c, bool stop) {
   const std::string dev = device_of(c);
   const x4step::monitor mon = open_monitor(dev);
   if (!mon.get_status().active) throw failure(message(x4step::errc::not_active));  // any move
-  ask_holder(dev, stop, all_axes);
+  const auto h = find_controller(dev);
+  const bool asked = h && h->is_x4ctl() && send_request(h->pid, stop, all_axes);
+  try {
+    mon.emergency_halt(stop ? x4step::halt_mode::stop : x4step::halt_mode::brake);
+  } catch (const x4step::error &e) {
+    if (e.code() == x4step::errc::not_active && !asked) throw failure(message(x4step::errc::not_active));
+    if (e.code() == std::errc::not_supported && !asked) ask_holder(dev, stop, all_axes);
+    if (e.code() != x4step::errc::not_active && e.code() != std::errc::not_supported) throw;
+  }
   // A brake takes at most the longest ramp, 1 s.
   if (!mon.wait(milliseconds(5000))) throw failure("the move still runs 5 s later");
   std::cout << (stop ? "stopped: " : "braked: ") << steps_text(mon.get_status().steps) << "\n";

@@ -219,7 +219,7 @@ const char *event_how_name(const x4step::event &e) {
   static const char *const kinds[] = {"loaded", "endless", "goto", "home"};
   static const char *const ends[] = {"completed", "braked",    "stopped",    "limit",
                                      "homed",     "ref_found", "ref_travel", "ref_passed"};
-  static const char *const sources[] = {"request", "key", "close"};
+  static const char *const sources[] = {"request", "key", "close", "emergency"};
   static const char *const switches[] = {"limit_pos", "limit_neg", "ref"};
   static const char *const changes[] = {"opened", "closed", "released"};
   const unsigned h = e.how - 1;
@@ -229,7 +229,7 @@ const char *event_how_name(const x4step::event &e) {
     case x4step::event_type::move_ended:
       return h < 8 ? ends[h] : "";
     case x4step::event_type::brake:
-      return h < 3 ? sources[h] : "";
+      return h < 4 ? sources[h] : "";
     case x4step::event_type::switch_hit:
       return h < 3 ? switches[h] : "";
     case x4step::event_type::controller:
@@ -284,6 +284,8 @@ std::string event_text(const x4step::event &e) {
       detail = how == 1   ? "requested by the controller"
                : how == 2 ? "by " + key_name(static_cast<int>(e.value))
                : how == 3 ? "the controller closed while moving"
+               : how == 4 ? std::string("emergency ") + (e.value ? "stop" : "brake") +
+                                " (x4ctl stop/brake, any reader)"
                           : "";
       break;
     case event_type::switch_hit: {
