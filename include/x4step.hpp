@@ -418,6 +418,8 @@ class monitor {
   /// Returns at once (wait() for the rest). Throws not_active if no move
   /// runs; with a module older than the ioctl, std::errc::not_supported.
   void emergency_halt(halt_mode how) const;
+  /// The interface version of the module serving the port (X4STEP_GET_INFO).
+  unsigned abi_version() const;
 
  private:
   struct impl;

@@ -787,6 +787,13 @@ std::optional<event> monitor::read_event(std::chrono::milliseconds timeout) cons
   return impl_->read_event(timeout);
 }
 
+unsigned monitor::abi_version() const {
+  if (!impl_) fail(errc::init_not_done);
+  x4step_info info{};
+  impl_->call(X4STEP_GET_INFO, &info, "X4STEP_GET_INFO");
+  return info.abi_version;
+}
+
 void monitor::emergency_halt(halt_mode how) const {
   if (!impl_) fail(errc::init_not_done);
   x4step_estop k{};
