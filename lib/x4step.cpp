@@ -20,6 +20,7 @@
 extern "C" {
 #include "x4_check.h"  // the kernel's own argument checks
 }
+#include "x4step_access.hpp"
 
 namespace x4step {
 
@@ -129,7 +130,11 @@ class category_impl : public std::error_category {
       why = "port busy: " + port + " was busy and is free now: try again";
     } else {
       why = "port busy: " + port + " is claimed by " + holder + " (another parport driver" +
-            (holder.rfind("ppdev", 0) == 0 ? ", for a program using /dev/" + port : std::string()) + ")";
+            (holder.rfind("ppdev", 0) == 0 ? ", for a program using /dev/" + port + ": end it"
+             : holder == "lp"              ? ", the printer driver: wait for the print job, or unload it: "
+                                             "sudo modprobe -r lp"
+                                           : std::string()) +
+            ")";
     }
   }
   throw error(make_error_code(errc::lpt_not_found), path + ": " + why);
@@ -143,10 +148,7 @@ int open_device(const std::string &path, int flags) {
     if (errno == EBUSY) fail_busy(path);
     if (errno == ENOENT || errno == ENODEV || errno == ENXIO) fail(errc::lpt_not_found);
     if (errno == EACCES || errno == EPERM)
-      throw error(make_error_code(errc::lpt_not_found),
-                  path +
-                      ": permission denied: controlling the motors needs group lp (sudo adduser $USER lp, "
-                      "then log in again)");
+      throw error(make_error_code(errc::lpt_not_found), detail::access_denied_text(path));
     fail_errno(errno, "open " + path);
   }
   x4step_info info{};

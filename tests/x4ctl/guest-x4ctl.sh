@@ -135,6 +135,26 @@ check json-error 1 '^{"schema":1,"error":{"message":"/dev/x4step3: port not foun
 	x4ctl -p 4 status --json
 check json-usage-error 2 '^{"schema":1,"error":{"message":"watch: count 0 out of range: use 1 or more","errno":22}}$' '' \
 	x4ctl watch --json -n 0
+# Every --json output once more, marked for tests/x4ctl/check-json.sh, which
+# parses them on the host (this guest has neither python3 nor jq).
+for c in status in timing mode limits list "profile 1" "watch -n 2" "monitor -n 1"; do
+	case $c in
+	watch* | monitor*)
+		# shellcheck disable=SC2086
+		x4ctl $c --json >"$tmp/json.out" 2>&1 &
+		jpid=$!
+		usleep 300000
+		x4ctl move 20 --freq 2000 --ramp 5 --wait >/dev/null 2>&1
+		wait "$jpid"
+		;;
+	*)
+		# shellcheck disable=SC2086
+		x4ctl $c --json >"$tmp/json.out" 2>&1
+		;;
+	esac
+	sed 's/^/X4JSON /' "$tmp/json.out"
+done
+x4ctl -p 4 status --json | sed 's/^/X4JSON /'
 check json-in-booleans 0 '"input_pins":{"15":\(true\|false\),"13":\(true\|false\),' '' x4ctl in --json
 # ---- list: the ports, their module, who holds them -----------------------------------
 check list 0 '^/dev/x4step0  parport0  ABI [0-9]*  free$' '' x4ctl list

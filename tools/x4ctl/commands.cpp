@@ -82,7 +82,11 @@ x4step::controller open_controller(const std::string &dev) {
       throw failure(dev + ": port busy: PID " + std::to_string(h->pid) + " (" + h->name + ") controls it" +
                         (h->is_x4ctl() ? "; 'x4ctl brake' ends its move" : ""),
                     EBUSY);
-    throw open_failure(dev, e, true);
+    failure f = open_failure(dev, e, true);
+    if (const auto u = f.err() == EBUSY ? parport_user(dev) : std::nullopt)
+      throw failure(std::string(f.what()) + "; PID " + std::to_string(u->pid) + " (" + u->name + ") uses it",
+                    EBUSY);
+    throw f;
   }
 }
 

@@ -4,6 +4,8 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -75,6 +77,12 @@ std::string parport_claimant(int parport) {
   std::string name;
   if (!(active >> name) || name == "none") return "";
   return name;
+}
+
+std::optional<holder> parport_user(const std::string &device) {
+  struct stat sb {};
+  if (::stat(device.c_str(), &sb) || !S_ISCHR(sb.st_mode)) return std::nullopt;
+  return find_controller("/dev/parport" + std::to_string(minor(sb.st_rdev)));
 }
 
 std::vector<std::string> x4step_devices() {

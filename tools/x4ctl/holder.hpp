@@ -22,6 +22,10 @@ namespace x4ctl {
 /// users stay hidden unless we may read their /proc/PID/fd).
 std::optional<holder> find_controller(const std::string &device);
 
+/// The program that has /dev/parportN open, N being the parport of the
+/// x4step device at path (ppdev's users, when ppdev holds the port).
+std::optional<holder> parport_user(const std::string &device);
+
 /// The parport driver that has claimed parportN now, as the parport core
 /// names it ("x4step", "lp", "ppdev0", ...); "" when none has, or unknown.
 std::string parport_claimant(int parport);
