@@ -463,11 +463,9 @@ enum class end_reason {
   ref_travel = 7,  ///< a reference phase went beyond sref
   ref_passed = 8,  ///< phase 1's brake ran off the REF switch
 };
-enum class brake_source {
-  request = 1,
-  key = 2,
-  close = 3
-};  ///< brake()/halt(), a brake key, the controller's close
+/// brake()/halt(), a brake key, the controller's close, and
+/// monitor::emergency_halt() (value: 0 brake, 1 stop, as halt_mode).
+enum class brake_source { request = 1, key = 2, close = 3, emergency = 4 };
 enum class switch_kind { limit_pos = 1, limit_neg = 2, ref = 3 };
 enum class controller_change { opened = 1, closed = 2, released = 3 };  ///< released: a controller may open
 
@@ -622,6 +620,13 @@ class monitor {
   /// controller::read_event. The module keeps the last 256 events; a
   /// monitor that fell further behind sees a gap in event::seq.
   std::optional<event> read_event(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+  /// The emergency halt (X4STEP_ESTOP): brakes or stops every move on the
+  /// port, whoever controls it; a read-only open (group lp) is enough.
+  /// Returns at once (wait() for the rest). Throws not_active if no move
+  /// runs; with a module older than the ioctl, std::errc::not_supported.
+  void emergency_halt(halt_mode how) const;
+  /// The interface version of the module serving the port (X4STEP_GET_INFO).
+  unsigned abi_version() const;
 
  private:
   struct impl;

@@ -426,6 +426,38 @@ static int x4_ioctl_halt_axes(struct x4_port *x4,
 	return x4_ioctl_halt(x4, h.axes, h.how);
 }
 
+/*
+ * X4STEP_ESTOP, from any descriptor: halt every move whoever controls
+ * the port. Only the raw lock, as the brake keys: a controller's ioctl
+ * holding the mutex does not delay it. The EV_BRAKE event comes before
+ * the stop's MOVE_ENDED; a stop's end reason wins over the brake's.
+ */
+static int x4_ioctl_estop(struct x4_port *x4, struct x4step_estop __user *arg)
+{
+	struct x4step_estop es;
+	unsigned long flags;
+	int ret;
+
+	if (copy_from_user(&es, arg, sizeof(es)))
+		return -EFAULT;
+	if (es.how > X4STEP_HALT_STOP || es.flags ||
+	    memchr_inv(es.reserved, 0, sizeof(es.reserved)))
+		return -EINVAL;
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4->gone) {
+		ret = -ENODEV;
+	} else if (es.how == X4STEP_HALT_STOP) {
+		x4_events_brake_locked(x4, x4_events_chans_locked(x4, 0x0f),
+				       X4STEP_SRC_ESTOP, X4STEP_HALT_STOP);
+		ret = x4_errno(x4_port_stop_locked(x4, 0x0f));
+	} else {
+		ret = x4_errno(x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_ESTOP,
+						    X4STEP_HALT_BRAKE));
+	}
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	return ret;
+}
+
 static int x4_ioctl_set_position(struct x4_port *x4,
 				 struct x4step_position __user *arg)
 {
@@ -733,7 +765,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	} karg;
 	long ret;
 
-	/* Reading commands work on any descriptor. */
+	/* Reading commands, and the emergency halt, work on any descriptor. */
 	switch (cmd) {
 	case X4STEP_GET_INFO:
 		memset(&info, 0, sizeof(info));
@@ -767,6 +799,8 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		return x4_ioctl_get_switches(x4, uarg);
 	case X4STEP_GET_AXES:
 		return x4_ioctl_get_axes(x4, uarg);
+	case X4STEP_ESTOP: /* any descriptor: the emergency halt */
+		return x4_ioctl_estop(x4, uarg);
 	case X4STEP_GET_PATH:
 	case X4STEP_GET_PATH_CONFIG:
 		return x4_path_ioctl_read(x4, cmd, uarg);

@@ -20,6 +20,7 @@
 extern "C" {
 #include "x4_check.h"  // the kernel's own argument checks
 }
+#include "x4step_access.hpp"
 
 namespace x4step {
 
@@ -128,7 +129,11 @@ class category_impl : public std::error_category {
       why = "port busy: " + port + " was busy and is free now: try again";
     } else {
       why = "port busy: " + port + " is claimed by " + holder + " (another parport driver" +
-            (holder.rfind("ppdev", 0) == 0 ? ", for a program using /dev/" + port : std::string()) + ")";
+            (holder.rfind("ppdev", 0) == 0 ? ", for a program using /dev/" + port + ": end it"
+             : holder == "lp"              ? ", the printer driver: wait for the print job, or unload it: "
+                                             "sudo modprobe -r lp"
+                                           : std::string()) +
+            ")";
     }
   }
   throw error(make_error_code(errc::lpt_not_found), path + ": " + why);
@@ -142,10 +147,7 @@ int open_device(const std::string &path, int flags) {
     if (errno == EBUSY) fail_busy(path);
     if (errno == ENOENT || errno == ENODEV || errno == ENXIO) fail(errc::lpt_not_found);
     if (errno == EACCES || errno == EPERM)
-      throw error(make_error_code(errc::lpt_not_found),
-                  path +
-                      ": permission denied: controlling the motors needs group lp (sudo adduser $USER lp, "
-                      "then log in again)");
+      throw error(make_error_code(errc::lpt_not_found), detail::access_denied_text(path));
     fail_errno(errno, "open " + path);
   }
   x4step_info info{};
@@ -417,7 +419,8 @@ const char *event_how(const event &e) {
                                      "REF found",
                                      "reference travel exceeded",
                                      "braked off the reference switch"};
-  static const char *const sources[] = {"by request", "by key", "by the controller's close"};
+  static const char *const sources[] = {"by request", "by key", "by the controller's close",
+                                        "by an emergency halt"};
   static const char *const switches[] = {"E+", "E-", "REF"};
   static const char *const changes[] = {"opened", "closed", "released the port"};
   const unsigned h = e.how - 1;
@@ -427,7 +430,7 @@ const char *event_how(const event &e) {
     case event_type::move_ended:
       return h < 8 ? ends[h] : "";
     case event_type::brake:
-      return h < 3 ? sources[h] : "";
+      return h < 4 ? sources[h] : "";
     case event_type::switch_hit:
       return h < 3 ? switches[h] : "";
     case event_type::controller:
@@ -764,6 +767,25 @@ bool monitor::wait_axes(axis_set s, std::chrono::milliseconds timeout) const {
 std::optional<event> monitor::read_event(std::chrono::milliseconds timeout) const {
   if (!impl_) fail(errc::init_not_done);
   return impl_->read_event(timeout);
+}
+
+unsigned monitor::abi_version() const {
+  if (!impl_) fail(errc::init_not_done);
+  x4step_info info{};
+  impl_->call(X4STEP_GET_INFO, &info, "X4STEP_GET_INFO");
+  return info.abi_version;
+}
+
+void monitor::emergency_halt(halt_mode how) const {
+  if (!impl_) fail(errc::init_not_done);
+  x4step_estop k{};
+  k.how = how == halt_mode::stop ? X4STEP_HALT_STOP : X4STEP_HALT_BRAKE;
+  if (::ioctl(impl_->fd, X4STEP_ESTOP, &k) == 0) return;
+  if (errno == ENOTTY)
+    throw error(std::make_error_code(std::errc::not_supported),
+                impl_->path +
+                    ": the x4step module is too old for an emergency halt from a monitor: update x4step.ko");
+  fail_ioctl(errno, "X4STEP_ESTOP");
 }
 
 }  // namespace x4step

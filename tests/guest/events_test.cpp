@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -456,6 +457,76 @@ void Keys(Stream &mon, int c) {
         "ESC brakes: the brake by key code 1: " + Str(ev));
 }
 
+int EStop(int fd, uint32_t how, uint32_t flags = 0, uint32_t reserved = 0) {
+  x4step_estop e{how, flags, {reserved, 0}};
+  return Ioctl(fd, X4STEP_ESTOP, &e);
+}
+
+// The machine's coordinate of axis i, counted by the virtual port from the edges.
+long long Machine(int i) {
+  std::istringstream in(Slurp(kV + "positions"));
+  long long p[4] = {};
+  for (auto &v : p) in >> v;
+  return p[i];
+}
+
+// X4STEP_ESTOP on a read-only descriptor halts the controller's moves:
+// brakes along the ramp, stops at once (no edge after it); a bad argument halts nothing.
+void EmergencyHalt(Stream &mon, int c) {
+  const int ro = open(dev.c_str(), O_RDONLY | O_CLOEXEC);
+  Check(EStop(ro, X4STEP_HALT_BRAKE) == ESRCH, "ESTOP with no move running: ESRCH");
+  Endless(c, 3, 1, 1000, 50);
+  usleep(100000);
+  Check(EStop(ro, 2) == EINVAL && EStop(ro, X4STEP_HALT_STOP, 1) == EINVAL &&
+            EStop(ro, X4STEP_HALT_STOP, 0, 1) == EINVAL && Ioctl(ro, X4STEP_ESTOP, nullptr) == EFAULT,
+        "ESTOP with a bad how, flags, reserved word or pointer: EINVAL, EFAULT");
+  Check(Axes(ro).axis[2].state & X4STEP_AX_RUN, "... and the move runs on");
+  Check(Ioctl(ro, X4STEP_BRAKE) == EBADF, "X4STEP_BRAKE stays the controller's (EBADF read-only)");
+  Check(EStop(ro, X4STEP_HALT_BRAKE) == 0, "a read-only descriptor's ESTOP brakes the controller's move");
+  auto ev = mon.Until(EndOf(4));
+  Check(Match(ev, {{X4STEP_EV_MOVE_STARTED, X4STEP_KIND_ENDLESS, 4},
+                   {X4STEP_EV_BRAKE, X4STEP_SRC_ESTOP, 4},
+                   {X4STEP_EV_MOVE_ENDED, X4STEP_END_BRAKED, 4}}) &&
+            ev[1].value == X4STEP_HALT_BRAKE,
+        "the emergency brake's events: its source and how, the move braked: " + Str(ev));
+
+  Endless(c, 3, -1, 1000, 50);
+  usleep(300000);
+  Check(EStop(ro, X4STEP_HALT_STOP) == 0, "a read-only descriptor's ESTOP stops the controller's move");
+  const long long at = Machine(2);
+  ev = mon.Until(EndOf(4));
+  Check(Match(ev, {{X4STEP_EV_MOVE_STARTED, X4STEP_KIND_ENDLESS, 4},
+                   {X4STEP_EV_BRAKE, X4STEP_SRC_ESTOP, 4},
+                   {X4STEP_EV_MOVE_ENDED, X4STEP_END_STOPPED, 4}}) &&
+            ev[1].value == X4STEP_HALT_STOP,
+        "the emergency stop's events: its source and how, the move stopped: " + Str(ev));
+  usleep(200000);
+  const x4step_axes a = Axes(ro);
+  Check(!(a.axis[2].state & X4STEP_AX_RUN) && Machine(2) == at && a.axis[2].position == at,
+        F("no edge after the emergency stop: the machine at %lld, then %lld, the coordinate %d", at,
+          Machine(2), a.axis[2].position));
+  close(ro);
+}
+
+// The module's brake of a controller that closed: a monitor stops it.
+void EmergencyHaltAfterClose(Stream &mon) {
+  const int ro = open(dev.c_str(), O_RDONLY | O_CLOEXEC);
+  const int c2 = OpenCtl();
+  Check(c2 >= 0, "a controller opens again");
+  Endless(c2, 3, 1, 1000, 1000);
+  usleep(600000);  // 600 steps/s: the close's brake takes 600 ms
+  close(c2);
+  usleep(50000);
+  Check(EStop(ro, X4STEP_HALT_STOP) == 0, "ESTOP stops the module's brake of a closed controller's move");
+  const auto ev = mon.Until(
+      [](const x4step_event &e) { return e.type == X4STEP_EV_CONTROLLER && e.how == X4STEP_CTL_RELEASED; },
+      3000);
+  Check(!ev.empty() && Is(ev.back(), X4STEP_EV_CONTROLLER, X4STEP_CTL_RELEASED, 0) && ev.size() >= 2 &&
+            Is(ev[ev.size() - 2], X4STEP_EV_MOVE_ENDED, X4STEP_END_STOPPED, 4),
+        "... it ends stopped, and the port is released: " + Str(ev));
+  close(ro);
+}
+
 void CloseWhileMoving(Stream &mon, int c) {
   Endless(c, 2, -1, 2000, 200);
   usleep(300000);
@@ -566,7 +637,9 @@ int main() {
   Moves(mon, c);
   Switches(mon, c);
   Keys(mon, c);
+  EmergencyHalt(mon, c);
   CloseWhileMoving(mon, c);
+  EmergencyHaltAfterClose(mon);
   Overrun(mon);
   Blocking();
   mon.Now();

@@ -23,6 +23,7 @@
 
 #include "x4step.h"
 #include "x4step.hpp"
+#include "x4step_access.hpp"
 #include "x4step_ext.h"
 
 using namespace std::chrono_literals;
@@ -779,4 +780,35 @@ TEST(CppApi, EveryEndReasonPrints) {
   std::ostringstream os;
   os << e;
   EXPECT_NE(os.str().find("braked off the reference switch"), std::string::npos) << os.str();
+}
+
+// ---- why an open was refused (EACCES): the message names the fix ----------------------
+
+TEST(AccessDenied, NamesTheFix) {
+  using x4step::detail::access_denied_text;
+  using x4step::detail::access_facts_of;
+  const std::string group = "root:x:0:\nlp:x:7:anna,otto\nusers:x:100:\n";
+  const std::string passwd =
+      "root:x:0:0::/root:/bin/sh\nanna:x:1000:100::/home/anna:/bin/sh\n"
+      "bert:x:1001:100::/home/bert:/bin/sh\ncarl:x:1002:7::/home/carl:/bin/sh\n";
+  auto text = [&](gid_t gid, uid_t uid, std::vector<gid_t> session) {
+    return access_denied_text("/dev/x4step0", access_facts_of(gid, group, passwd, uid, session));
+  };
+  EXPECT_EQ(
+      text(7, 1001, {100}),
+      "/dev/x4step0: permission denied: you are not in group lp, which may use the motors: sudo usermod "
+      "-aG lp $USER, then log in again");
+  // Added to lp (a member, or lp as the primary group), not yet in this session.
+  for (uid_t uid : {1000u, 1002u})
+    EXPECT_EQ(
+        text(7, uid, {100}),
+        "/dev/x4step0: permission denied: you are in group lp, but this login session started before you "
+        "were added: log in again (or run 'newgrp lp')")
+        << uid;
+  EXPECT_NE(text(7, 1000, {100, 7}).find("this session has group lp, yet the node refuses it"),
+            std::string::npos);
+  // No udev rule: the node is root's.
+  EXPECT_EQ(text(0, 1000, {100}),
+            "/dev/x4step0: permission denied: the node belongs to group root, not lp: install the udev rule "
+            "60-x4step.rules (make install), then 'sudo udevadm trigger'");
 }

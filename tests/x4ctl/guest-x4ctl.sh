@@ -104,7 +104,7 @@ pass setup
 # ---- help and usage: no device needed -------------------------------------
 check help 0 '^Usage: x4ctl \[' '' x4ctl --help
 check help-version 0 '^x4ctl [0-9]' '' x4ctl --version
-for c in move jog brake stop status in out keys sweep monitor run timing mode profile goto home zero limits halt watch; do
+for c in move jog brake stop status in out keys sweep monitor run timing mode profile goto home zero limits halt watch list; do
 	check "help-$c" 0 "^Usage: x4ctl $c " '' x4ctl "$c" --help
 	check "help-cmd-$c" 0 "^Usage: x4ctl $c " '' x4ctl help "$c"
 done
@@ -125,7 +125,42 @@ script noport-run-check 0 'no errors' '' 's1\nd100\ng\n' -p 4 --check
 
 # ---- read-only commands -------------------------------------------------------
 check status 0 '^state *idle' '' x4ctl status
-check status-json 0 '^{"device":"/dev/x4step0","active":false,' '' x4ctl status --json
+check status-json 0 '^{"schema":1,"device":"/dev/x4step0","active":false,' '' x4ctl status --json
+# --json: every reading command, one object a line, each with the schema; errors too (on stdout).
+for c in status in timing mode limits list "profile 1"; do
+	# shellcheck disable=SC2086 # "profile 1" is two words
+	check "json-$c" 0 '^{"schema":1,' '' x4ctl $c --json
+done
+check json-error 1 '^{"schema":1,"error":{"message":"/dev/x4step3: port not found: .*","errno":2}}$' '' \
+	x4ctl -p 4 status --json
+check json-usage-error 2 '^{"schema":1,"error":{"message":"watch: count 0 out of range: use 1 or more","errno":22}}$' '' \
+	x4ctl watch --json -n 0
+# Every --json output once more, marked for tests/x4ctl/check-json.sh, which
+# parses them on the host (this guest has neither python3 nor jq).
+for c in status in timing mode limits list "profile 1" "watch -n 2" "monitor -n 1"; do
+	case $c in
+	watch* | monitor*)
+		# shellcheck disable=SC2086
+		x4ctl $c --json >"$tmp/json.out" 2>&1 &
+		jpid=$!
+		usleep 300000
+		x4ctl move 20 --freq 2000 --ramp 5 --wait >/dev/null 2>&1
+		wait "$jpid"
+		;;
+	*)
+		# shellcheck disable=SC2086
+		x4ctl $c --json >"$tmp/json.out" 2>&1
+		;;
+	esac
+	sed 's/^/X4JSON /' "$tmp/json.out"
+done
+x4ctl -p 4 status --json | sed 's/^/X4JSON /'
+check json-in-booleans 0 '"input_pins":{"15":\(true\|false\),"13":\(true\|false\),' '' x4ctl in --json
+# ---- list: the ports, their module, who holds them -----------------------------------
+check list 0 '^/dev/x4step0  parport0  ABI [0-9]*  free$' '' x4ctl list
+check list-library 0 '^library      libx4step [0-9]' '' x4ctl list
+check list-json 0 '^{"schema":1,"library":"[0-9.]*","ports":\[{"device":"/dev/x4step0","parport":0,"abi":[0-9]*,"controlled":false,"controller":null,' '' \
+	x4ctl list --json
 check status-lpt1 0 '^device *\/dev\/x4step0' '' x4ctl -p 1 status
 check in 0 '^pin15=[01] pin13=[01] pin12=[01] pin10=[01] pin11=[01] ([0-9]*)$' '' x4ctl in
 # The module reads the port only while it has claimed it: read-only, with no
@@ -244,6 +279,34 @@ usleep 300000
 check stop 0 '^stopped: 0 0 0 -[1-9][0-9]*$' '' x4ctl stop
 if settle 50; then pass stop-released; else fail stop-released "port still held"; fi
 
+# ---- the emergency halt reaches another program's controller ---------------------------
+# The same binary under another name is "another program" to x4ctl: no
+# request by signal, only the module's emergency halt (a read-only open).
+cp "$(command -v x4ctl)" "$tmp/mover"
+"$tmp/mover" jog 2 + --freq 1000 >"$out" 2>&1
+mpid=$(sed -n 's/.*background as PID \([0-9]*\).*/\1/p' "$out")
+usleep 300000
+check estop-list-holder 0 "^/dev/x4step0  parport0  ABI [0-9]*  controlled by PID $mpid (mover)\$" '' x4ctl list
+check estop-list-holder-json 0 "\"controlled\":true,\"controller\":{\"pid\":$mpid,\"name\":\"mover\"}" '' x4ctl list --json
+x4ctl watch --json -n 3 >"$tmp/estop.watch" 2>&1 &
+wpid=$!
+usleep 300000
+check estop-other-program 0 '^stopped: 0 [1-9][0-9]* 0 0$' '' x4ctl stop
+wait "$wpid"
+has estop-event "$tmp/estop.watch" '^{"schema":1,"seq":[0-9]*,"time_ns":[0-9]*,"type":"brake","axes":\[2\],"how":"emergency","value":1,'
+has estop-ended-stopped "$tmp/estop.watch" '"type":"move_ended","axes":\[2\],"how":"stopped"'
+steps=$(field steps)
+usleep 200000
+expect_field estop-no-step-after steps "$steps"
+kill "$mpid" 2>/dev/null
+if settle 50; then pass estop-released; else fail estop-released "port still held"; fi
+"$tmp/mover" jog 2 - --freq 1000 --ramp 100 >"$out" 2>&1
+mpid=$(sed -n 's/.*background as PID \([0-9]*\).*/\1/p' "$out")
+usleep 300000
+check ebrake-other-program 0 '^braked: 0 [0-9-]* 0 0$' '' x4ctl brake
+kill "$mpid" 2>/dev/null
+if settle 50; then pass ebrake-released; else fail ebrake-released "port still held"; fi
+
 # A background controller killed with SIGTERM brakes, and lets go of the port.
 x4ctl jog 1 + --freq 1000 >"$out" 2>&1
 pid=$(sed -n 's/.*background as PID \([0-9]*\).*/\1/p' "$out")
@@ -272,7 +335,7 @@ check bad-keys-many 2 '' 'keys: unexpected argument' x4ctl keys 1 2 3 4 5 6 7 8 
 x4ctl out 1 on --time 2000 >"$tmp/out1" 2>&1 &
 pid=$!
 usleep 700000
-expect_field out-on signal1 1
+expect_field out-on signal1 true
 wait "$pid"
 rc=$?
 if [ "$rc" = 0 ] && grep -q 'signal 1 (pin 1) on; holding the port for 2000 ms' "$tmp/out1"; then
@@ -281,11 +344,11 @@ else
 	fail out-time "exit $rc: $(show "$tmp/out1")"
 fi
 settle 20
-expect_field out-released signal1 0
+expect_field out-released signal1 false
 x4ctl out 2 on >"$tmp/out2" 2>&1 &
 pid=$!
 usleep 700000
-expect_field out2-on signal2 1
+expect_field out2-on signal2 true
 kill "$pid"
 wait "$pid"
 rc=$?
@@ -342,7 +405,7 @@ has watch-started "$tmp/watch" '^#[0-9]* [0-9.]* move started: axes 1 3, X4Step 
 has watch-ended "$tmp/watch" '^#[0-9]* [0-9.]* move ended: axes 1 3, completed; at '
 has watch-released "$tmp/watch" '^#[0-9]* [0-9.]* controller: released the port; at '
 follow "$tmp/watch" "out 1 on --time 10" x4ctl watch --json -n 3
-has watch-json "$tmp/watch" '^{"seq":[0-9]*,"time_ns":[0-9]*,"type":"controller","axes":\[\],"how":"released","value":0,"ambiguous":false,"position":\[[-0-9,]*\]}$'
+has watch-json "$tmp/watch" '^{"schema":1,"seq":[0-9]*,"time_ns":[0-9]*,"type":"controller","axes":\[\],"how":"released","value":0,"ambiguous":false,"position":\[[-0-9,]*\]}$'
 check bad-watch-count 2 '' 'watch: count 0 out of range' x4ctl watch -n 0
 
 # ---- x4ctl run: every command of the test program -------------------------------------------
@@ -430,7 +493,7 @@ check timing-partial 0 '^dir setup *20000 ns$' '' x4ctl timing --setup 20000
 has timing-partial-pulse "$out" '^pulse *5000 ns$'
 has timing-partial-hold "$out" '^dir hold *3000 ns$'
 check timing-json 0 \
-	'^{"device":"/dev/x4step0","pulse_ns":5000,"space_ns":95000,"dir_setup_ns":20000,"dir_hold_ns":3000,"mode":"clock-dir","max_freq_hz":10000}$' \
+	'^{"schema":1,"device":"/dev/x4step0","pulse_ns":5000,"space_ns":95000,"dir_setup_ns":20000,"dir_hold_ns":3000,"mode":"clock-dir","max_freq_hz":10000}$' \
 	'' x4ctl timing --json
 check timing-move-fits 0 '^done: 50 0 0 0$' '' x4ctl move 50 --freq 10000 --ramp 0 --wait
 check timing-move-too-fast 1 '' \

@@ -17,6 +17,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "json.hpp"
 #include "lang.hpp"
 #include "motion.hpp"
 #include "position.hpp"
@@ -305,7 +306,8 @@ TEST(Cli, Mode) {
   EXPECT_EQ(usage_message({"mode", "SMC-PHASE"}),
             "mode: no mode 'SMC-PHASE': use clock-dir, smc-phase, smc-hold");
   EXPECT_EQ(usage_message({"mode", "clock-dir", "smc-hold"}), "mode: unexpected argument 'smc-hold'");
-  EXPECT_EQ(usage_message({"mode", "--json"}), "mode: unknown option '--json'");
+  EXPECT_TRUE(parse({"mode", "--json"}).json);
+  EXPECT_EQ(usage_message({"mode", "--jason"}), "mode: unknown option '--jason'");
   EXPECT_TRUE(parse({"mode", "bogus", "--help"}).help);  // --help wins over a bad operand
 }
 
@@ -1462,9 +1464,10 @@ TEST(Settings, TimingChangesOnlyTheTimesGiven) {
 
   std::ostringstream json;
   timing_command(p, parse({"timing", "--setup", "0", "--json"}), json);
-  EXPECT_EQ(json.str(),
-            "{\"device\":\"/dev/x4step0\",\"pulse_ns\":10000,\"space_ns\":90000,\"dir_setup_ns\":0,"
-            "\"dir_hold_ns\":7000,\"mode\":\"clock-dir\",\"max_freq_hz\":10000}\n");
+  EXPECT_EQ(
+      json.str(),
+      "{\"schema\":1,\"device\":\"/dev/x4step0\",\"pulse_ns\":10000,\"space_ns\":90000,\"dir_setup_ns\":0,"
+      "\"dir_hold_ns\":7000,\"mode\":\"clock-dir\",\"max_freq_hz\":10000}\n");
   EXPECT_EQ(p.timing_sets, 2);
   EXPECT_EQ(p.timing.pulse(), std::chrono::nanoseconds(10000));
 }
@@ -1602,7 +1605,8 @@ TEST(Show, Events) {
   e.position = {100, -50, 0, 0};
   EXPECT_EQ(event_text(e), "#12 105.001234 move ended: axes 1 2, braked; at 100 -50 0 0");
   EXPECT_EQ(event_json(e),
-            "{\"seq\":12,\"time_ns\":105001234567,\"type\":\"move_ended\",\"axes\":[1,2],\"how\":\"braked\","
+            "{\"schema\":1,\"seq\":12,\"time_ns\":105001234567,\"type\":\"move_ended\",\"axes\":[1,2],"
+            "\"how\":\"braked\","
             "\"value\":0,\"ambiguous\":false,\"position\":[100,-50,0,0]}");
   e.type = x4step::event_type::brake;
   e.axes = x4step::axis_set(0xfu);
@@ -1617,7 +1621,8 @@ TEST(Show, Events) {
   EXPECT_EQ(event_text(e),
             "#12 105.001234 switch: axes 2, E+ on input 3 (pin 12), ambiguous; at 100 -50 0 0");
   EXPECT_EQ(event_json(e),
-            "{\"seq\":12,\"time_ns\":105001234567,\"type\":\"switch\",\"axes\":[2],\"how\":\"limit_pos\","
+            "{\"schema\":1,\"seq\":12,\"time_ns\":105001234567,\"type\":\"switch\",\"axes\":[2],\"how\":"
+            "\"limit_pos\","
             "\"value\":3,\"ambiguous\":true,\"position\":[100,-50,0,0]}");
   e = {};
   e.seq = 1;
@@ -1629,10 +1634,20 @@ TEST(Show, Events) {
   e.how = 2;
   EXPECT_EQ(event_text(e), "#1 0.000000 event type 17: how 2; at 0 0 0 0");
   EXPECT_EQ(event_json(e),
-            "{\"seq\":1,\"time_ns\":0,\"type\":17,\"axes\":[],\"how\":2,\"value\":0,\"ambiguous\":false,"
+            "{\"schema\":1,\"seq\":1,\"time_ns\":0,\"type\":17,\"axes\":[],\"how\":2,\"value\":0,"
+            "\"ambiguous\":false,"
             "\"position\":[0,0,0,0]}");
   EXPECT_EQ(missed_text(3), "missed 3 events (the module keeps the last 256)");
-  EXPECT_EQ(missed_json(1), "{\"missed\":1}");
+  EXPECT_EQ(missed_json(1), "{\"schema\":1,\"missed\":1}");
+  // The emergency halt from any reader (x4ctl brake/stop).
+  e.type = x4step::event_type::brake;
+  e.axes = x4step::axis::x;
+  e.how = static_cast<unsigned>(x4step::brake_source::emergency);
+  e.value = 1;
+  EXPECT_EQ(event_text(e),
+            "#1 0.000000 brake: axes 1, emergency stop (x4ctl stop/brake, any reader); at 0 0 0 0");
+  EXPECT_TRUE(contains(event_json(e), "\"type\":\"brake\",\"axes\":[1],\"how\":\"emergency\",\"value\":1,"))
+      << event_json(e);
 }
 
 TEST(Show, StatusJson) {
@@ -1654,21 +1669,22 @@ TEST(Show, StatusJson) {
   a.axis[1].cruising = true;
   a.axis[3].error = x4step::axis_error::limit_neg | x4step::axis_error::ambiguous;
   a.switches_active = 0x5;
-  EXPECT_EQ(status_json(s, a, "/dev/x4step0"),
-            "{\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
-            "\"steps\":[1,-2,3,0],\"inputs\":17,\"inputs_stale\":false,\"input_pins\":{\"15\":1,\"13\":0,"
-            "\"12\":0,\"10\":0,\"11\":1},"
-            "\"outputs\":9,\"signal1\":1,\"signal2\":0,\"boost\":0,\"aktiv\":1,\"last_brake_code\":1,"
-            "\"moves_ended\":7,\"axes\":["
-            "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
-            "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
-            "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
-            "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
-            "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
-            "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
-            "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
-            "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
-            "\"switches_active\":5}");
+  EXPECT_EQ(
+      status_json(s, a, "/dev/x4step0"),
+      "{\"schema\":1,\"device\":\"/dev/x4step0\",\"active\":true,\"loaded\":false,\"controlled\":true,"
+      "\"steps\":[1,-2,3,0],\"inputs\":17,\"inputs_stale\":false,\"input_pins\":{\"15\":true,"
+      "\"13\":false,\"12\":false,\"10\":false,\"11\":true},"
+      "\"outputs\":9,\"signal1\":true,\"signal2\":false,\"boost\":false,\"aktiv\":true,\"last_brake_code\":1,"
+      "\"moves_ended\":7,\"axes\":["
+      "{\"axis\":1,\"position\":1200,\"velocity\":0,\"running\":false,\"synced\":true,\"homing\":0,"
+      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+      "{\"axis\":2,\"position\":-7,\"velocity\":850,\"running\":true,\"synced\":false,\"homing\":2,"
+      "\"ramp\":\"cruise\",\"error\":0,\"errors\":[]},"
+      "{\"axis\":3,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+      "\"ramp\":\"none\",\"error\":0,\"errors\":[]},"
+      "{\"axis\":4,\"position\":0,\"velocity\":0,\"running\":false,\"synced\":false,\"homing\":0,"
+      "\"ramp\":\"none\",\"error\":12,\"errors\":[\"limit_neg\",\"ambiguous\"]}],"
+      "\"switches_active\":5}");
   EXPECT_EQ(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
   const std::string text = status_text(s, a, "/dev/x4step0");
   EXPECT_TRUE(contains(text, "state        running, controlled\n")) << text;
@@ -1738,7 +1754,8 @@ TEST(Show, TimingAndMode) {
   EXPECT_TRUE(contains(text, "max freq     20000 Hz (smc-hold mode: pulse and space do not apply)\n"))
       << text;
   EXPECT_EQ(timing_json(t, x4step::output_mode::smc_phase, "/dev/x4step3"),
-            "{\"device\":\"/dev/x4step3\",\"pulse_ns\":10000,\"space_ns\":40000,\"dir_setup_ns\":100000,"
+            "{\"schema\":1,\"device\":\"/dev/"
+            "x4step3\",\"pulse_ns\":10000,\"space_ns\":40000,\"dir_setup_ns\":100000,"
             "\"dir_hold_ns\":0,\"mode\":\"smc-phase\",\"max_freq_hz\":20000}");
   std::vector<std::string> names;
   for (const auto m : output_modes) {
@@ -2054,6 +2071,124 @@ TEST(Term, StripKeysFromTypedLines) {
   EXPECT_EQ(strip_keys("s1\x1b[A\x1b[1;5Cd5"), "s1d5");
   EXPECT_EQ(strip_keys("a200,\t500\x7f"), "a200,\t500\x7f");
   EXPECT_EQ(strip_keys("g\x03\x1b"), "g");
+}
+
+// ---- --json: one style for every reading command ------------------------------------------
+
+TEST(Json, EveryReadingCommandTakesIt) {
+  for (const char *c : {"status", "in", "watch", "timing", "mode", "profile", "limits", "monitor", "list"}) {
+    std::vector<std::string> args = {"x4ctl", c, "--json"};
+    if (std::string(c) == "profile") args.push_back("1");
+    EXPECT_TRUE(parse_args(args).json) << c;
+    EXPECT_TRUE(contains(help_text(*find_command(c)), "--json")) << c;
+  }
+}
+
+TEST(Json, ObjectsStartWithTheSchemaAndUseBooleans) {
+  x4step::status s;
+  s.inputs = 0x2;
+  s.inputs_stale = true;
+  EXPECT_EQ(inputs_json(s, "/dev/x4step0", std::chrono::steady_clock::now()),
+            "{\"schema\":1,\"device\":\"/dev/x4step0\",\"inputs\":2,\"input_pins\":{\"15\":false,\"13\":true,"
+            "\"12\":false,\"10\":false,\"11\":false},\"stale\":true,\"age_ms\":null}");
+  s.inputs_stale = false;
+  EXPECT_TRUE(
+      contains(inputs_json(s, "d", std::chrono::steady_clock::now()), "\"stale\":false,\"age_ms\":0}"));
+  x4step::profile p;
+  p.top_speed(5000);
+  EXPECT_EQ(profile_json(x4step::axis::y, p, "/dev/x4step1"),
+            "{\"schema\":1,\"device\":\"/dev/x4step1\",\"axis\":2,\"v0\":0,\"ve\":0,\"vm\":5000,\"a0\":1000,"
+            "\"ae\":1000}");
+  EXPECT_EQ(mode_json(x4step::output_mode::smc_phase, "/dev/x4step0"),
+            "{\"schema\":1,\"device\":\"/dev/x4step0\",\"mode\":\"smc-phase\",\"description\":\"" +
+                mode_text(x4step::output_mode::smc_phase) + "\"}");
+  x4step::switches sw;
+  sw.ref[0] = 3;
+  sw.nc = 0x4;
+  x4step::axes_status a;
+  a.inputs = 0x4;
+  a.switches_active = 0;
+  const std::string l = limits_json(sw, a, "/dev/x4step0");
+  EXPECT_EQ(
+      l.rfind("{\"schema\":1,\"device\":\"/dev/x4step0\",\"axes\":[{\"axis\":1,\"ref\":3,\"plus\":0,", 0), 0u)
+      << l;
+  EXPECT_TRUE(contains(l, "{\"input\":3,\"pin\":12,\"high\":true,\"nc\":true,\"active\":false}")) << l;
+  x4step::status m;
+  m.active = true;
+  m.steps = {5, 0, 0, -1};
+  EXPECT_EQ(monitor_json("started", m),
+            "{\"schema\":1,\"event\":\"started\",\"active\":true,\"steps\":[5,0,0,-1],\"last_brake_code\":0,"
+            "\"moves_ended\":0}");
+  EXPECT_EQ(json_error("a \"b\"", 13), "{\"schema\":1,\"error\":{\"message\":\"a \\\"b\\\"\",\"errno\":13}}");
+  EXPECT_EQ(json_error("x", 0), "{\"schema\":1,\"error\":{\"message\":\"x\",\"errno\":null}}");
+}
+
+TEST(Json, List) {
+  port_entry free_port;
+  free_port.device = "/dev/x4step0";
+  free_port.abi = 4;
+  port_entry held;
+  held.device = "/dev/x4step1";
+  held.parport = 1;
+  held.abi = 4;
+  held.controlled = true;
+  held.controller = holder{42, "mill"};
+  held.claimant = "x4step";
+  port_entry lp;
+  lp.device = "/dev/x4step2";
+  lp.parport = 2;
+  lp.abi = 4;
+  lp.claimant = "lp";
+  port_entry denied;
+  denied.device = "/dev/x4step3";
+  denied.parport = 3;
+  denied.error = "/dev/x4step3: permission denied";
+  denied.err = EACCES;
+  const std::vector<port_entry> ports = {free_port, held, lp, denied};
+  const std::string text = list_text(ports);
+  EXPECT_TRUE(contains(text, "/dev/x4step0  parport0  ABI 4  free\n")) << text;
+  EXPECT_TRUE(contains(text, "/dev/x4step1  parport1  ABI 4  controlled by PID 42 (mill)\n")) << text;
+  EXPECT_TRUE(contains(text, "/dev/x4step2  parport2  ABI 4  free for x4step, but claimed by lp")) << text;
+  EXPECT_TRUE(contains(text, "/dev/x4step3  parport3  /dev/x4step3: permission denied\n")) << text;
+  const std::string json = list_json(ports);
+  EXPECT_EQ(json.rfind("{\"schema\":1,\"library\":\"" + std::string(x4step::version()) + "\",\"ports\":[", 0),
+            0u);
+  EXPECT_TRUE(contains(json,
+                       "{\"device\":\"/dev/x4step0\",\"parport\":0,\"abi\":4,\"controlled\":false,"
+                       "\"controller\":null,\"claimed_by\":null}"))
+      << json;
+  EXPECT_TRUE(contains(json,
+                       "\"controlled\":true,\"controller\":{\"pid\":42,\"name\":\"mill\"},"
+                       "\"claimed_by\":\"x4step\"}"))
+      << json;
+  EXPECT_TRUE(contains(json,
+                       "{\"device\":\"/dev/x4step3\",\"parport\":3,\"error\":{\"message\":"
+                       "\"/dev/x4step3: permission denied\",\"errno\":13}}"))
+      << json;
+}
+
+// Errors under --json are JSON on stdout, with the same exit status.
+TEST(Json, ErrorsAreJsonOnStdout) {
+  captured r = run({"-d", "/nonexistent/x4step9", "status", "--json"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(
+      r.out,
+      "{\"schema\":1,\"error\":{\"message\":\"/nonexistent/x4step9: port not found: is x4step loaded, the "
+      "port present and not in use?\",\"errno\":" +
+          std::to_string(ENOENT) + "}}\n");
+  r = run({"-d", "/nonexistent/x4step9", "limits", "--json"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.out.rfind("{\"schema\":1,\"error\":{", 0), 0u) << r.out;
+  r = run({"watch", "--json", "-n", "0"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "");
+  EXPECT_EQ(r.out,
+            "{\"schema\":1,\"error\":{\"message\":\"watch: count 0 out of range: use 1 or more\",\"errno\":" +
+                std::to_string(EINVAL) + "}}\n");
+  r = run({"-d", "/nonexistent/x4step9", "status"});  // without --json: text on stderr
+  EXPECT_EQ(r.out, "");
+  EXPECT_TRUE(contains(r.err, "x4ctl: status: /nonexistent/x4step9: port not found")) << r.err;
 }
 
 }  // namespace

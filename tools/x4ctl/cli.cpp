@@ -183,7 +183,8 @@ const command_entry commands[] = {
     {subcommand::monitor, "monitor"}, {subcommand::run, "run"},         {subcommand::timing, "timing"},
     {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
-    {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::help, "help"},
+    {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::list, "list"},
+    {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -381,6 +382,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("json", 'j', false, opt_json);
       break;
     case subcommand::in:
+      add("json", 'j', false, opt_json);
       add("watch", 'w', false, opt_watch);
       add("read-only", 'r', false, opt_read_only);
       break;
@@ -388,6 +390,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("time", 't', true, opt_time);
       break;
     case subcommand::monitor:
+      add("json", 'j', false, opt_json);
       add("moves", 'n', true, opt_moves);
       break;
     case subcommand::watch:
@@ -406,6 +409,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("json", 'j', false, opt_json);
       break;
     case subcommand::profile:
+      add("json", 'j', false, opt_json);
       add("v0", 0, true, opt_v0);
       add("ve", 0, true, opt_ve);
       add("vm", 0, true, opt_vm);
@@ -427,6 +431,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("at", 0, true, opt_at);
       break;
     case subcommand::limits:
+      add("json", 'j', false, opt_json);
       add("ref", 0, true, opt_ref);
       add("plus", 0, true, opt_plus);
       add("minus", 0, true, opt_minus);
@@ -434,6 +439,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       break;
     case subcommand::halt:
       add("stop", 's', false, opt_stop);
+      break;
+    case subcommand::mode:
+    case subcommand::list:
+      add("json", 'j', false, opt_json);
       break;
     default:
       break;
@@ -696,7 +705,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         c.topic = *t;
       }
       break;
-    default:  // brake, stop, status, in, monitor, timing, watch
+    default:  // brake, stop, status, in, monitor, timing, watch, list
       need_operands(r, 0, 0, prefix);
       break;
   }
@@ -811,6 +820,7 @@ std::string help_text(subcommand c) {
              "                       frequency sweep of one axis, to find resonances\n"
              "  monitor              follow the moves on the port, read-only\n"
              "  watch                print the port's events as they happen, read-only\n"
+             "  list                 the ports, their module's version, who holds them\n"
              "  run [FILE]           run test program commands from FILE or standard input\n"
              "  timing               show or set the step signal timing (pulse, space, ...)\n"
              "  mode [MODE]          show or set the output mode: clock-dir, or smc-phase and\n"
@@ -827,6 +837,7 @@ std::string help_text(subcommand c) {
              "  help [COMMAND]       show the help of a command\n"
              "\n"
              "Run 'x4ctl COMMAND --help' for the options of a command. Axes are 1 to 4.\n"
+             "Reading commands take --json ('x4ctl help list' describes the format).\n"
              "\n"
              "Exit status: 0 success; 1 the port refused, or a move did not reach its\n"
              "target; 2 bad usage (checked before the port is opened: nothing moved).\n";
@@ -886,16 +897,19 @@ std::string help_text(subcommand c) {
              (brake ? "Brake the running move along its ramp (X4Brake).\n"
                     : "Stop the running move at once, without ramp (X4Stop): an emergency stop,\n"
                       "the motors may lose steps.\n") +
-             "A move belongs to the program that started it; when that is an x4ctl (in\n"
-             "the background, another shell, or a 'run' script), it is asked to " +
+             "It reaches every move on the port, whichever program controls it (an x4ctl\n"
+             "in the background or in another shell, any other program, or the module\n"
+             "braking the moves of a program that exited): the module's emergency halt\n"
+             "is allowed to anyone who may read the port (group lp). The event stream\n"
+             "('x4ctl watch') shows it as an emergency " +
              (brake ? "brake" : "stop") +
-             ",\n"
-             "and this command waits until the motors stand and shows the steps made.\n"
+             ". Waits until the motors stand and\n"
+             "shows the steps made.\n"
              "\n"
              "Options:\n" +
              port_help +
              "\n"
-             "Exit status: 0 done; 1 no move was running, or another program holds the port.\n";
+             "Exit status: 0 done; 1 no move was running, or the port is missing.\n";
     }
     case subcommand::status:
       return "Usage: x4ctl status [OPTIONS]\n"
@@ -923,7 +937,8 @@ std::string help_text(subcommand c) {
              "\n"
              "Options:\n"
              "  -w, --watch          show them continuously until Ctrl-C\n"
-             "  -r, --read-only      never take the port (stale levels if nobody controls it)\n" +
+             "  -r, --read-only      never take the port (stale levels if nobody controls it)\n\n"
+             "  -j, --json           JSON instead of text (one object per line with --watch)\n" +
              std::string(port_help);
     case subcommand::out:
       return "Usage: x4ctl out [OPTIONS] SIGNAL on|off\n"
@@ -989,7 +1004,8 @@ std::string help_text(subcommand c) {
              "of the four axes; on a terminal the steps count live. Ends with Ctrl-C.\n"
              "\n"
              "Options:\n"
-             "  -n, --moves=N        end after N moves have ended\n" +
+             "  -n, --moves=N        end after N moves have ended\n\n"
+             "  -j, --json           one JSON object per line: idle, running, started, ended\n" +
              std::string(port_help);
     case subcommand::run:
       return "Usage: x4ctl run [OPTIONS] [FILE]\n"
@@ -1040,7 +1056,8 @@ std::string help_text(subcommand c) {
              "The SMC boards drive three motors: in smc-phase and smc-hold, moves of axis 4\n"
              "are refused, and the pulse and space of 'x4ctl timing' do not apply.\n"
              "\n"
-             "Options:\n" +
+             "Options:\n"
+             "  -j, --json           one JSON object instead of text\n" +
              std::string(port_help) +
              "\n"
              "Exit status: 0 done; 1 the port refused, or another program holds it;\n"
@@ -1060,7 +1077,8 @@ std::string help_text(subcommand c) {
              "      --vm=V           maximum velocity, 1..45000 steps/s (default 1000)\n"
              "      --a0=A           acceleration, 0..1000000 steps/s^2 (default 1000);\n"
              "                       0: no ramp, the axis jumps to vm\n"
-             "      --ae=A           deceleration, 0..1000000 steps/s^2 (default 1000)\n" +
+             "      --ae=A           deceleration, 0..1000000 steps/s^2 (default 1000)\n\n"
+             "  -j, --json           one JSON object instead of text\n" +
              std::string(port_help) +
              "\n"
              "v0 and ve must not exceed vm, and a ramp from rest to vm must last at most\n"
@@ -1151,12 +1169,34 @@ std::string help_text(subcommand c) {
              "      --minus=INPUT    limit switch E- of AXIS\n"
              "      --nc=INPUTS      the normally closed inputs (active while LOW): a list\n"
              "                       like 1,3, a mask like 0x05, or none; the others are\n"
-             "                       normally open (active while HIGH)\n" +
+             "                       normally open (active while HIGH)\n\n"
+             "  -j, --json           one JSON object instead of text\n" +
              std::string(port_help) +
              "\n"
              "Exit status: 0 done; 1 the port refused (a move runs), or another program\n"
              "holds it; 2 bad usage.\n"
              "Example: x4ctl limits 1 --ref 3 --plus 1 --minus 2 --nc 1,2\n";
+    case subcommand::list:
+      return "Usage: x4ctl list [OPTIONS]\n"
+             "\n"
+             "List the ports x4step serves (/dev/x4stepN for parportN), read-only: the\n"
+             "interface (ABI) version of the module, and who holds each port: a\n"
+             "controller (its PID and name, where this user may see its process), another\n"
+             "parport driver that has claimed it (lp, or ppdevN for a program using\n"
+             "/dev/parportN), or nobody. The first line is the library's version.\n"
+             "\n"
+             "Options:\n"
+             "  -j, --json           one JSON object instead of text\n"
+             "  -h, --help           show this help\n"
+             "\n"
+             "JSON, of every command with --json: each object (one per line) starts with\n"
+             "\"schema\":1, the version of this format, raised when a field changes or goes\n"
+             "(new fields keep it); yes/no values and pin levels (true: HIGH) are JSON\n"
+             "booleans. An error is such an object too, on standard output:\n"
+             "{\"schema\":1,\"error\":{\"message\":\"...\",\"errno\":13}} (errno null when none\n"
+             "applies); the exit status is the same as without --json.\n"
+             "\n"
+             "Exit status: 0 done; 1 no port (is x4step loaded?).\n";
     case subcommand::halt:
       return "Usage: x4ctl halt [OPTIONS] AXIS...\n"
              "\n"

@@ -24,7 +24,11 @@ class usage_error : public std::runtime_error {
 /// The port or the machine did not do what was asked: exit status 1.
 class failure : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit failure(const std::string &what, int err = 0) : std::runtime_error(what), err_(err) {}
+  int err() const { return err_; }  ///< the errno behind it; 0: none known
+
+ private:
+  int err_;
 };
 
 enum class subcommand {
@@ -49,6 +53,7 @@ enum class subcommand {
   limits,
   halt,
   watch,
+  list,
   help
 };
 
@@ -71,7 +76,7 @@ struct config {
   bool wait = false;
   int sweep_from = 0, sweep_to = 0, sweep_step = 0;
 
-  bool json = false;       ///< status, timing
+  bool json = false;       ///< --json of the reading subcommands (json.hpp)
   bool watch = false;      ///< in
   bool read_only = false;  ///< in: never take the port
   x4step::signal signal = x4step::signal::one;

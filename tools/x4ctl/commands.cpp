@@ -4,18 +4,22 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
 #include "cli.hpp"
 #include "holder.hpp"
+#include "json.hpp"
 #include "lang.hpp"
 #include "position.hpp"
 #include "term.hpp"
@@ -43,6 +47,32 @@ std::string what_of(const std::exception &e) {
   return e.what();
 }
 
+// The errno behind an exception, 0 if none is known.
+int errno_of(const std::exception &e) {
+  if (const auto *f = dynamic_cast<const failure *>(&e)) return f->err();
+  if (const auto *x = dynamic_cast<const std::system_error *>(&e);
+      x &&
+      (x->code().category() == std::system_category() || x->code().category() == std::generic_category()))
+    return x->code().value();
+  return 0;
+}
+
+// The errno behind a refused open that the library reports as "port not
+// found": the node missing, not ours to open, or (a controller) busy.
+int open_errno(const std::string &dev, bool write) {
+  if (::access(dev.c_str(), F_OK)) return errno;
+  if (::access(dev.c_str(), write ? R_OK | W_OK : R_OK)) return errno;
+  return write ? EBUSY : ENODEV;
+}
+
+// The library's own text when it knows more (who holds a busy port, how to
+// get access), else its general one.
+failure open_failure(const std::string &dev, const x4step::error &e, bool write) {
+  const int err = open_errno(dev, write);
+  if (e.what() != e.code().message()) return failure(e.what(), err);
+  return failure(dev + ": " + e.code().message(), err);
+}
+
 x4step::controller open_controller(const std::string &dev) {
   try {
     return x4step::controller(dev);
@@ -50,10 +80,13 @@ x4step::controller open_controller(const std::string &dev) {
     if (e.code() != x4step::errc::lpt_not_found) throw;
     if (const auto h = find_controller(dev))
       throw failure(dev + ": port busy: PID " + std::to_string(h->pid) + " (" + h->name + ") controls it" +
-                    (h->is_x4ctl() ? "; 'x4ctl brake' ends its move" : ""));
-    // The library's own text when it knows more (who holds a busy port).
-    if (e.what() != e.code().message()) throw failure(e.what());
-    throw failure(dev + ": " + e.code().message());
+                        (h->is_x4ctl() ? "; 'x4ctl brake' ends its move" : ""),
+                    EBUSY);
+    failure f = open_failure(dev, e, true);
+    if (const auto u = f.err() == EBUSY ? parport_user(dev) : std::nullopt)
+      throw failure(std::string(f.what()) + "; PID " + std::to_string(u->pid) + " (" + u->name + ") uses it",
+                    EBUSY);
+    throw f;
   }
 }
 
@@ -62,7 +95,7 @@ x4step::monitor open_monitor(const std::string &dev) {
     return x4step::monitor(dev);
   } catch (const x4step::error &e) {
     if (e.code() != x4step::errc::lpt_not_found) throw;
-    throw failure(dev + ": " + e.code().message());
+    throw open_failure(dev, e, false);
   }
 }
 
@@ -151,11 +184,24 @@ void ask_holder(const std::string &dev, bool stop, x4step::axis_set axes) {
     throw failure("cannot signal PID " + std::to_string(h->pid) + ": " + std::strerror(errno));
 }
 
+// brake and stop: the module's emergency halt, allowed to any reader of
+// the port, whoever controls it. An x4ctl that holds the port is asked
+// first, so that it reports the halt and starts none of its --then moves;
+// the emergency halt follows at once, whether it heard or not (a stopped
+// or hung holder). A module without the emergency halt: the request only.
 int cmd_halt(const config &c, bool stop) {
   const std::string dev = device_of(c);
   const x4step::monitor mon = open_monitor(dev);
   if (!mon.get_status().active) throw failure(message(x4step::errc::not_active));  // any move
-  ask_holder(dev, stop, all_axes);
+  const auto h = find_controller(dev);
+  const bool asked = h && h->is_x4ctl() && send_request(h->pid, stop, all_axes);
+  try {
+    mon.emergency_halt(stop ? x4step::halt_mode::stop : x4step::halt_mode::brake);
+  } catch (const x4step::error &e) {
+    if (e.code() == x4step::errc::not_active && !asked) throw failure(message(x4step::errc::not_active));
+    if (e.code() == std::errc::not_supported && !asked) ask_holder(dev, stop, all_axes);
+    if (e.code() != x4step::errc::not_active && e.code() != std::errc::not_supported) throw;
+  }
   // A brake takes at most the longest ramp, 1 s.
   if (!mon.wait(milliseconds(5000))) throw failure("the move still runs 5 s later");
   std::cout << (stop ? "stopped: " : "braked: ") << steps_text(mon.get_status().steps) << "\n";
@@ -222,8 +268,10 @@ int cmd_in(const config &c) {
   input_reader in(device_of(c), c.read_only);
   auto line = [&] {
     const x4step::status s = in.read();
+    const auto now = std::chrono::steady_clock::now();
+    if (c.json) return inputs_json(s, device_of(c), now);
     return inputs_text(s.inputs) + " (" + std::to_string(s.inputs) + ")" +
-           (s.inputs_stale ? " " + stale_text(s, std::chrono::steady_clock::now()) : "");
+           (s.inputs_stale ? " " + stale_text(s, now) : "");
   };
   if (!c.watch) {
     std::cout << line() << "\n";
@@ -233,7 +281,7 @@ int cmd_in(const config &c) {
   std::string last;
   while (take_signal() == key::none) {  // until Ctrl-C
     const std::string now = line();
-    if (con.live())
+    if (con.live() && !c.json)
       draw_live(con, now);
     else if (now != last)
       std::cout << now << "\n" << std::flush;
@@ -287,28 +335,38 @@ int cmd_monitor(const config &c) {
   std::uint64_t seen = s.moves_ended;
   bool was_active = s.active;
   long ended = 0;
-  std::cout << (s.active ? "move running\n" : "idle, waiting for moves\n") << std::flush;
+  const bool live = con.live() && !c.json;
+  std::cout << (c.json     ? monitor_json(s.active ? "running" : "idle", s) + "\n"
+                : s.active ? "move running\n"
+                           : "idle, waiting for moves\n")
+            << std::flush;
   while (take_signal() == key::none) {
     s = mon.get_status();
     if (s.active && !was_active)
-      std::cout << (con.live() ? "\r\x1b[K" : "") << "move started\n" << std::flush;
-    if (s.moves_ended != seen) {
-      if (con.live()) draw_live(con, "");
-      std::cout << "move ended: steps " << steps_text(s.steps)
-                << (s.last_brake_code ? ", braked by " + key_name(s.last_brake_code) : "") << "\n"
+      std::cout << (c.json ? monitor_json("started", s)
+                           : std::string(live ? "\r\x1b[K" : "") + "move started")
+                << "\n"
                 << std::flush;
+    if (s.moves_ended != seen) {
+      if (live) draw_live(con, "");
+      if (c.json)
+        std::cout << monitor_json("ended", s) << "\n" << std::flush;
+      else
+        std::cout << "move ended: steps " << steps_text(s.steps)
+                  << (s.last_brake_code ? ", braked by " + key_name(s.last_brake_code) : "") << "\n"
+                  << std::flush;
       ended += static_cast<long>(s.moves_ended - seen);
       seen = s.moves_ended;
       if (c.moves && ended >= *c.moves) return 0;
     }
-    if (s.active && con.live()) draw_live(con, "steps " + steps_text(s.steps));
+    if (s.active && live) draw_live(con, "steps " + steps_text(s.steps));
     was_active = s.active;
     if (s.active)
       mon.wait(tick);  // returns at the move's end
     else
       nap(milliseconds(20));
   }
-  if (con.live()) std::cout << "\n";
+  if (live) std::cout << "\n";
   return 0;
 }
 
@@ -333,6 +391,33 @@ int cmd_watch(const config &c) {
     if (c.count && ++seen >= *c.count) return 0;
     if (e->type == x4step::event_type::port_gone) throw failure(device_of(c) + ": the port went away");
   }
+  return 0;
+}
+
+// Every port: its module's version and who holds it.
+int cmd_list(const config &c) {
+  std::vector<port_entry> ports;
+  for (const std::string &dev : x4step_devices()) {
+    port_entry p;
+    p.device = dev;
+    p.parport = std::atoi(dev.c_str() + std::strlen("/dev/x4step"));
+    p.claimant = parport_claimant(p.parport);
+    try {
+      const x4step::monitor mon = open_monitor(dev);
+      p.abi = mon.abi_version();
+      p.controlled = mon.get_status().controlled;
+      if (p.controlled) p.controller = find_controller(dev);
+    } catch (const failure &e) {
+      p.error = e.what();
+      p.err = e.err();
+    }
+    ports.push_back(p);
+  }
+  if (ports.empty())
+    throw failure(
+        "no /dev/x4stepN: load the module ('sudo modprobe x4step'; a parallel port and parport_pc needed)",
+        ENOENT);
+  std::cout << (c.json ? list_json(ports) + "\n" : list_text(ports));
   return 0;
 }
 
@@ -494,6 +579,8 @@ int dispatch(const config &c) {
       return cmd_halt_axes(c);
     case subcommand::watch:
       return cmd_watch(c);
+    case subcommand::list:
+      return cmd_list(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;
@@ -525,7 +612,7 @@ void mode_command(port &p, const config &c, std::ostream &out) {
     p.set_config(k);
     k = p.get_config();
   }
-  out << mode_text(k.mode()) << "\n";
+  out << (c.json ? mode_json(k.mode(), device_of(c)) : mode_text(k.mode())) << "\n";
 }
 
 int run_main(const std::vector<std::string> &args) {
@@ -533,6 +620,10 @@ int run_main(const std::vector<std::string> &args) {
   try {
     c = parse_args(args);
   } catch (const usage_error &e) {
+    if (std::find(args.begin(), args.end(), "--json") != args.end()) {
+      std::cout << json_error(e.what(), EINVAL) << "\n";
+      return 2;
+    }
     std::cerr << "x4ctl: " << e.what() << "\n";
     // The first known subcommand's help, else x4ctl's.
     std::string sub;
@@ -556,11 +647,17 @@ int run_main(const std::vector<std::string> &args) {
     return dispatch(c);
   } catch (const usage_error &e) {
     std::cout << std::flush;
-    std::cerr << "x4ctl: " << e.what() << "\n";
+    if (c.json)
+      std::cout << json_error(e.what(), EINVAL) << "\n";
+    else
+      std::cerr << "x4ctl: " << e.what() << "\n";
     return 2;
   } catch (const std::exception &e) {
     std::cout << std::flush;
-    std::cerr << prefix << what_of(e) << "\n";
+    if (c.json)
+      std::cout << json_error(what_of(e), errno_of(e)) << "\n" << std::flush;
+    else
+      std::cerr << prefix << what_of(e) << "\n";
     return 1;
   }
 }

@@ -4,8 +4,11 @@
 
 #include <dirent.h>
 #include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
 #include <cstdlib>
@@ -67,6 +70,34 @@ std::optional<holder> find_controller(const std::string &device) {
     }
   }
   return std::nullopt;
+}
+
+std::string parport_claimant(int parport) {
+  std::ifstream active("/proc/sys/dev/parport/parport" + std::to_string(parport) + "/devices/active");
+  std::string name;
+  if (!(active >> name) || name == "none") return "";
+  return name;
+}
+
+std::optional<holder> parport_user(const std::string &device) {
+  struct stat sb {};
+  if (::stat(device.c_str(), &sb) || !S_ISCHR(sb.st_mode)) return std::nullopt;
+  return find_controller("/dev/parport" + std::to_string(minor(sb.st_rdev)));
+}
+
+std::vector<std::string> x4step_devices() {
+  std::vector<int> numbers;
+  dir_ptr dev(::opendir("/dev"));
+  if (!dev) return {};
+  while (const dirent *d = ::readdir(dev.get())) {
+    const std::string name = d->d_name;
+    if (name.rfind("x4step", 0) == 0 && all_digits(name.c_str() + 6))
+      numbers.push_back(std::atoi(name.c_str() + 6));
+  }
+  std::sort(numbers.begin(), numbers.end());
+  std::vector<std::string> paths;
+  for (int n : numbers) paths.push_back("/dev/x4step" + std::to_string(n));
+  return paths;
 }
 
 void hold_in_background(port &p, const std::function<void(console &)> &follow_it) {

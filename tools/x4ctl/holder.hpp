@@ -11,21 +11,27 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "motion.hpp"
+#include "ports.hpp"
 
 namespace x4ctl {
-
-/// A process with the device open for writing: the port's controller.
-struct holder {
-  pid_t pid = 0;
-  std::string name;  ///< its /proc/PID/comm
-  bool is_x4ctl() const { return name.rfind("x4ctl", 0) == 0; }
-};
 
 /// Looks through /proc for the controller of device (processes of other
 /// users stay hidden unless we may read their /proc/PID/fd).
 std::optional<holder> find_controller(const std::string &device);
+
+/// The program that has /dev/parportN open, N being the parport of the
+/// x4step device at path (ppdev's users, when ppdev holds the port).
+std::optional<holder> parport_user(const std::string &device);
+
+/// The parport driver that has claimed parportN now, as the parport core
+/// names it ("x4step", "lp", "ppdev0", ...); "" when none has, or unknown.
+std::string parport_claimant(int parport);
+
+/// The /dev/x4stepN nodes there are, by N.
+std::vector<std::string> x4step_devices();
 
 /// Forks: the parent prints the child's PID and exits 0 at once, without
 /// closing the port (no destructors run); the child leaves the terminal

@@ -53,7 +53,7 @@ void profile_command(port &p, const config &c, std::ostream &out) {
     p.set_profile(c.axis, pr);
     pr = p.get_profile(c.axis);  // what the port took
   }
-  out << profile_text(c.axis, pr);
+  out << (c.json ? profile_json(c.axis, pr, device_of(c)) + "\n" : profile_text(c.axis, pr));
 }
 
 void limits_command(port &p, const config &c, std::ostream &out) {
@@ -67,7 +67,7 @@ void limits_command(port &p, const config &c, std::ostream &out) {
     p.set_switches(s);
     s = p.get_switches();
   }
-  out << limits_text(s, p.get_axes());
+  out << (c.json ? limits_json(s, p.get_axes(), device_of(c)) + "\n" : limits_text(s, p.get_axes()));
 }
 
 void zero_command(port &p, const config &c, std::ostream &out) {

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "json.hpp"
+
 namespace x4ctl {
 namespace {
 
@@ -170,39 +172,115 @@ std::string status_text(const x4step::status &s, const x4step::axes_status &a, c
   return o.str();
 }
 
+// Each input's level by pin, as JSON: {"15":true,...} (true: HIGH).
+json_object pins_json(unsigned inputs) {
+  json_object o;
+  for (int i = 0; i < 5; i++) o.add(std::to_string(input_pins[i]), bit(inputs, i) == 1);
+  return o;
+}
+
 std::string status_json(const x4step::status &s, const x4step::axes_status &a, const std::string &device) {
-  auto boolean = [](bool b) { return b ? "true" : "false"; };
-  std::ostringstream o;
-  o << "{\"device\":" << json_string(device) << ",\"active\":" << boolean(s.active)
-    << ",\"loaded\":" << boolean(s.loaded) << ",\"controlled\":" << boolean(s.controlled) << ",\"steps\":[";
-  for (int i = 0; i < x4step::axes; i++) o << (i ? "," : "") << s.steps[i];
-  o << "],\"inputs\":" << s.inputs << ",\"inputs_stale\":" << boolean(s.inputs_stale) << ",\"input_pins\":{";
-  for (int i = 0; i < 5; i++) o << (i ? "," : "") << "\"" << input_pins[i] << "\":" << bit(s.inputs, i);
-  o << "},\"outputs\":" << s.outputs << ",\"signal1\":" << bit(s.outputs, 0)
-    << ",\"signal2\":" << bit(s.outputs, 1) << ",\"boost\":" << bit(s.outputs, 2)
-    << ",\"aktiv\":" << bit(s.outputs, 3) << ",\"last_brake_code\":" << s.last_brake_code
-    << ",\"moves_ended\":" << s.moves_ended << ",\"axes\":[";
-  for (int i = 0; i < x4step::axes; i++) {
-    const x4step::axis_status &x = a.axis[i];
+  static const char *const error_names[] = {"ref_travel", "limit_pos", "limit_neg", "ambiguous",
+                                            "ref_passed"};
+  const std::string axes = json_array(a.axis.begin(), a.axis.end(), [&](const x4step::axis_status &x) {
     const char *ramp = x.accelerating ? "accel" : x.cruising ? "cruise" : x.decelerating ? "decel" : "none";
-    o << (i ? "," : "") << "{\"axis\":" << i + 1 << ",\"position\":" << x.position
-      << ",\"velocity\":" << x.velocity << ",\"running\":" << boolean(x.running)
-      << ",\"synced\":" << boolean(x.synced) << ",\"homing\":"
-      << (x.ref1   ? 1
-          : x.ref2 ? 2
-                   : 0)
-      << ",\"ramp\":\"" << ramp << "\",\"error\":" << x.error << ",\"errors\":[";
-    const char *names[] = {"ref_travel", "limit_pos", "limit_neg", "ambiguous", "ref_passed"};
-    bool first = true;
+    std::string errors;
     for (int b = 0; b < 5; b++)
-      if (x.error >> b & 1u) {
-        o << (first ? "" : ",") << "\"" << names[b] << "\"";
-        first = false;
-      }
-    o << "]}";
-  }
-  o << "],\"switches_active\":" << a.switches_active << "}";
+      if (x.error >> b & 1u) errors += (errors.empty() ? "\"" : ",\"") + std::string(error_names[b]) + "\"";
+    return json_object()
+        .add("axis", static_cast<int>(&x - a.axis.data()) + 1)
+        .add("position", x.position)
+        .add("velocity", x.velocity)
+        .add("running", x.running)
+        .add("synced", x.synced)
+        .add("homing", x.ref1   ? 1
+                       : x.ref2 ? 2
+                                : 0)
+        .add("ramp", ramp)
+        .add("error", x.error)
+        .raw("errors", "[" + errors + "]")
+        .str();
+  });
+  return json_document()
+      .add("device", device)
+      .add("active", s.active)
+      .add("loaded", s.loaded)
+      .add("controlled", s.controlled)
+      .raw("steps", json_array(s.steps.begin(), s.steps.end(), [](long long v) { return std::to_string(v); }))
+      .add("inputs", s.inputs)
+      .add("inputs_stale", s.inputs_stale)
+      .add("input_pins", pins_json(s.inputs))
+      .add("outputs", s.outputs)
+      .add("signal1", bit(s.outputs, 0) == 1)
+      .add("signal2", bit(s.outputs, 1) == 1)
+      .add("boost", bit(s.outputs, 2) == 1)
+      .add("aktiv", bit(s.outputs, 3) == 1)
+      .add("last_brake_code", s.last_brake_code)
+      .add("moves_ended", s.moves_ended)
+      .raw("axes", axes)
+      .add("switches_active", a.switches_active)
+      .str();
+}
+
+std::string inputs_json(const x4step::status &s, const std::string &device,
+                        std::chrono::steady_clock::time_point now) {
+  json_object o =
+      json_document().add("device", device).add("inputs", s.inputs).add("input_pins", pins_json(s.inputs));
+  o.add("stale", s.inputs_stale);
+  if (s.inputs_stale && s.inputs_time.time_since_epoch().count() > 0)
+    o.add("age_ms", std::chrono::duration_cast<std::chrono::milliseconds>(now - s.inputs_time).count());
+  else
+    o.raw("age_ms", s.inputs_stale ? "null" : "0");
   return o.str();
+}
+
+std::string monitor_json(const char *what, const x4step::status &s) {
+  return json_document()
+      .add("event", what)
+      .add("active", s.active)
+      .raw("steps", json_array(s.steps.begin(), s.steps.end(), [](long long v) { return std::to_string(v); }))
+      .add("last_brake_code", s.last_brake_code)
+      .add("moves_ended", s.moves_ended)
+      .str();
+}
+
+std::string profile_json(x4step::axis axis, const x4step::profile &p, const std::string &device) {
+  return json_document()
+      .add("device", device)
+      .add("axis", axis.number())
+      .add("v0", p.start_speed())
+      .add("ve", p.end_speed())
+      .add("vm", p.top_speed())
+      .add("a0", p.accel())
+      .add("ae", p.decel())
+      .str();
+}
+
+std::string limits_json(const x4step::switches &s, const x4step::axes_status &a, const std::string &device) {
+  const int numbers[] = {1, 2, 3, 4, 5};
+  const std::string axes = json_array(numbers, numbers + x4step::axes, [&](int n) {
+    return json_object()
+        .add("axis", n)
+        .add("ref", s.ref[n - 1])
+        .add("plus", s.plus[n - 1])
+        .add("minus", s.minus[n - 1])
+        .str();
+  });
+  const std::string inputs = json_array(numbers, numbers + 5, [&](int k) {
+    return json_object()
+        .add("input", k)
+        .add("pin", input_pins[k - 1])
+        .add("high", bit(a.inputs, k - 1) == 1)
+        .add("nc", bit(s.nc, k - 1) == 1)
+        .add("active", bit(a.switches_active, k - 1) == 1)
+        .str();
+  });
+  return json_document()
+      .add("device", device)
+      .raw("axes", axes)
+      .raw("inputs", inputs)
+      .add("inputs_stale", a.inputs_stale)
+      .str();
 }
 
 namespace {
@@ -220,7 +298,7 @@ const char *event_how_name(const x4step::event &e) {
   static const char *const kinds[] = {"loaded", "endless", "goto", "home"};
   static const char *const ends[] = {"completed", "braked",    "stopped",    "limit",
                                      "homed",     "ref_found", "ref_travel", "ref_passed"};
-  static const char *const sources[] = {"request", "key", "close"};
+  static const char *const sources[] = {"request", "key", "close", "emergency"};
   static const char *const switches[] = {"limit_pos", "limit_neg", "ref"};
   static const char *const changes[] = {"opened", "closed", "released"};
   const unsigned h = e.how - 1;
@@ -230,7 +308,7 @@ const char *event_how_name(const x4step::event &e) {
     case x4step::event_type::move_ended:
       return h < 8 ? ends[h] : "";
     case x4step::event_type::brake:
-      return h < 3 ? sources[h] : "";
+      return h < 4 ? sources[h] : "";
     case x4step::event_type::switch_hit:
       return h < 3 ? switches[h] : "";
     case x4step::event_type::controller:
@@ -284,6 +362,8 @@ std::string event_text(const x4step::event &e) {
       detail = how == 1   ? "requested by the controller"
                : how == 2 ? "by " + key_name(static_cast<int>(e.value))
                : how == 3 ? "the controller closed while moving"
+               : how == 4 ? std::string("emergency ") + (e.value ? "stop" : "brake") +
+                                " (x4ctl stop/brake, any reader)"
                           : "";
       break;
     case event_type::switch_hit: {
@@ -321,28 +401,71 @@ std::string event_json(const x4step::event &e) {
       std::chrono::duration_cast<std::chrono::nanoseconds>(e.time.time_since_epoch()).count();
   const char *type = event_type_name(e.type);
   const char *how = event_how_name(e);
-  std::ostringstream o;
-  o << "{\"seq\":" << e.seq << ",\"time_ns\":" << ns << ",\"type\":";
+  json_object o = json_document().add("seq", e.seq).add("time_ns", ns);
   if (*type)
-    o << json_string(type);
+    o.add("type", type);
   else
-    o << static_cast<unsigned>(e.type);
-  o << ",\"axes\":[" << axes_list(e.axes, ",") << "],\"how\":";
+    o.add("type", static_cast<unsigned>(e.type));
+  o.raw("axes", "[" + axes_list(e.axes, ",") + "]");
   if (*how)
-    o << json_string(how);
+    o.add("how", how);
   else
-    o << e.how;
-  o << ",\"value\":" << e.value << ",\"ambiguous\":" << (e.ambiguous ? "true" : "false") << ",\"position\":[";
-  for (int i = 0; i < x4step::axes; i++) o << (i ? "," : "") << e.position[i];
-  o << "]}";
-  return o.str();
+    o.add("how", e.how);
+  return o.add("value", e.value)
+      .add("ambiguous", e.ambiguous)
+      .raw("position",
+           json_array(e.position.begin(), e.position.end(), [](long v) { return std::to_string(v); }))
+      .str();
 }
 
 std::string missed_text(std::uint64_t n) {
   return "missed " + std::to_string(n) + (n == 1 ? " event" : " events") + " (the module keeps the last 256)";
 }
 
-std::string missed_json(std::uint64_t n) { return "{\"missed\":" + std::to_string(n) + "}"; }
+std::string missed_json(std::uint64_t n) { return json_document().add("missed", n).str(); }
+
+namespace {
+
+// Who has the port, in words: its controller (PID and name when visible
+// here), another parport driver, or nobody.
+std::string holder_text(const port_entry &p) {
+  if (p.controller)
+    return "controlled by PID " + std::to_string(p.controller->pid) + " (" + p.controller->name + ")";
+  if (p.controlled) return "controlled (by another user's program, or braking after its close)";
+  if (!p.claimant.empty() && p.claimant != "x4step")
+    return "free for x4step, but claimed by " + p.claimant + " (another parport driver)";
+  return "free";
+}
+
+}  // namespace
+
+std::string list_text(const std::vector<port_entry> &ports) {
+  std::ostringstream o;
+  o << "library      libx4step " << x4step::version() << "\n";
+  for (const port_entry &p : ports) {
+    o << p.device << "  parport" << p.parport << "  ";
+    if (!p.error.empty())
+      o << p.error << "\n";
+    else
+      o << "ABI " << p.abi << "  " << holder_text(p) << "\n";
+  }
+  return o.str();
+}
+
+std::string list_json(const std::vector<port_entry> &ports) {
+  const std::string rows = json_array(ports.begin(), ports.end(), [](const port_entry &p) {
+    json_object o = json_object().add("device", p.device).add("parport", p.parport);
+    if (!p.error.empty()) return o.add("error", json_error_object(p.error, p.err)).str();
+    o.add("abi", p.abi).add("controlled", p.controlled);
+    if (p.controller)
+      o.add("controller",
+            json_object().add("pid", static_cast<long>(p.controller->pid)).add("name", p.controller->name));
+    else
+      o.raw("controller", "null");
+    return o.raw("claimed_by", p.claimant.empty() ? "null" : json_string(p.claimant)).str();
+  });
+  return json_document().add("library", x4step::version()).raw("ports", rows).str();
+}
 
 const char *mode_name(x4step::output_mode m) {
   switch (m) {
@@ -391,12 +514,23 @@ std::string timing_text(const x4step::step_timing &t, x4step::output_mode m, con
 }
 
 std::string timing_json(const x4step::step_timing &t, x4step::output_mode m, const std::string &device) {
-  std::ostringstream o;
-  o << "{\"device\":" << json_string(device) << ",\"pulse_ns\":" << t.pulse().count()
-    << ",\"space_ns\":" << t.space().count() << ",\"dir_setup_ns\":" << t.dir_setup().count()
-    << ",\"dir_hold_ns\":" << t.dir_hold().count() << ",\"mode\":" << json_string(mode_name(m))
-    << ",\"max_freq_hz\":" << max_freq_hz(t, m) << "}";
-  return o.str();
+  return json_document()
+      .add("device", device)
+      .add("pulse_ns", t.pulse().count())
+      .add("space_ns", t.space().count())
+      .add("dir_setup_ns", t.dir_setup().count())
+      .add("dir_hold_ns", t.dir_hold().count())
+      .add("mode", mode_name(m))
+      .add("max_freq_hz", max_freq_hz(t, m))
+      .str();
+}
+
+std::string mode_json(x4step::output_mode m, const std::string &device) {
+  return json_document()
+      .add("device", device)
+      .add("mode", mode_name(m))
+      .add("description", mode_text(m))
+      .str();
 }
 
 }  // namespace x4ctl

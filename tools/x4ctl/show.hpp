@@ -7,8 +7,10 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "../json_string.hpp"
+#include "ports.hpp"
 #include "x4step.hpp"
 
 namespace x4ctl {
@@ -30,8 +32,12 @@ std::string stale_text(const x4step::status &s, std::chrono::steady_clock::time_
 std::string key_name(int code);
 /// Multi-line text of `x4ctl status`.
 std::string status_text(const x4step::status &s, const x4step::axes_status &a, const std::string &device);
-/// One line of JSON for `x4ctl status --json`.
+/// One line of JSON for `x4ctl status --json` (see json.hpp for the style).
 std::string status_json(const x4step::status &s, const x4step::axes_status &a, const std::string &device);
+/// One line of JSON for `x4ctl in --json`: the levels, stale or not, and
+/// their age (null: never read).
+std::string inputs_json(const x4step::status &s, const std::string &device,
+                        std::chrono::steady_clock::time_point now);
 
 /// "1200, synchronized, running 850 steps/s accelerating, error: stopped at E+"
 std::string axis_text(const x4step::axis_status &a);
@@ -41,10 +47,15 @@ std::string errors_text(unsigned error);
 std::string positions_text(const x4step::axes_status &a, x4step::axis_set axes);
 /// "1000 -500 0 0": every coordinate.
 std::string coordinates_text(const x4step::axes_status &a);
-/// Multi-line text of `x4ctl profile`.
+/// A line of `x4ctl monitor --json`: what (idle, running, started, ended)
+/// and the status then.
+std::string monitor_json(const char *what, const x4step::status &s);
+/// Multi-line text of `x4ctl profile`, and its JSON.
 std::string profile_text(x4step::axis axis, const x4step::profile &p);
+std::string profile_json(x4step::axis axis, const x4step::profile &p, const std::string &device);
 /// Multi-line text of `x4ctl limits`: each axis' switches, each input.
 std::string limits_text(const x4step::switches &s, const x4step::axes_status &a);
+std::string limits_json(const x4step::switches &s, const x4step::axes_status &a, const std::string &device);
 /// "input 3 (pin 12)"; "none" for 0.
 std::string input_name(int input);
 /// A JSON string literal.
@@ -58,6 +69,10 @@ std::string event_json(const x4step::event &e);
 std::string missed_text(std::uint64_t n);
 std::string missed_json(std::uint64_t n);
 
+/// `x4ctl list`, as text (a line per port) and as JSON.
+std::string list_text(const std::vector<port_entry> &ports);
+std::string list_json(const std::vector<port_entry> &ports);
+
 /// Every output mode, in the order the help lists them.
 constexpr x4step::output_mode output_modes[] = {
     x4step::output_mode::clock_dir, x4step::output_mode::smc_phase, x4step::output_mode::smc_phase_hold};
@@ -65,6 +80,8 @@ constexpr x4step::output_mode output_modes[] = {
 const char *mode_name(x4step::output_mode m);
 /// One line of `x4ctl mode`: "smc-phase: SMC800/SMC1500 half-step phase drive, ...".
 std::string mode_text(x4step::output_mode m);
+/// `x4ctl mode --json`.
+std::string mode_json(x4step::output_mode m, const std::string &device);
 /// The highest frequency whose period fits the timing (at most cap, the
 /// X4Step moves' 20000 Hz); the phase modes have no pulse, so no limit but cap.
 int max_freq_hz(const x4step::step_timing &t, x4step::output_mode m, int cap = x4step::freq_max_hz);

@@ -29,7 +29,8 @@
  *   ERANGE  a start that the port's write budget cannot take beside the
  *           moves that run (module parameter write_budget, port writes
  *           per second); `result` is X4ErrFreqTooHigh
- *   EBADF   a state-changing ioctl on a read-only descriptor
+ *   EBADF   a state-changing ioctl on a read-only descriptor (all but
+ *           X4STEP_ESTOP, which any descriptor may make)
  *   ENODEV  the parallel port went away
  *   ENOTTY  unknown ioctl
  */
@@ -425,6 +426,11 @@ struct x4step_axes {
 #define X4STEP_SRC_IOCTL 1 /* X4STEP_BRAKE or X4STEP_HALT */
 #define X4STEP_SRC_KEY 2 /* a brake key; value: its set-1 code */
 #define X4STEP_SRC_CLOSE 3 /* the controller closed while moves ran */
+/*
+ * X4STEP_ESTOP, from any descriptor (a monitor's too); value: its
+ * X4STEP_HALT_*. With X4STEP_HALT_STOP the moves end X4STEP_END_STOPPED.
+ */
+#define X4STEP_SRC_ESTOP 4
 
 /* Switches (how of X4STEP_EV_SWITCH); one event per axis. */
 #define X4STEP_SW_LIMIT_POS 1 /* E+ */
@@ -452,6 +458,25 @@ struct x4step_event {
 };
 
 #define X4STEP_IOC_MAGIC 0xB4
+
+/*
+ * X4STEP_ESTOP: the emergency halt of every move on the port, whoever
+ * controls it. Unlike the other state-changing ioctls it is allowed on
+ * any descriptor, read-only ones too: anyone who may open the device
+ * (group lp) can halt the motors of another program's controller, or
+ * the brake of one that closed. `how` is X4STEP_HALT_BRAKE (along the
+ * ramps) or X4STEP_HALT_STOP (at once: the axes lose their
+ * synchronization). The event stream shows an X4STEP_EV_BRAKE with
+ * how X4STEP_SRC_ESTOP and value `how`, then the ends of the moves.
+ * EINVAL for another `how` or non-zero flags or reserved words; ESRCH if
+ * no move runs; ENODEV once the port is gone. Modules before this
+ * ioctl answer ENOTTY.
+ */
+struct x4step_estop {
+	__u32 how; /* X4STEP_HALT_* */
+	__u32 flags; /* must be 0 */
+	__u32 reserved[2]; /* must be 0 */
+};
 
 /* Read the interface version. */
 #define X4STEP_GET_INFO _IOR(X4STEP_IOC_MAGIC, 0x00, struct x4step_info)
@@ -495,6 +520,8 @@ struct x4step_event {
 #define X4STEP_GET_AXES _IOR(X4STEP_IOC_MAGIC, 0x18, struct x4step_axes)
 /* ABI 4: set output signals 1 and 2. */
 #define X4STEP_SET_OUTPUTS _IOW(X4STEP_IOC_MAGIC, 0x19, struct x4step_outputs)
+/* Emergency halt of every move, from any descriptor, read-only ones too. */
+#define X4STEP_ESTOP _IOW(X4STEP_IOC_MAGIC, 0x20, struct x4step_estop)
 
 /*
  * Continuous paths (ABI 5). The controller streams segments with write():
