@@ -143,6 +143,47 @@ int X4BrakeAxis(int axis);
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNotActive */
 int X4StopAxis(int axis);
 
+/*
+ * Continuous paths (module interface 5; x4step_path.hpp has the details):
+ * straight segments that run back to back, at path speeds planned ahead
+ * in the kernel, so that the motors always stop on the path. A path owns
+ * every axis while it runs or holds: X4Start and X4MoveTo fail with
+ * X4ErrIsActive then. X4Brake holds a path, X4Stop stops it and flushes.
+ */
+typedef struct X4Segment {
+  long steps[4];               /**< signed steps of axes 1..4, |steps| <= 16777216 */
+  unsigned long length;        /**< its length along the path, in your unit, >= 1 */
+  unsigned long top_speed;     /**< units/s */
+  unsigned long entry_speed;   /**< the most the corner before it allows, units/s */
+  unsigned long accel;         /**< units/s^2; top_speed / accel at most 1800 s */
+  unsigned long long tag;      /**< yours: X4PathState reports the running one's */
+} X4Segment;
+
+#define X4PATH_IDLE 0    /**< nothing runs, nothing queued */
+#define X4PATH_RUN 1     /**< running */
+#define X4PATH_HOLDING 2 /**< braking along the path to rest */
+#define X4PATH_HELD 3    /**< at rest on the path: X4PathResume or X4PathAbort */
+
+/** Queue count segments in order, waiting while the queue is full. A bad
+ *  segment stops there: the ones before it are queued.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNoSteps,
+ *  X4ErrStepsTooHigh, X4ErrFreqTooHigh (faster than the port can step),
+ *  X4ErrIsActive (another move runs) */
+int X4PathAppend(const X4Segment *segments, int count);
+/** Brake the path along it to rest. @return X4NoErr, X4ErrInitNotDone, X4ErrNotActive */
+int X4PathHold(void);
+/** Go on from a hold. @return X4NoErr, X4ErrInitNotDone, X4ErrNotActive */
+int X4PathResume(void);
+/** Hold, then flush the queue. @return X4NoErr, X4ErrInitNotDone, X4ErrNotActive */
+int X4PathAbort(void);
+/** Feed override, 1..200 percent of every top speed.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail */
+int X4PathOverride(int percent);
+/** The path's state (X4PATH_*), segments queued (the running one
+ *  included), and the running segment's tag; any pointer may be NULL.
+ *  @return X4NoErr, X4ErrInitNotDone */
+int X4PathState(int *state, long *queued, unsigned long long *tag);
+
 #pragma GCC visibility pop
 #ifdef __cplusplus
 }

@@ -2,6 +2,8 @@
 // libx4step C++ API over the x4step kernel module's ioctl interface.
 #include "x4step.hpp"
 
+#include "detail.hpp"
+
 #include <fcntl.h>
 #include <linux/x4step.h>
 #include <poll.h>
@@ -75,14 +77,18 @@ class category_impl : public std::error_category {
   }
 };
 
-[[noreturn]] void fail(errc e) { throw error(make_error_code(e)); }
+}  // namespace
 
-[[noreturn]] void fail_errno(int err, const std::string &what) {
+namespace detail {
+
+void fail(errc e) { throw error(make_error_code(e)); }
+
+void fail_errno(int err, const std::string &what) {
   throw error(std::error_code(err, std::system_category()), what);
 }
 
 // The module's errnos for the X4Step state errors (see linux/x4step.h).
-[[noreturn]] void fail_ioctl(int err, const char *what, int result = 0) {
+void fail_ioctl(int err, const char *what, int result) {
   switch (err) {
     case EINVAL:
       if (result > 0 && result <= static_cast<int>(errc::steps_too_high)) fail(static_cast<errc>(result));
@@ -107,6 +113,15 @@ class category_impl : public std::error_category {
       fail_errno(err, what);
   }
 }
+
+}  // namespace detail
+
+namespace {
+
+using detail::deadline;
+using detail::fail;
+using detail::fail_errno;
+using detail::fail_ioctl;
 
 // A controller's open refused with EBUSY: say who holds the port. The
 // parport core names the device that has claimed parportN (the device's
@@ -171,26 +186,6 @@ void need_axes(axis_set s) {
 
 // The axes of a mask from the kernel (bits beyond axis 4 name none).
 axis_set axes_of(uint32_t mask) { return axis_set(mask & axis_set::all().mask()); }
-
-// The end of a wait; a negative timeout never comes.
-class deadline {
- public:
-  explicit deadline(std::chrono::milliseconds timeout)
-      : forever_(timeout.count() < 0), end_(std::chrono::steady_clock::now() + timeout) {}
-  bool expired() const { return !forever_ && std::chrono::steady_clock::now() >= end_; }
-  // Milliseconds for poll(): up to the end (rounded up, so that a timeout
-  // has expired when poll() returns), at most cap if cap >= 0; -1 for ever.
-  int poll_ms(int cap = -1) const {
-    if (forever_) return cap;
-    const auto left = std::chrono::ceil<std::chrono::milliseconds>(end_ - std::chrono::steady_clock::now());
-    const long long ms = std::max<long long>(0, left.count());
-    return static_cast<int>(cap >= 0 ? std::min<long long>(ms, cap) : std::min<long long>(ms, INT_MAX));
-  }
-
- private:
-  bool forever_;
-  std::chrono::steady_clock::time_point end_;
-};
 
 // One open descriptor; the common part of controller and monitor.
 struct device {

@@ -19,6 +19,7 @@ extern "C" {
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
+#include "x4step_path.hpp"
 
 static_assert(X4HOME_PHASE1 == X4STEP_HOME_PHASE1 && X4HOME_PHASE2 == X4STEP_HOME_PHASE2 &&
               X4HOME_BRAKE == X4STEP_HOME_BRAKE && X4AXERR_REF_PASSED == X4STEP_AXERR_REF_PASSED);
@@ -349,5 +350,53 @@ int X4SetSwitchPolarity(int nc_mask) {
 int X4BrakeAxis(int axis) { return halt_axis(axis, x4step::halt_mode::brake); }
 
 int X4StopAxis(int axis) { return halt_axis(axis, x4step::halt_mode::stop); }
+
+int X4PathAppend(const X4Segment *segments, int count) {
+  if (!port) return X4ErrInitNotDone;
+  if (count < 0 || (count && !segments)) return X4ErrParamFail;
+  return guarded([&] {
+    std::vector<x4step::segment> v;
+    for (const X4Segment &s : std::vector<X4Segment>(segments, segments + count)) {
+      if (s.length > UINT32_MAX || s.top_speed > UINT32_MAX || s.entry_speed > UINT32_MAX || s.accel > UINT32_MAX)
+        fail(x4step::errc::param_fail);
+      x4step::segment g;
+      for (x4step::axis a : x4step::axis_set::all()) g.steps(a, s.steps[a.index()]);
+      v.push_back(g.length(static_cast<std::uint32_t>(s.length))
+                      .top_speed(static_cast<std::uint32_t>(s.top_speed))
+                      .entry_speed(static_cast<std::uint32_t>(s.entry_speed))
+                      .accel(static_cast<std::uint32_t>(s.accel))
+                      .tag(s.tag));
+    }
+    x4step::path(*port).append(v);
+  });
+}
+
+int X4PathHold(void) {
+  return with_port([](x4step::controller &c) { x4step::path(c).hold(); });
+}
+
+int X4PathResume(void) {
+  return with_port([](x4step::controller &c) { x4step::path(c).resume(); });
+}
+
+int X4PathAbort(void) {
+  return with_port([](x4step::controller &c) { x4step::path(c).abort(); });
+}
+
+int X4PathOverride(int percent) {
+  if (!port) return X4ErrInitNotDone;
+  if (percent < 1 || percent > 200) return X4ErrParamFail;
+  return guarded([&] { x4step::path(*port).set_override(static_cast<unsigned>(percent)); });
+}
+
+int X4PathState(int *state, long *queued, unsigned long long *tag) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] {
+    const x4step::path_status s = x4step::path(*port).status();
+    if (state) *state = static_cast<int>(s.state);
+    if (queued) *queued = static_cast<long>(s.queued);
+    if (tag) *tag = s.tag;
+  });
+}
 
 }  // extern "C"

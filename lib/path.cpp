@@ -1,0 +1,195 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// libx4step: continuous paths (x4step_path.hpp) over the module's write()
+// of segment records and its X4STEP_PATH_* ioctls.
+#include "x4step_path.hpp"
+
+#include <linux/x4step.h>
+#include <poll.h>
+#include <sys/ioctl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <ostream>
+
+#include "detail.hpp"
+
+namespace x4step {
+
+using detail::deadline;
+using detail::fail;
+using detail::fail_errno;
+using detail::fail_ioctl;
+
+static_assert(static_cast<int>(path_state::held) == X4STEP_PATH_HELD);
+
+namespace {
+
+constexpr std::uint32_t value_max = 0x7fffffff;
+
+x4step_segment to_kernel(const segment &s) {
+  x4step_segment k{};
+  for (axis a : axis_set::all()) k.steps[a.index()] = static_cast<__s32>(s.steps(a));
+  k.length = s.length();
+  k.v_max = s.top_speed();
+  k.v_entry = s.entry_speed();
+  k.accel = s.accel();
+  k.tag = s.tag();
+  return k;
+}
+
+// The controller's descriptor; init_not_done once it is closed.
+int need_fd(const controller &c) {
+  if (c.fd() < 0) fail(errc::init_not_done);
+  return c.fd();
+}
+
+// Write what fits now (the descriptor is O_NONBLOCK): whole records.
+std::size_t write_some(int fd, const segment *s, std::size_t n) {
+  constexpr std::size_t chunk = 64;
+  std::size_t done = 0;
+  while (done < n) {
+    x4step_segment k[chunk];
+    const std::size_t m = std::min(chunk, n - done);
+    for (std::size_t i = 0; i < m; i++) {
+      if (const errc e = check(s[done + i]); e != errc::ok) {
+        if (done + i == 0) fail(e);
+        return done + i;  // the bad one fails the next call
+      }
+      k[i] = to_kernel(s[done + i]);
+    }
+    const ssize_t got = ::write(fd, k, m * sizeof k[0]);
+    if (got < 0 && errno == EAGAIN) return done;
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) {
+      if (done) return done;
+      fail_ioctl(errno, "write of path segments");
+    }
+    done += static_cast<std::size_t>(got) / sizeof k[0];
+    if (static_cast<std::size_t>(got) < m * sizeof k[0]) return done;
+  }
+  return done;
+}
+
+void ctl(const controller &c, unsigned cmd, unsigned value, const char *what) {
+  x4step_path_ctl k{};
+  k.cmd = cmd;
+  k.value = value;
+  if (::ioctl(need_fd(c), X4STEP_PATH_CTL, &k)) fail_ioctl(errno, what);
+}
+
+}  // namespace
+
+errc check(const segment &s) noexcept {
+  long leader = 0;
+  for (axis a : axis_set::all()) leader = std::max(leader, std::labs(s.steps(a)));
+  if (!leader) return errc::no_steps;
+  if (leader > 16777216) return errc::steps_too_high;
+  if (!s.length() || !s.top_speed() || !s.accel() || s.length() > value_max || s.top_speed() > value_max ||
+      s.entry_speed() > value_max || s.accel() > value_max ||
+      std::uint64_t(s.top_speed()) > std::uint64_t(1800) * s.accel())
+    return errc::param_fail;
+  return errc::ok;
+}
+
+std::uint32_t junction_speed(const std::array<double, axes> &in, const std::array<double, axes> &out,
+                             double accel, double deviation) noexcept {
+  double dot = 0, n_in = 0, n_out = 0;
+  for (int i = 0; i < axes; i++) {
+    dot += in[i] * out[i];
+    n_in += in[i] * in[i];
+    n_out += out[i] * out[i];
+  }
+  if (n_in <= 0 || n_out <= 0) return 0;
+  const double cos_theta = -dot / std::sqrt(n_in * n_out);  // theta: the angle between them
+  if (cos_theta > 0.999999) return 0;                        // a reversal
+  if (cos_theta < -0.999999) return UINT32_MAX;              // straight on
+  const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
+  const double v = std::sqrt(accel * deviation * sin_half / (1 - sin_half));
+  return v >= double(value_max) ? value_max : static_cast<std::uint32_t>(v);
+}
+
+std::ostream &operator<<(std::ostream &os, path_state s) {
+  switch (s) {
+    case path_state::idle:
+      return os << "idle";
+    case path_state::running:
+      return os << "running";
+    case path_state::holding:
+      return os << "holding";
+    case path_state::held:
+      return os << "held";
+  }
+  return os << "state " << static_cast<int>(s);
+}
+
+void path::configure(const path_config &c) {
+  x4step_path_config k{};
+  k.depth = c.depth();
+  k.flags = c.keys_abort() ? X4STEP_PATH_KEYS_ABORT : 0;
+  if (::ioctl(need_fd(*c_), X4STEP_SET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_SET_PATH_CONFIG");
+}
+
+path_config path::config() const {
+  x4step_path_config k{};
+  if (::ioctl(need_fd(*c_), X4STEP_GET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_GET_PATH_CONFIG");
+  return path_config().depth(k.depth).keys_abort(k.flags & X4STEP_PATH_KEYS_ABORT);
+}
+
+std::size_t path::try_append(const segment *s, std::size_t n) { return write_some(need_fd(*c_), s, n); }
+
+void path::append(const std::vector<segment> &s) {
+  std::size_t done = 0;
+  while (done < s.size()) {
+    done += try_append(s.data() + done, s.size() - done);
+    if (done == s.size()) break;
+    pollfd p{need_fd(*c_), POLLOUT, 0};
+    if (::poll(&p, 1, -1) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
+    if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
+  }
+}
+
+void path::append(const segment &s) { append(std::vector<segment>{s}); }
+
+void path::hold() { ctl(*c_, X4STEP_PATH_HOLD, 0, "X4STEP_PATH_CTL hold"); }
+void path::resume() { ctl(*c_, X4STEP_PATH_RESUME, 0, "X4STEP_PATH_CTL resume"); }
+void path::abort() { ctl(*c_, X4STEP_PATH_ABORT, 0, "X4STEP_PATH_CTL abort"); }
+
+void path::set_override(unsigned percent) {
+  if (percent < 1 || percent > 200) fail(errc::param_fail);
+  ctl(*c_, X4STEP_PATH_OVERRIDE, percent, "X4STEP_PATH_CTL override");
+}
+
+path_status path::status() const {
+  x4step_path_status k{};
+  if (::ioctl(need_fd(*c_), X4STEP_GET_PATH, &k)) fail_ioctl(errno, "X4STEP_GET_PATH");
+  path_status s;
+  s.state = static_cast<path_state>(k.state);
+  s.queued = k.queued;
+  s.depth = k.depth;
+  s.override_percent = k.override;
+  s.speed = k.speed;
+  s.keys_abort = k.flags & X4STEP_PATH_KEYS_ABORT;
+  s.tag = k.tag;
+  s.done = k.done;
+  s.starved = k.starved;
+  return s;
+}
+
+bool path::wait(std::chrono::milliseconds timeout) const {
+  const deadline d(timeout);
+  for (;;) {
+    const path_status s = status();
+    if (s.state == path_state::held || (s.state == path_state::idle && !s.queued)) return true;
+    if (d.expired()) return false;
+    // POLLIN: no move runs (the end of a move wakes the pollers). A path
+    // idle with segments queued starts in a moment: look again in 5 ms.
+    pollfd p{need_fd(*c_), POLLIN, 0};
+    const int ms = s.state == path_state::idle ? d.poll_ms(5) : d.poll_ms();
+    if (::poll(&p, 1, ms) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
+    if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
+  }
+}
+
+}  // namespace x4step
