@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // libx4step: continuous paths (x4step_path.hpp) over the module's write()
 // of segment records and its X4STEP_PATH_* ioctls.
-#include "x4step_path.hpp"
-
 #include <linux/x4step.h>
 #include <poll.h>
 #include <sys/ioctl.h>
@@ -14,6 +12,7 @@
 #include <ostream>
 
 #include "detail.hpp"
+#include "x4step_path.hpp"
 
 namespace x4step {
 
@@ -103,8 +102,8 @@ std::uint32_t junction_speed(const std::array<double, axes> &in, const std::arra
   }
   if (n_in <= 0 || n_out <= 0) return 0;
   const double cos_theta = -dot / std::sqrt(n_in * n_out);  // theta: the angle between them
-  if (cos_theta > 0.999999) return 0;                        // a reversal
-  if (cos_theta < -0.999999) return UINT32_MAX;              // straight on
+  if (cos_theta > 0.999999) return 0;                       // a reversal
+  if (cos_theta < -0.999999) return UINT32_MAX;             // straight on
   const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
   const double v = std::sqrt(accel * deviation * sin_half / (1 - sin_half));
   return v >= double(value_max) ? value_max : static_cast<std::uint32_t>(v);

@@ -357,7 +357,8 @@ int X4PathAppend(const X4Segment *segments, int count) {
   return guarded([&] {
     std::vector<x4step::segment> v;
     for (const X4Segment &s : std::vector<X4Segment>(segments, segments + count)) {
-      if (s.length > UINT32_MAX || s.top_speed > UINT32_MAX || s.entry_speed > UINT32_MAX || s.accel > UINT32_MAX)
+      if (s.length > UINT32_MAX || s.top_speed > UINT32_MAX || s.entry_speed > UINT32_MAX ||
+          s.accel > UINT32_MAX)
         fail(x4step::errc::param_fail);
       x4step::segment g;
       for (x4step::axis a : x4step::axis_set::all()) g.steps(a, s.steps[a.index()]);

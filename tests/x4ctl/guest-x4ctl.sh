@@ -655,6 +655,26 @@ if [ -r "$vmod" ]; then
 	m limits 1 --ref 0 >/dev/null
 	m limits 2 --plus 0 --nc none >/dev/null
 	m limits 3 --ref 0 >/dev/null
+
+	# x4ctl path (issue 18): checked first, then streamed; the machine's
+	# edges end where the lines add up, on every axis.
+	p1=$(at 1) p2=$(at 2) p3=$(at 3)
+	printf '# a square, then a helix-like piece\n1000 0\n0 1000 speed=3000\n-1000 0\n0 -1000\n300 -200 77 # diagonal\n' \
+		>"$tmp/square.path"
+	check path-check 0 'square.path: 5 segments, 4369 steps along the path: OK' '' m path --check "$tmp/square.path"
+	same path-check-moves-nothing "$(at 1) $(at 2) $(at 3)" "$p1 $p2 $p3"
+	check path-run 0 '^path: done, 5 of 5 segments, at ' '' m path -s 2000 -a 20000 "$tmp/square.path"
+	same path-edges "$(at 1) $(at 2) $(at 3)" "$((p1 + 300)) $((p2 - 200)) $((p3 + 77))"
+	echo 50 >"$tmp/one.path"
+	check path-json 0 '^{"schema":1,"state":"idle","line":0,"done":1,"total":1,' '' m path --json "$tmp/one.path"
+	same path-json-edges "$(at 1)" "$((p1 + 350))"
+	printf '100 0\n0 1x\n' >"$tmp/bad.path"
+	check path-bad-line 2 '' "bad.path:2:3: '1x' is no step count" m path "$tmp/bad.path"
+	same path-bad-line-moves-nothing "$(at 1) $(at 2)" "$((p1 + 350)) $((p2 - 200))"
+	printf '100 speed=45000 accel=1000000\n' >"$tmp/fast.path"
+	check path-too-fast 1 '' "fast.path:1: its leader axis would step at 45000 steps/s; the port's step timing allows" \
+		sh -c "x4ctl -p $vlpt timing --pulse 20000 --space 20000 >/dev/null && x4ctl -p $vlpt path $tmp/fast.path"
+	m timing --pulse 0 --space 0 >/dev/null
 fi
 
 settle 50

@@ -20,6 +20,7 @@
 #include "json.hpp"
 #include "lang.hpp"
 #include "motion.hpp"
+#include "path.hpp"
 #include "position.hpp"
 #include "show.hpp"
 #include "term.hpp"
@@ -2189,6 +2190,81 @@ TEST(Json, ErrorsAreJsonOnStdout) {
   r = run({"-d", "/nonexistent/x4step9", "status"});  // without --json: text on stderr
   EXPECT_EQ(r.out, "");
   EXPECT_TRUE(contains(r.err, "x4ctl: status: /nonexistent/x4step9: port not found")) << r.err;
+}
+
+// ---- path --------------------------------------------------------------------------
+
+std::vector<x4step::segment> path_of(const std::string &text, const path_defaults &d = {}) {
+  std::istringstream in(text);
+  return read_path(in, "square.path", d);
+}
+
+// The usage_error read_path throws for text ("" if none).
+std::string path_error(const std::string &text) {
+  try {
+    path_of(text);
+  } catch (const usage_error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Path, LinesBecomeSegmentsInThousandthsOfASteps) {
+  const auto s = path_of("# a square\n4000 0\n0 3000 speed=2000 accel=5000\n\n-4000 0 0 0 corner=100\n");
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s[0].steps(x4step::axis::x), 4000);
+  EXPECT_EQ(s[0].length(), 4000000u);
+  EXPECT_EQ(s[0].top_speed(), 1000000u);  // the default 1000 steps/s
+  EXPECT_EQ(s[0].accel(), 10000000u);
+  EXPECT_EQ(s[0].entry_speed(), 0u);  // from rest
+  EXPECT_EQ(s[0].tag(), 2u);          // its line
+  EXPECT_EQ(s[1].steps(x4step::axis::y), 3000);
+  EXPECT_EQ(s[1].top_speed(), 2000000u);
+  EXPECT_EQ(s[1].accel(), 5000000u);
+  EXPECT_EQ(s[1].tag(), 3u);
+  // A right angle at deviation 0.5 steps and 5000 steps/s^2:
+  // v = sqrt(a d sin(45) / (1 - sin(45))) = sqrt(5000 * 0.5 * 2.414) = 77.69 steps/s.
+  EXPECT_NEAR(s[1].entry_speed(), 77689.0, 10.0);
+  EXPECT_EQ(s[2].entry_speed(), 100000u);  // corner= given
+  EXPECT_EQ(s[2].tag(), 5u);
+}
+
+TEST(Path, StraightOnKeepsTheSpeedAReversalStops) {
+  const auto s = path_of("100 100\n200 200\n-50 -50\n");
+  EXPECT_EQ(s[1].entry_speed(), s[1].top_speed());
+  EXPECT_EQ(s[2].entry_speed(), 0u);
+  EXPECT_EQ(s[1].length(), 282843u);  // sqrt(2) * 200 steps
+}
+
+TEST(Path, BadLinesNameFileLineAndColumn) {
+  EXPECT_EQ(path_error("100 0\n  12x 0\n"),
+            "square.path:2:3: '12x' is no step count: use a whole number within +-16777216");
+  EXPECT_EQ(path_error("1 2 3 4 5\n"),
+            "square.path:1:9: more than 4 axes: a line is up to 4 step counts, then key=value");
+  EXPECT_EQ(path_error("0 0\n"), "square.path:1:1: no steps: give at least one axis a non-zero count");
+  EXPECT_EQ(path_error("10 speed=0\n"), "square.path:1:4: speed '0': use 1..45000 steps/s");
+  EXPECT_EQ(path_error("10 accel=2000000\n"), "square.path:1:4: accel '2000000': use 1..1000000 steps/s^2");
+  EXPECT_EQ(path_error("10 feed=3\n"), "square.path:1:4: unknown key 'feed': use speed=, accel= or corner=");
+  EXPECT_EQ(path_error("10 speed=10 5\n"), "square.path:1:13: '5': step counts come first, then key=value");
+  EXPECT_EQ(path_error("16777217\n"),
+            "square.path:1:1: '16777217' is no step count: use a whole number within +-16777216");
+  EXPECT_EQ(path_error("2147484 0\n"),
+            "square.path:1:1: segment too long: split it (at most 2147483 steps along the path)");
+  EXPECT_EQ(path_error("10 speed=45000 accel=20\n"),
+            "square.path:1:1: speed / accel above 1800 s: accelerate faster or move slower");
+}
+
+TEST(Path, CommandLine) {
+  const config c =
+      parse({"path", "-s", "2000", "--accel", "30000", "--deviation", "0.25", "-o", "150", "p.txt"});
+  EXPECT_EQ(c.cmd, subcommand::path);
+  EXPECT_EQ(c.path.speed, 2000u);
+  EXPECT_EQ(c.path.accel, 30000u);
+  EXPECT_DOUBLE_EQ(c.path.deviation, 0.25);
+  EXPECT_EQ(c.override_percent, 150u);
+  EXPECT_EQ(c.file, "p.txt");
+  EXPECT_EQ(usage_message({"path", "--override", "0"}), "path: override 0 out of range: use 1 to 200 %");
+  EXPECT_TRUE(contains(usage_message({"path", "--deviation", "-1"}), "deviation '-1'"));
 }
 
 }  // namespace

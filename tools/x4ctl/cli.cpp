@@ -64,7 +64,11 @@ enum opt_id {
   opt_plus,
   opt_minus,
   opt_nc,
-  opt_stop
+  opt_stop,
+  opt_speed,
+  opt_accel,
+  opt_deviation,
+  opt_override
 };
 
 struct option_spec {
@@ -184,7 +188,7 @@ const command_entry commands[] = {
     {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
     {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::list, "list"},
-    {subcommand::help, "help"},
+    {subcommand::path, "path"},       {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -444,6 +448,14 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
     case subcommand::list:
       add("json", 'j', false, opt_json);
       break;
+    case subcommand::path:
+      add("speed", 's', true, opt_speed);
+      add("accel", 'a', true, opt_accel);
+      add("deviation", 0, true, opt_deviation);
+      add("override", 'o', true, opt_override);
+      add("check", 'c', false, opt_check);
+      add("json", 'j', false, opt_json);
+      break;
     default:
       break;
   }
@@ -558,6 +570,24 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       case opt_at:
         c.at = parse_position(o.value, "position", prefix);
         break;
+      case opt_speed:
+        c.path.speed = parse_speed(o.value, "speed", 1, prefix);
+        break;
+      case opt_accel:
+        c.path.accel =
+            static_cast<unsigned>(parse_range(o.value, "accel", 1, x4step::acc_max, " steps/s^2", prefix));
+        break;
+      case opt_deviation: {
+        char *end = nullptr;
+        const double v = std::strtod(o.value.c_str(), &end);
+        if (o.value.empty() || *end || !(v > 0 && v <= 1000))
+          throw usage_error(prefix + "deviation '" + o.value + "': use a number of steps, 0 < D <= 1000");
+        c.path.deviation = v;
+        break;
+      }
+      case opt_override:
+        c.override_percent = static_cast<unsigned>(parse_range(o.value, "override", 1, 200, " %", prefix));
+        break;
       case opt_ref:
         c.ref = parse_input(o.value, prefix);
         break;
@@ -654,6 +684,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       break;
     }
     case subcommand::run:
+    case subcommand::path:
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) c.file = ops[0];
       break;
@@ -1176,6 +1207,34 @@ std::string help_text(subcommand c) {
              "Exit status: 0 done; 1 the port refused (a move runs), or another program\n"
              "holds it; 2 bad usage.\n"
              "Example: x4ctl limits 1 --ref 3 --plus 1 --minus 2 --nc 1,2\n";
+    case subcommand::path:
+      return "Usage: x4ctl path [OPTIONS] [FILE]\n"
+             "\n"
+             "Run a continuous path: straight segments one after the other without\n"
+             "stopping between them, planned ahead by the module so that the motors\n"
+             "always come to rest on the path. FILE (default: standard input) has one\n"
+             "segment per line: up to 4 step counts (axes 1..4, signed), then optionally\n"
+             "speed=STEPS/S (along the path), accel=STEPS/S^2 and corner=STEPS/S (the\n"
+             "most the corner before it allows; else from the corner's angle and the\n"
+             "junction deviation). '#' starts a comment. The whole file is checked\n"
+             "before the first step: a bad line is named as FILE:LINE:COLUMN. Then it is\n"
+             "streamed to the module while it runs, with the progress shown.\n"
+             "Ctrl-C (or 'x4ctl brake') holds the path along it and flushes it; 'x4ctl\n"
+             "stop' stops at once.\n"
+             "\n"
+             "Options:\n"
+             "  -s, --speed=STEPS/S  speed along the path where a line has none (1000)\n"
+             "  -a, --accel=STEPS/S^2 acceleration where a line has none (10000)\n"
+             "      --deviation=D    junction deviation in steps (0.5): how far from a\n"
+             "                       corner the path may round it at speed (as GRBL's)\n"
+             "  -o, --override=PCT   feed override, 1..200 percent (100)\n"
+             "  -c, --check          check the file and stop there: nothing moves\n"
+             "  -j, --json           progress as JSON lines (state, line, done, speed)\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 the path ran to its end; 1 it was aborted or the port\n"
+             "refused; 2 bad usage or a bad line.\n"
+             "Example: printf '4000 0\\n0 4000\\n-4000 0\\n0 -4000\\n' | x4ctl path -s 2000\n";
     case subcommand::list:
       return "Usage: x4ctl list [OPTIONS]\n"
              "\n"

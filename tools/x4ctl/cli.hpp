@@ -54,7 +54,15 @@ enum class subcommand {
   halt,
   watch,
   list,
+  path,
   help
+};
+
+/// x4ctl path: what a line of the path does not say.
+struct path_defaults {
+  unsigned speed = 1000;   ///< steps/s along the path
+  unsigned accel = 10000;  ///< steps/s^2
+  double deviation = 0.5;  ///< junction deviation, steps
 };
 
 /// Everything the command line says.
@@ -104,6 +112,9 @@ struct config {
   std::optional<int> ref, plus, minus;  ///< limits AXIS: the inputs to name (0: none)
   std::optional<unsigned> nc;           ///< limits: normally closed inputs (bit k: input k+1)
   bool halt_stop = false;               ///< halt: stop at once rather than brake
+
+  path_defaults path;               ///< path (c.file: the path, "-" stdin; c.check: only check)
+  unsigned override_percent = 100;  ///< path: feed override
 };
 
 /// Parses and checks the whole command line (values too, without a device).

@@ -21,6 +21,7 @@
 #include "holder.hpp"
 #include "json.hpp"
 #include "lang.hpp"
+#include "path.hpp"
 #include "position.hpp"
 #include "term.hpp"
 
@@ -73,6 +74,8 @@ failure open_failure(const std::string &dev, const x4step::error &e, bool write)
   return failure(dev + ": " + e.code().message(), err);
 }
 
+}  // namespace
+
 x4step::controller open_controller(const std::string &dev) {
   try {
     return x4step::controller(dev);
@@ -89,6 +92,8 @@ x4step::controller open_controller(const std::string &dev) {
     throw f;
   }
 }
+
+namespace {
 
 x4step::monitor open_monitor(const std::string &dev) {
   try {
@@ -581,6 +586,8 @@ int dispatch(const config &c) {
       return cmd_watch(c);
     case subcommand::list:
       return cmd_list(c);
+    case subcommand::path:
+      return cmd_path(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

@@ -17,6 +17,10 @@ namespace x4ctl {
 /// 1 the port refused or a move did not reach its target, 2 bad usage.
 int run_main(const std::vector<std::string> &args);
 
+/// Opens the port as its controller; a refusal says who holds it and what
+/// to do (throws failure).
+x4step::controller open_controller(const std::string &dev);
+
 /// `x4ctl timing` on an open port: changes the times c gives, keeping the
 /// others (read, modify, write), and writes the timing the port then has.
 void timing_command(port &p, const config &c, std::ostream &out);
