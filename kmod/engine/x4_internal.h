@@ -31,6 +31,13 @@ static inline u8 x4_clk_bits(u8 axes)
 	return (u8)(x4_dir_bits(axes) << 1);
 }
 
+/* The clock bits of plan p's axes whose direction pin must change. */
+static inline u8 x4_dir_changes(const struct x4_engine *e,
+				const struct x4_plan *p)
+{
+	return (u8)((x4_dir_bits(p->axes) & (e->data ^ p->dirs)) << 1);
+}
+
 /* Axis i's coordinate. */
 static inline s32 x4_position(const struct x4_engine *e, int i)
 {

@@ -140,14 +140,23 @@ u32 x4_path_room(const struct x4_engine *e)
 	return pa->depth - (pa->tail - x4_load_acquire(&pa->head));
 }
 
-/* The highest entry speed of slot s from which exit v_exit is reachable. */
-static u32 entry_for(const struct x4_engine *e, const struct x4_path_slot *s,
-		     u64 v_exit)
+/* Slot s's entry limit: its corner, its top speed (at the override). */
+static void set_limit(const struct x4_engine *e, struct x4_path_slot *s)
 {
-	u64 v = x4_isqrt(v_exit * v_exit + 2ull * s->seg.accel * s->seg.length);
+	s->limit = (u32)min_u64(s->seg.v_entry, top_speed(e, s));
+}
 
-	v = min_u64(v, s->seg.v_entry);
-	return (u32)min_u64(v, top_speed(e, s));
+/*
+ * The highest entry speed of slot s from which exit v_exit is reachable;
+ * the root from its last entry speed (entries change little).
+ */
+static u32 entry_for(const struct x4_path_slot *s, u64 v_exit)
+{
+	u64 v2 = v_exit * v_exit + s->two_as;
+
+	if ((u64)s->limit * s->limit <= v2)
+		return s->limit;
+	return (u32)(s->entry ? x4_isqrt_from(v2, s->entry) : x4_isqrt(v2));
 }
 
 /*
@@ -166,7 +175,11 @@ static void plan_back(struct x4_engine *e, bool all)
 	/* The timer reads the entry of head + 1 when head starts. */
 	while (k != head && k - 1 != head) {
 		struct x4_path_slot *s = slot_of(pa, --k);
-		u32 v = entry_for(e, s, v_exit);
+		u32 v;
+
+		if (all)
+			set_limit(e, s);
+		v = entry_for(s, v_exit);
 
 		if (v == s->entry && !all)
 			break;
@@ -187,7 +200,10 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 			leader = x4_abs_s32(seg->steps[i]);
 	s->seg = *seg;
 	s->leader = leader;
-	s->entry = entry_for(e, s, 0); /* the last segment stops */
+	s->two_as = 2ull * seg->accel * seg->length;
+	s->entry = 0;
+	set_limit(e, s);
+	s->entry = entry_for(s, 0); /* the last segment stops */
 	x4_store_release(&pa->tail, pa->tail + 1);
 	plan_back(e, false);
 }
@@ -196,10 +212,13 @@ void x4_path_replan(struct x4_engine *e)
 {
 	struct x4_path *pa = &e->path;
 
+	struct x4_path_slot *last;
+
 	if (pa->tail == x4_load_acquire(&pa->head))
 		return;
-	x4_store_release(&slot_of(pa, pa->tail - 1)->entry,
-			 entry_for(e, slot_of(pa, pa->tail - 1), 0));
+	last = slot_of(pa, pa->tail - 1);
+	set_limit(e, last);
+	x4_store_release(&last->entry, entry_for(last, 0));
 	plan_back(e, true);
 }
 
@@ -256,6 +275,10 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 		}
 		f.vm = (u32)v0;
 		f.ae = (u32)a;
+	} else if (v0 + 1 >= vc && ve + 1 >= vc) {
+		/* Cruising through (within the step/s of rounding): no ramps. */
+		f.vm = (u32)vc;
+		ve = vc;
 	} else {
 		/* Within the segment's reach: up from v0, down from v0. */
 		ve = min_u64(ve, x4_isqrt(v0 * v0 + 2 * a * rest));
@@ -330,7 +353,6 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 {
 	struct x4_path *pa = &e->path;
 	u64 t0 = c->origin + c->t_cur;
-	u8 dirs = c->run.dirs;
 
 	if (c->path_cut)
 		return false;
@@ -351,9 +373,9 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 			return false;
 		}
 		start_segment(e, c, v);
+		/* Against the pins: an axis may have rested in between. */
 		if (!x4_phase_mode(e))
-			c->dir_fresh = x4_clk_bits(c->run.axes) &
-				       (u8)((dirs ^ c->run.dirs) << 1);
+			c->dir_fresh = x4_dir_changes(e, &c->run);
 	} else if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
 		pa->rest = X4_REST_HELD;
 		return false;

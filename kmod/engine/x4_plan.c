@@ -12,8 +12,7 @@
 #include <string.h>
 #endif
 
-/* floor(sqrt(x)) by Newton's method from an estimate x0 > 0. */
-static u64 isqrt_from(u64 x, u64 x0)
+u64 x4_isqrt_from(u64 x, u64 x0)
 {
 	u64 r, next;
 
@@ -34,7 +33,7 @@ u64 x4_isqrt(u64 x)
 	if (!x)
 		return 0;
 	/* 2^ceil(bits/2) is at or above the root. */
-	return isqrt_from(x, 1ull << ((64 - __builtin_clzll(x) + 1) / 2));
+	return x4_isqrt_from(x, 1ull << ((64 - __builtin_clzll(x) + 1) / 2));
 }
 
 /*
@@ -43,7 +42,7 @@ u64 x4_isqrt(u64 x)
  */
 static u64 ramp_root(const struct x4_ramp *r, u64 x, u64 est)
 {
-	u64 q = est ? isqrt_from(x, est) : x4_isqrt(x);
+	u64 q = est ? x4_isqrt_from(x, est) : x4_isqrt(x);
 
 	if (!r->sh)
 		return q;

@@ -91,6 +91,8 @@ struct x4_plan {
 #define X4_DIR_MASK 0x55
 
 u64 x4_isqrt(u64 x);
+/* floor(sqrt(x)) by Newton's method from an estimate x0 > 0 (any). */
+u64 x4_isqrt_from(u64 x, u64 x0);
 
 /* The axes' paths (signed steps): leader, directions, Bresenham increments. */
 void x4_plan_axes(struct x4_plan *p, const s64 *steps);

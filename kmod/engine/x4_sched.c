@@ -463,8 +463,7 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 
 	c->ctl = p->n_cruise ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
 	if (c->path) {
-		c->dir_fresh |= x4_clk_bits(p->axes) &
-				(u8)((e->data ^ p->dirs) << 1);
+		c->dir_fresh |= x4_dir_changes(e, p);
 		c->dir_ready = now_ns + e->timing.dir_setup_ns;
 	} else if (now_ns > c->t_pending) {
 		/* Count the setup time from when the directions go out. */
@@ -604,8 +603,10 @@ static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
 }
 
 /*
- * A path's axis whose direction changed steps before the setup time has
- * passed: the step (and the rest of the schedule) waits for it.
+ * A path's axis whose direction changed would step before its setup time
+ * has passed: the step, and the rest of the schedule, wait. Only such an
+ * axis' step waits: at a reversal within a circle the minor axis is slow
+ * and its next step usually comes later anyway.
  */
 static noinline bool dir_wait(struct x4_chan *c, u64 t_step, u64 now_ns)
 {
@@ -618,7 +619,7 @@ static noinline bool dir_wait(struct x4_chan *c, u64 t_step, u64 now_ns)
 		return false;
 	}
 	for (i = 0; i < X4_AXES; i++)
-		if (c->bres[i] + p->bres_inc[i] >= p->bres_2l && p->bres_inc[i])
+		if (p->bres_inc[i] && c->bres[i] + p->bres_inc[i] >= p->bres_2l)
 			due |= X4_CLK_BIT(i);
 	if (!(due & c->dir_fresh))
 		return false;

@@ -75,6 +75,18 @@ struct Path {
     for (int i = 0; i < X4_AXES; i++)
       EXPECT_EQ(e.pos_base[i] + uint32_t(e.steps[i]), uint32_t(target[i])) << "axis " << i;
   }
+  // What a driver counted from the pins: a step per rising clock edge, in
+  // the direction its direction pin showed then.
+  void ExpectPinsAtTarget(const Recording &r) const {
+    int32_t pos[X4_AXES] = {0, 0, 0, 0};
+    uint8_t data = 0;
+    for (const x4_event &ev : r.events) {
+      for (int i = 0; i < X4_AXES; i++)
+        if (ev.data & ~data & X4_CLK_BIT(i)) pos[i] += ev.data & X4_DIR_BIT(i) ? 1 : -1;
+      data = ev.data;
+    }
+    for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(pos[i], target[i]) << "axis " << i << " as its pins say";
+  }
 };
 
 // One leader step as the physics sees it: when, where along the path
@@ -254,6 +266,7 @@ TEST(PathRun, CircleRunsThroughCornersAndEndsExactly) {
   Recording r;
   record(p.e, r);
   p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
   const auto st = LeaderSteps(r, p.sent);
   const double worst = CheckPhysics(st, p.sent);
   ExpectStopsAtRest(st, p.sent);
@@ -364,6 +377,7 @@ TEST(PathRun, SlowWriterNeverBreaksTheLimits) {
     }
   }
   p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
   const auto st = LeaderSteps(r, p.sent);
   CheckPhysics(st, p.sent);
   ExpectStopsAtRest(st, p.sent);
@@ -409,6 +423,7 @@ TEST(PathHold, HoldAndResumeChangeNoStep) {
   ASSERT_EQ(x4_path_resume(&p.e, held_at + 100000000), X4_OK);
   record(p.e, r);
   p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
   for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(r.rises[i].size(), rr.rises[i].size()) << "axis " << i;
   const auto st = LeaderSteps(r, p.sent);
   CheckPhysics(st, p.sent);
@@ -581,4 +596,36 @@ TEST(PathSignals, ReversingAxisKeepsItsDirectionSetup) {
   ASSERT_NE(y_after, 0u);
   EXPECT_GE(y_after - dir_change, X4_DIR_SETUP_NS);
   p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
+  // X, the leader, did not wait: its intervals run on through the junction.
+  std::vector<uint64_t> x;
+  uint8_t d = 0;
+  for (const auto &ev : r.events) {
+    if (ev.data & ~d & X4_CLK_BIT(0)) x.push_back(ev.t_ns);
+    d = ev.data;
+  }
+  ASSERT_EQ(x.size(), 4000u);
+  for (size_t k = 1990; k < 2010; k++)
+    EXPECT_NEAR(double(x[k + 1] - x[k]), 1e9 / 2000, 5) << "leader step " << k;
+}
+
+// Around a circle every axis reverses twice, minor at that moment: the
+// pins must follow, and the path keeps its speed through the reversals.
+TEST(PathSignals, CircleReversalsKeepSpeedAndPins) {
+  Path p(512);
+  // Chords of 4 steps at 10000 steps/s: a reversing axis' first step comes
+  // as soon as 2 leader steps (200 us) after the junction.
+  const auto segs = Circle(318, 500, 100000, 2000000, 100000);
+  for (const auto &s : segs) ASSERT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  for (size_t k = 1; k + 1 < st.size(); k++) {
+    if (st[k].seg == st[k + 1].seg || st[k].seg < 100 || st[k].seg + 100 > segs.size()) continue;  // cruising
+    const double v = (st[k + 1].s - st[k].s) / (st[k + 1].t - st[k].t);
+    EXPECT_NEAR(v, 100000, 1000) << "junction before segment " << st[k + 1].seg;
+  }
 }
