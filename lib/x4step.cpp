@@ -2,8 +2,6 @@
 // libx4step C++ API over the x4step kernel module's ioctl interface.
 #include "x4step.hpp"
 
-#include "detail.hpp"
-
 #include <fcntl.h>
 #include <linux/x4step.h>
 #include <poll.h>
@@ -18,6 +16,8 @@
 #include <fstream>
 #include <ostream>
 #include <utility>
+
+#include "detail.hpp"
 
 extern "C" {
 #include "x4_check.h"  // the kernel's own argument checks
