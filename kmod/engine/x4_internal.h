@@ -49,6 +49,15 @@ static inline u32 x4_abs_s32(s32 v)
 	return v < 0 ? (u32)-(s64)v : (u32)v;
 }
 
+/* Rounded Bresenham: the minor axes start half a step along. */
+static inline void x4_bres_start(struct x4_chan *c)
+{
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		c->bres[i] = c->run.bres_2l / 2;
+}
+
 /* x4_sched.c: channels */
 void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
 void x4_cut(struct x4_chan *c);

@@ -200,7 +200,13 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 			leader = x4_abs_s32(seg->steps[i]);
 	s->seg = *seg;
 	s->leader = leader;
-	s->two_as = 2ull * seg->accel * seg->length;
+	/*
+	 * The timer runs the segment at whole leader steps/s^2: plan with
+	 * that acceleration, not the one asked for, so that the plan's stops
+	 * are the ones the timer makes.
+	 */
+	s->accel = (u32)to_steps(s, seg->accel);
+	s->two_as = x4_div(2ull * s->accel * seg->length, leader) * seg->length;
 	s->entry = 0;
 	set_limit(e, s);
 	s->entry = entry_for(s, 0); /* the last segment stops */
@@ -282,8 +288,6 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 	} else {
 		/* Within the segment's reach: up from v0, down from v0. */
 		ve = min_u64(ve, x4_isqrt(v0 * v0 + 2 * a * rest));
-		if (v0 * v0 > ve * ve + 2 * a * rest)
-			ve = x4_isqrt(v0 * v0 - 2 * a * rest);
 		f.v0 = (u32)v0;
 		f.vm = (u32)vc;
 		f.a0 = (u32)a;
@@ -317,15 +321,14 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	for (i = 0; i < X4_AXES; i++)
 		steps[i] = s->seg.steps[i];
 	x4_plan_axes(&c->run, steps);
-	for (i = 0; i < X4_AXES; i++)
-		c->bres[i] = c->run.bres_2l / 2;
+	x4_bres_start(c);
 	x4_arm_switches(e, c);
 	pa->started = true;
 	pa->lonely = tail == pa->head + 1;
 	if (!pa->lonely)
 		v_exit = x4_load_acquire(&slot_of(pa, pa->head + 1)->entry);
 	pa->leader = s->leader;
-	pa->accel = (u32)to_steps(s, s->seg.accel);
+	pa->accel = s->accel;
 	pa->exit = (u32)to_steps(s, v_exit);
 	pa->pos = 0;
 	pa->piece = 0;

@@ -45,7 +45,8 @@ struct x4_path_slot {
 	struct x4_segment seg;
 	u32 leader; /* the leader axis' steps: max |steps[i]| */
 	u32 limit; /* its entry's limit: corner, top speed (override) */
-	u64 two_as; /* 2 accel length: v^2 gained or lost along it */
+	u32 accel; /* its leader's acceleration, steps/s^2 */
+	u64 two_as; /* 2 a length, path units: v^2 gained or lost along it */
 	u32 entry; /* the writer stores it, the timer reads it (once) */
 };
 

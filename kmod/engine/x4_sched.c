@@ -181,8 +181,7 @@ void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	c->t_pending = now_ns;
 	c->origin = now_ns + e->timing.dir_setup_ns;
 	c->rate = plan_rate(e, &c->run);
-	for (i = 0; i < X4_AXES; i++)
-		c->bres[i] = c->run.bres_2l / 2;
+	x4_bres_start(c);
 	x4_arm_switches(e, c);
 	for (i = 0; i < X4_AXES; i++)
 		if (c->run.axes & (1u << i))

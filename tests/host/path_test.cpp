@@ -257,6 +257,21 @@ TEST(PathProfile, OneSegmentMatchesTheTrapezoid) {
   EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
 }
 
+// The timer runs a segment at whole leader steps/s^2: 1 unit/s^2 over 199
+// steps in 100 units is 1.99 steps/s^2, run at 1. The plan must use what
+// runs, or the second segment is entered too fast to stop in it.
+TEST(PathProfile, LeaderAccelerationIsPlannedAsRun) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(1990, 0, 0, 0, 1000, 1000, 1, 1000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(199, 0, 0, 0, 100, 1000, 1, 1000)), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  ExpectStopsAtRest(st, p.sent);
+}
+
 // ---- many segments ---------------------------------------------------------
 
 TEST(PathRun, CircleRunsThroughCornersAndEndsExactly) {
@@ -565,45 +580,66 @@ TEST(PathSwitches, LimitStopsThePathAtOnce) {
   EXPECT_EQ(p.Status().queued, 0u);
 }
 
-// A minor axis that reverses at a junction waits for its direction setup;
-// the others do not wait.
-TEST(PathSignals, ReversingAxisKeepsItsDirectionSetup) {
-  Path p;
-  ASSERT_EQ(p.Push(Seg(2000, 20, 0, 0, 2000, 2000, 20000, 2000)), X4_OK);
-  ASSERT_EQ(p.Push(Seg(2000, -20, 0, 0, 2000, 2000, 20000, 2000)), X4_OK);
+// Runs two segments in which axis Y reverses at the joint; returns the
+// events, the time Y's direction pin changed and Y's first step after it.
+struct Reversal {
   Recording r;
-  uint64_t dir_change = 0;
+  uint64_t dir_change = 0, y_step = 0;
+};
+
+Reversal RunReversal(Path &p, int32_t x, int32_t y, uint32_t v_max, uint32_t accel) {
+  Reversal rv;
+  EXPECT_EQ(p.Push(Seg(x, y, 0, 0, uint32_t(x), v_max, accel, v_max)), X4_OK);
+  EXPECT_EQ(p.Push(Seg(x, -y, 0, 0, uint32_t(x), v_max, accel, v_max)), X4_OK);
   uint8_t data = p.e.data;
   bool started = false;
   while (x4_engine_busy(&p.e)) {
     const x4_event ev = fire(p.e);
-    if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) dir_change = ev.t_ns;
+    if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) rv.dir_change = ev.t_ns;
+    if (rv.dir_change && !rv.y_step && (ev.data & ~data & X4_CLK_BIT(1))) rv.y_step = ev.t_ns;
     started = started || (ev.data & X4_CLK_MASK);
     data = ev.data;
-    r.events.push_back(ev);
+    rv.r.events.push_back(ev);
   }
-  ASSERT_NE(dir_change, 0u);
-  // Y's first step after the change comes no sooner than the setup time.
-  uint64_t y_after = 0;
-  uint8_t prev = 0;
-  for (const auto &ev : r.events) {
-    if (ev.t_ns > dir_change && !(prev & X4_CLK_BIT(1)) && (ev.data & X4_CLK_BIT(1))) {
-      y_after = ev.t_ns;
-      break;
-    }
-    prev = ev.data;
-  }
-  ASSERT_NE(y_after, 0u);
-  EXPECT_GE(y_after - dir_change, X4_DIR_SETUP_NS);
-  p.ExpectAtTarget();
-  p.ExpectPinsAtTarget(r);
-  // X, the leader, did not wait: its intervals run on through the junction.
-  std::vector<uint64_t> x;
+  return rv;
+}
+
+std::vector<uint64_t> RisesOf(const Recording &r, int axis) {
+  std::vector<uint64_t> out;
   uint8_t d = 0;
   for (const auto &ev : r.events) {
-    if (ev.data & ~d & X4_CLK_BIT(0)) x.push_back(ev.t_ns);
+    if (ev.data & ~d & X4_CLK_BIT(axis)) out.push_back(ev.t_ns);
     d = ev.data;
   }
+  return out;
+}
+
+// A minor axis that reverses at a junction and steps right away (Y: half
+// the leader's steps, its first step one leader step after the joint, 50
+// us at 20000 steps/s) waits for its direction setup time (100 us), and
+// the leader with it.
+TEST(PathSignals, ReversingAxisWaitsForItsDirectionSetup) {
+  Path p;
+  const Reversal rv = RunReversal(p, 2000, 1000, 20000, 1000000);
+  ASSERT_NE(rv.dir_change, 0u);
+  ASSERT_NE(rv.y_step, 0u);
+  EXPECT_GE(rv.y_step - rv.dir_change, X4_DIR_SETUP_NS);
+  EXPECT_LT(rv.y_step - rv.dir_change, X4_DIR_SETUP_NS + 1000);  // and no longer
+  p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(rv.r);
+  CheckPhysics(LeaderSteps(rv.r, p.sent), p.sent);
+}
+
+// A minor axis whose first step after the joint comes later than its setup
+// time anyway (Y: 20 steps against 2000) does not make the path wait.
+TEST(PathSignals, SlowReversingAxisLetsThePathRunOn) {
+  Path p;
+  const Reversal rv = RunReversal(p, 2000, 20, 2000, 20000);
+  ASSERT_NE(rv.y_step, 0u);
+  EXPECT_GE(rv.y_step - rv.dir_change, X4_DIR_SETUP_NS);
+  p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(rv.r);
+  const std::vector<uint64_t> x = RisesOf(rv.r, 0);
   ASSERT_EQ(x.size(), 4000u);
   for (size_t k = 1990; k < 2010; k++)
     EXPECT_NEAR(double(x[k + 1] - x[k]), 1e9 / 2000, 5) << "leader step " << k;
