@@ -1148,10 +1148,9 @@ uint32_t maybe_nonzero(Rng &r, unsigned pct) {
 
 const int32_t kTargetVals[] = {0,       1,       -1,          2,           -2,      1000,      -1000,
                                INT_MAX, INT_MIN, INT_MAX - 1, INT_MIN + 1, 1 << 30, -(1 << 30)};
-const uint32_t kVelVals[] = {0,      1,      2,     999,         1000,       45000,
-                             99999, 100000, 100001, 0x80000000u, 0xffffffffu};
+const uint32_t kVelVals[] = {0, 1, 2, 999, 1000, 45000, 99999, 100000, 100001, 0x80000000u, 0xffffffffu};
 const uint32_t kAccVals[] = {0, 1, 2, 13, 1000, 999999, 1000000, 1000001, 0x80000000u, 0xffffffffu};
-const int32_t kVrefVals[] = {0,      1,       -1,     1000,    -1000,   45000,  -45000,  99999,
+const int32_t kVrefVals[] = {0,      1,      -1,      1000,   -1000,   45000,   -45000, 99999,
                              -99999, 100000, -100000, 100001, -100001, INT_MAX, INT_MIN};
 const uint32_t kSrefVals[] = {0, 1, 2, 1000, 0x7ffffffeu, 0x7fffffffu, 0x80000000u, 0xffffffffu};
 

@@ -186,19 +186,20 @@ void Measure(bool path, uint32_t rate) {
   const Edges e = Axis1();
   const unsigned long long overruns = std::strtoull(Slurp(kV + "overruns").c_str(), nullptr, 10);
   const uint64_t half = 500000000ull / rate, min_ok = half / 2;
-  const bool edges_ok = ended && !overruns && e.rises == unsigned(steps) && e.min_high >= min_ok &&
-                        e.min_low >= min_ok;
+  const bool edges_ok =
+      ended && !overruns && e.rises == unsigned(steps) && e.min_high >= min_ok && e.min_low >= min_ok;
   const uint64_t p50 = Percentile(t, 500), p99 = Percentile(t, 990);
   const Bare b = BareTimer(rate, t.events);
   std::printf(
       "ceiling %s %6u steps/s: %u/%d steps, min high %llu ns, min low %llu ns (planned %llu, minimum %llu): "
-      "edges %s; timer CPU %.0f%%; lateness p50 %llu p99 %llu max %llu ns (%llu events, %llu capped, %llu shifts); "
+      "edges %s; timer CPU %.0f%%; lateness p50 %llu p99 %llu max %llu ns (%llu events, %llu capped, %llu "
+      "shifts); "
       "bare hrtimer p50 %llu p99 %llu max %llu ns; p99 ratio %.2f\n",
       kind, rate, e.rises, steps, (unsigned long long)e.min_high, (unsigned long long)e.min_low,
-      (unsigned long long)half, (unsigned long long)min_ok, edges_ok ? "ok" : "BAD", cpu, (unsigned long long)p50,
-      (unsigned long long)p99, (unsigned long long)t.late_max_ns, (unsigned long long)t.events,
-      (unsigned long long)t.capped, (unsigned long long)t.shifts, b.p50, b.p99, b.max,
-      b.p99 ? double(p99) / double(b.p99) : 0.0);
+      (unsigned long long)half, (unsigned long long)min_ok, edges_ok ? "ok" : "BAD", cpu,
+      (unsigned long long)p50, (unsigned long long)p99, (unsigned long long)t.late_max_ns,
+      (unsigned long long)t.events, (unsigned long long)t.capped, (unsigned long long)t.shifts, b.p50, b.p99,
+      b.max, b.p99 ? double(p99) / double(b.p99) : 0.0);
   Check(edges_ok, F("%s at %u steps/s: every step, no pulse or space below %llu ns", kind, rate,
                     (unsigned long long)min_ok));
 }
