@@ -309,7 +309,7 @@ class step_timing {
 
 // ---- positioning -----------------------------------------------------------
 
-constexpr unsigned vel_max = 45000;    ///< steps/s
+constexpr unsigned vel_max = 100000;   ///< steps/s
 constexpr unsigned acc_max = 1000000;  ///< steps/s^2
 
 /// Ramp of an axis' own moves (ProStep4 section 2.5): the axis starts at

@@ -70,7 +70,7 @@ int X4SetOutputMode(int mode);
  * Ramp of the axis' own moves (X4MoveTo, X4MoveBy): start at v0, speed up
  * with a0 to vm, slow down with ae to ve and stop there; a0 or ae 0: no
  * ramp on that side. Velocities in steps/s, accelerations in steps/s^2:
- * 1 <= vm <= 45000, v0 <= vm, ve <= vm, a0, ae <= 1000000, and vm / a0,
+ * 1 <= vm <= 100000, v0 <= vm, ve <= vm, a0, ae <= 1000000, and vm / a0,
  * vm / ae (when not 0) at most 3600 s. Default: v0 = ve = 0, vm = 1000,
  * a0 = ae = 1000.
  * @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive
@@ -94,7 +94,7 @@ int X4MoveBy(int axis, long distance);
  * must stay active over that distance, else X4AXERR_REF_PASSED), phase 2
  * 50 ms later from rest at vref2 until the switch changes again, then the
  * coordinate is 0 and the axis synchronized. Speeds are signed (the sign is the direction),
- * 1..45000 steps/s; each phase travels at most sref (1..2^31-1) steps,
+ * 1..100000 steps/s; each phase travels at most sref (1..2^31-1) steps,
  * else the axis stops with X4AXERR_REF_TRAVEL. phases: X4HOME_PHASE1,
  * X4HOME_PHASE2 or X4HOME_AUTO, with X4HOME_BRAKE or not. Needs the axis' reference input
  * (X4SetSwitches). X4BrakeAxis and X4StopAxis end it.

@@ -61,7 +61,15 @@ struct x4_profile {
 	u32 a0;
 	u32 ae;
 };
-#define X4_VEL_MAX 45000
+/*
+ * The fastest profile move, reference run or path leader (steps/s): the
+ * ceiling measured in QEMU -icount (tests/guest/speed_bench.cpp, `make
+ * bench`): every edge, lateness as a bare hrtimer's, up to 160 000 steps/s;
+ * at 200 000 the callback no longer keeps up. 100 000 leaves that margin
+ * for PCs with slower port writes, one axis at it fits the default write
+ * budget, and the ramp maths stay in 64 bits (x4_plan.c) up to 135 000.
+ */
+#define X4_VEL_MAX 100000
 #define X4_ACC_MAX 1000000
 #define X4_RAMP_TIME_MAX_S 3600 /* vm / a: keeps the ramp math in 64 bits */
 

@@ -100,7 +100,11 @@ static void plan_ramp(struct x4_ramp *r, u64 v, u64 a, u64 vm)
 	r->s_ns = ramp_u(r, 0, 0);
 }
 
-/* (x - y)^2 / (2 a vm) in ns: how much later than "at vm from 0" a ramp ends. */
+/*
+ * (x - y)^2 / (2 a vm) in ns: how much later than "at vm from 0" a ramp ends.
+ * (x - y)^2 * 10^9 fits 64 bits while x < 135818 steps/s.
+ */
+_Static_assert(X4_VEL_MAX <= 135000, "ramp_lag() overflows");
 static u64 ramp_lag(u64 x, u64 y, u64 a, u64 vm)
 {
 	return a ? x4_div((x - y) * (x - y) * X4_NSEC_PER_SEC, 2 * a * vm) : 0;
@@ -123,7 +127,8 @@ static u64 ramp_frac(const struct x4_ramp *r, u64 num, u64 den)
 /*
  * Whether d step intervals leave room for vm: d >= up2 / 2 a0 + down2 / 2 ae,
  * exactly. The ceilings sa and sd of the two terms settle it but where the
- * fractions add up; there the products stay below 2^52 (d < sa + sd).
+ * fractions add up; there the products stay below 2^55 (d < sa + sd, so
+ * 2 a0 ae d < (a0 + ae) vm^2 + 4 a0 ae <= 2.1e16 at X4_VEL_MAX 100000).
  */
 static bool room_for_vm(u64 d, u64 sa, u64 sd, u64 up2, u64 down2, u64 a0,
 			u64 ae)

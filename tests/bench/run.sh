@@ -54,3 +54,12 @@ echo "== module: step timer lateness vs a bare hrtimer, 20 kHz 4-axis move (QEMU
 qout=${X4_QEMU_BUILD:-$(cd "$build" && pwd)/qemu-bench}
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t timing >/dev/null 2>&1 || echo "(the timing run failed: see $qout)"
 cat "$qout"/6.1.*/timing/console.log | tr -d '\r' | grep -E 'timer:|hrtimer:|ratio|kHz|example:|step timing|event cost|budget'
+
+# The speed ceiling (issue 18): one axis' goto and a one-segment path with
+# 10^6 steps/s^2 ramps at each rate up to X4STEP_VEL_MAX, in QEMU -icount:
+# edges, lateness against a bare hrtimer at the same rate, the timer's CPU.
+echo
+echo "== module: speed ceiling, one axis, goto and path (QEMU -icount, Debian 6.1; tests/guest/speed_bench.cpp)"
+X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t speed >/dev/null 2>&1 || echo "(the speed run failed: see $qout)"
+cat "$qout"/6.1.*/speed/console.log | tr -d '\r' | grep -E '^ceiling' |
+	sed -E 's/^ceiling //; s/ \(planned ([0-9]+), minimum ([0-9]+)\)/ (min \2)/; s/, [0-9]+ capped, [0-9]+ shifts//'

@@ -91,7 +91,7 @@ constexpr uint32_t kRampSecondsMax = 3600;  // a profile ramp's longest time
 // GET_AXES' speeds: at most X4STEP_VEL_MAX, give or take the rounding.
 constexpr uint32_t kVelSlack = X4STEP_VEL_MAX + X4STEP_VEL_MAX / 100;
 // Positioning moves faster than kLongHz travel at most kShortSteps: in QEMU
-// (TCG) one axis at 45000 steps/s leaves the guest no time for user space.
+// (TCG) one fast axis (up to X4STEP_VEL_MAX) leaves the guest no time for user space.
 constexpr int32_t kLongHz = 2000;
 constexpr int32_t kShortSteps = 2000;
 constexpr unsigned kMagic = X4STEP_IOC_MAGIC;
@@ -1148,10 +1148,10 @@ uint32_t maybe_nonzero(Rng &r, unsigned pct) {
 
 const int32_t kTargetVals[] = {0,       1,       -1,          2,           -2,      1000,      -1000,
                                INT_MAX, INT_MIN, INT_MAX - 1, INT_MIN + 1, 1 << 30, -(1 << 30)};
-const uint32_t kVelVals[] = {0, 1, 2, 999, 1000, 44999, 45000, 45001, 0x80000000u, 0xffffffffu};
+const uint32_t kVelVals[] = {0, 1, 2, 999, 1000, 45000, 99999, 100000, 100001, 0x80000000u, 0xffffffffu};
 const uint32_t kAccVals[] = {0, 1, 2, 13, 1000, 999999, 1000000, 1000001, 0x80000000u, 0xffffffffu};
-const int32_t kVrefVals[] = {0,     1,      -1,    1000,   -1000,   44999,  -44999,
-                             45000, -45000, 45001, -45001, INT_MAX, INT_MIN};
+const int32_t kVrefVals[] = {0,      1,      -1,      1000,   -1000,   45000,   -45000, 99999,
+                             -99999, 100000, -100000, 100001, -100001, INT_MAX, INT_MIN};
 const uint32_t kSrefVals[] = {0, 1, 2, 1000, 0x7ffffffeu, 0x7fffffffu, 0x80000000u, 0xffffffffu};
 
 uint32_t axis_val(Rng &r) { return r.chance(90) ? r.range(0, 5) : static_cast<uint32_t>(r.next()); }

@@ -217,11 +217,11 @@ TEST(CppApi, ProfileRules) {
   using x4step::profile;
   const profile p;  // 0 -> 1000 steps/s, a0 = ae = 1000: the kernel's default
   EXPECT_EQ(x4step::check(p), errc::ok);
-  EXPECT_EQ(x4step::check(profile(p).top_speed(45000).accel(1000000).decel(1000000)), errc::ok);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(100000).accel(1000000).decel(1000000)), errc::ok);
   EXPECT_EQ(x4step::check(profile(p).start_speed(100).end_speed(200).accel(0).decel(0)), errc::ok);  // jumps
   EXPECT_EQ(x4step::check(profile(p).start_speed(1000).end_speed(1000).accel(1).decel(1)), errc::ok);
   EXPECT_EQ(x4step::check(profile(p).top_speed(0)), errc::param_fail);
-  EXPECT_EQ(x4step::check(profile(p).top_speed(45001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(profile(p).top_speed(100001)), errc::param_fail);
   EXPECT_EQ(x4step::check(profile(p).start_speed(1001)), errc::param_fail);  // v0 > vm
   EXPECT_EQ(x4step::check(profile(p).end_speed(1001)), errc::param_fail);    // ve > vm
   EXPECT_EQ(x4step::check(profile(p).accel(1000001)), errc::param_fail);
@@ -239,14 +239,14 @@ TEST(CppApi, HomingRules) {
   using x4step::homing;
   const homing h;  // -1000 then 100 steps/s, 100000 steps, both phases
   EXPECT_EQ(x4step::check(h), errc::ok);
-  EXPECT_EQ(x4step::check(homing(h).phase1_speed(45000).phase2_speed(-45000).max_travel(1)), errc::ok);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(100000).phase2_speed(-100000).max_travel(1)), errc::ok);
   EXPECT_EQ(x4step::check(homing(h).phase1_speed(-1).phase2_speed(1).max_travel(2147483647)), errc::ok);
   EXPECT_EQ(x4step::check(homing(h).phase1_speed(0)), errc::param_fail);
   EXPECT_EQ(x4step::check(homing(h).phase1_speed(0).phase1(false)), errc::ok);  // phase 1 unused
   EXPECT_EQ(x4step::check(homing(h).phase2_speed(0).phase2(false)), errc::ok);  // phase 2 unused
   EXPECT_EQ(x4step::check(homing(h).phase2_speed(0)), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing(h).phase1_speed(45001)), errc::param_fail);
-  EXPECT_EQ(x4step::check(homing(h).phase2_speed(-45001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).phase1_speed(100001)), errc::param_fail);
+  EXPECT_EQ(x4step::check(homing(h).phase2_speed(-100001)), errc::param_fail);
   EXPECT_EQ(x4step::check(homing(h).max_travel(0)), errc::param_fail);
   EXPECT_EQ(x4step::check(homing(h).max_travel(2147483648UL)), errc::param_fail);
   EXPECT_EQ(x4step::check(homing(h).phase1(false).phase2(false)), errc::param_fail);

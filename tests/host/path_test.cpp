@@ -199,7 +199,7 @@ TEST(PathCheck, BadSegmentsAreRefusedAndChangeNothing) {
       {Seg(100, 0, 0, 0, 1000, 5000, 2, 5000), X4_ERR_PARAM_FAIL, "ramp of 2500 s"},
       {Seg(100, 0, 0, 0, 100000, 500, 500, 5000), X4_ERR_PARAM_FAIL, "leader acceleration < 1"},
       {Seg(1000, 0, 0, 0, 1, 50, 2000, 5000), X4_ERR_PARAM_FAIL, "leader acceleration > 1e6"},
-      {Seg(100, 0, 0, 0, 1000, 500000, 5000000, 5000), X4_ERR_RATE_BUDGET, "50000 steps/s"},
+      {Seg(100, 0, 0, 0, 1000, 1000010, 5000000, 5000), X4_ERR_RATE_BUDGET, "100001 steps/s"},
       {Seg(100, 0, 0, 0, 0x80000000u, 5000, 50000, 5000), X4_ERR_PARAM_FAIL, "length 2^31"},
       {Seg(16777217, 0, 0, 0, 1000, 5000, 50000, 5000), X4_ERR_STEPS_TOO_HIGH, "2^24 + 1 steps"},
   };

@@ -308,6 +308,11 @@ const ProfileCase kProfileCases[] = {
      ProfileRef::kTriangle},
     {"brake only, ramp of 3461 s (sh = 11)", Prof(0, 0, 45000, 0, 13), 20000, ProfileRef::kBrakeOnly},
     {"accelerate only from v0, 3461 s ramp", Prof(700, 45000, 45000, 13, 13), 20000, ProfileRef::kAccelOnly},
+    // X4_VEL_MAX (issue 18)
+    {"100000 steps/s", Prof(1000, 2000, 100000, 1000000, 800000), 40000, ProfileRef::kTrapezoid},
+    {"100000 steps/s triangle, 1e6 steps/s^2", Prof(0, 0, 100000, 1000000, 1000000), 6000,
+     ProfileRef::kTriangle},
+    {"brake only from 100000, ramp of 3571 s", Prof(0, 0, 100000, 0, 28), 20000, ProfileRef::kBrakeOnly},
 };
 
 struct ProfileRun {
@@ -444,6 +449,9 @@ TEST(ProfileTiming, LongRampsSampledAtTheLimits) {
       {Prof(0, 0, 3600, 1, 1), 20000000},            // a = 1, ramp 3600 s
       {Prof(2000, 1000, 40000, 12, 12), 150000000},  // 3333 s ramps (sh = 11), v0 and ve
       {Prof(0, 7, 45000, 15, 13), 4000000000u},      // 4e9 steps, absolute goto range
+      {Prof(0, 0, 100000, 28, 28), 400000000},       // X4_VEL_MAX on 3571 s ramps
+      {Prof(1000, 500, 100000, 28, 50), 300000000},  // ... v0, ve, 2000 s down
+      {Prof(0, 7, 100000, 30, 28), 4000000000u},     // ... 4e9 steps
   };
   for (const auto &c : cases) {
     Rig rig;
@@ -1586,9 +1594,9 @@ TEST(Homing, ParameterErrorsChangeNothing) {
       {2, both, 0, -100, 1000},    // vref1 0
       {2, both, 100, 0, 1000},     // vref2 0
       {2, X4_HOME_PHASE2, 100, 0, 1000}, {2, X4_HOME_PHASE1, 0, 100, 1000},
-      {2, both, 45001, -100, 1000},  // too fast
-      {2, both, -45001, 100, 1000},      {2, both, 100, 45001, 1000},
-      {2, both, 100, -45001, 1000},      {2, both, INT32_MIN, 100, 1000},
+      {2, both, 100001, -100, 1000},  // too fast
+      {2, both, -100001, 100, 1000},     {2, both, 100, 100001, 1000},
+      {2, both, 100, -100001, 1000},     {2, both, INT32_MIN, 100, 1000},
       {2, both, 100, -100, 0},                                        // sref 0
       {2, both, 100, -100, 0x80000000u}, {2, 0, 100, -100, 1000},     // no phase
       {2, 4, 100, -100, 1000},           {0, both, 100, -100, 1000},  // axis
@@ -1707,8 +1715,8 @@ TEST(Validation, ProfileRules) {
       {Prof(0, 0, 1000, 1000, 1000), true},  // the default
       {Prof(0, 0, 1, 0, 0), true},
       {Prof(0, 0, 0, 1000, 1000), false},  // vm 0
-      {Prof(0, 0, 45000, 1000, 1000), true},
-      {Prof(0, 0, 45001, 1000, 1000), false},
+      {Prof(0, 0, 100000, 1000, 1000), true},
+      {Prof(0, 0, 100001, 1000, 1000), false},
       {Prof(1000, 0, 1000, 1000, 1000), true},  // v0 = vm
       {Prof(1001, 0, 1000, 1000, 1000), false},
       {Prof(0, 1000, 1000, 1000, 1000), true},

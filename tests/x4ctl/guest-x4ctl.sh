@@ -547,7 +547,7 @@ check profile-set 0 '^vm *4000 steps/s (maximum)$' '' x4ctl profile 1 --vm 4000 
 has profile-set-a0 "$out" '^a0 *40000 steps/s^2 (ramp 0.100 s)$'
 has profile-set-ae "$out" '^ae *20000 steps/s^2 (ramp 0.200 s)$'
 check profile-kept 0 '^vm *4000 steps/s' '' x4ctl profile 1
-check bad-profile-vm 2 '' '^x4ctl: profile: vm 50000 out of range: use 1 to 45000 steps/s$' x4ctl profile 1 --vm 50000
+check bad-profile-vm 2 '' '^x4ctl: profile: vm 100001 out of range: use 1 to 100000 steps/s$' x4ctl profile 1 --vm 100001
 check bad-profile-fit 2 '' 'profile: v0 5000, ve 0, vm 4000, .* do not fit together' x4ctl profile 1 --v0 5000
 check bad-profile-unchanged 0 '^v0 *0 steps/s' '' x4ctl profile 1
 check zero 0 '^axis 1 at 0, synchronized$' '' x4ctl zero 1 2 3 4

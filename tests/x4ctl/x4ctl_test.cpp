@@ -317,21 +317,21 @@ TEST(Cli, Profile) {
   EXPECT_EQ(c.cmd, subcommand::profile);
   EXPECT_EQ(c.axis, x4step::axis::y);
   EXPECT_FALSE(c.v0 || c.ve || c.vm || c.a0 || c.ae);
-  c = parse({"profile", "4", "--v0", "0", "--ve=45000", "--vm", "45000", "--a0", "1000000", "--ae=0"});
+  c = parse({"profile", "4", "--v0", "0", "--ve=100000", "--vm", "100000", "--a0", "1000000", "--ae=0"});
   EXPECT_EQ(c.v0, 0u);
-  EXPECT_EQ(c.ve, 45000u);
-  EXPECT_EQ(c.vm, 45000u);
+  EXPECT_EQ(c.ve, 100000u);
+  EXPECT_EQ(c.vm, 100000u);
   EXPECT_EQ(c.a0, 1000000u);
   EXPECT_EQ(c.ae, 0u);
   EXPECT_EQ(usage_message({"profile"}), "profile: missing arguments");
   EXPECT_EQ(usage_message({"profile", "5"}), "profile: axis 5 out of range: use 1 to 4");
   EXPECT_EQ(usage_message({"profile", "1", "2"}), "profile: unexpected argument '2'");
   EXPECT_EQ(usage_message({"profile", "1", "--vm", "0"}),
-            "profile: vm 0 out of range: use 1 to 45000 steps/s");
-  EXPECT_EQ(usage_message({"profile", "1", "--vm", "45001"}),
-            "profile: vm 45001 out of range: use 1 to 45000 steps/s");
+            "profile: vm 0 out of range: use 1 to 100000 steps/s");
+  EXPECT_EQ(usage_message({"profile", "1", "--vm", "100001"}),
+            "profile: vm 100001 out of range: use 1 to 100000 steps/s");
   EXPECT_EQ(usage_message({"profile", "1", "--v0", "-1"}),
-            "profile: v0 -1 out of range: use 0 to 45000 steps/s");
+            "profile: v0 -1 out of range: use 0 to 100000 steps/s");
   EXPECT_EQ(usage_message({"profile", "1", "--a0", "1000001"}),
             "profile: a0 1000001 out of range: use 0 to 1000000 steps/s^2");
   EXPECT_EQ(usage_message({"profile", "1", "--ae", "x"}), "profile: ae 'x' is not a whole number");
@@ -373,8 +373,8 @@ TEST(Cli, Home) {
   EXPECT_EQ(c.homing.phase2_speed(), 100);
   EXPECT_EQ(c.homing.max_travel(), 100000ul);
   EXPECT_TRUE(c.homing.phase1() && c.homing.phase2());
-  c = parse({"home", "1", "--vref1", "45000", "--vref2=-1", "--sref", "2147483647", "--phase", "2"});
-  EXPECT_EQ(c.homing.phase1_speed(), 45000);
+  c = parse({"home", "1", "--vref1", "100000", "--vref2=-1", "--sref", "2147483647", "--phase", "2"});
+  EXPECT_EQ(c.homing.phase1_speed(), 100000);
   EXPECT_EQ(c.homing.phase2_speed(), -1);
   EXPECT_EQ(c.homing.max_travel(), 2147483647ul);
   EXPECT_FALSE(c.homing.phase1());
@@ -383,9 +383,9 @@ TEST(Cli, Home) {
   EXPECT_TRUE(c.homing.phase1());
   EXPECT_FALSE(c.homing.phase2());
   const std::string vref =
-      " out of range: use -45000 to -1 or 1 to 45000 steps/s (the sign is the direction)";
+      " out of range: use -100000 to -1 or 1 to 100000 steps/s (the sign is the direction)";
   EXPECT_EQ(usage_message({"home", "1", "--vref1", "0"}), "home: vref1 0" + vref);
-  EXPECT_EQ(usage_message({"home", "1", "--vref2", "-45001"}), "home: vref2 -45001" + vref);
+  EXPECT_EQ(usage_message({"home", "1", "--vref2", "-100001"}), "home: vref2 -100001" + vref);
   EXPECT_EQ(usage_message({"home", "1", "--sref", "0"}),
             "home: sref 0 out of range: use 1 to 2147483647 steps");
   EXPECT_EQ(usage_message({"home", "1", "--sref", "2147483648"}),
@@ -463,7 +463,7 @@ TEST(Cli, HelpTexts) {
         "run",       "timing",   "mode [MODE]", "smc-phase", "profile AXIS", "goto AXIS=POS", "home AXIS",
         "zero AXIS", "limits",   "halt AXIS",   "watch",     "Exit status"}},
       {subcommand::profile,
-       {"--v0", "--ve", "--vm", "--a0", "--ae", "0..45000 steps/s", "1..45000", "0..1000000 steps/s^2",
+       {"--v0", "--ve", "--vm", "--a0", "--ae", "0..100000 steps/s", "1..100000", "0..1000000 steps/s^2",
         "3600 s", "--port", "--device", "--help", "Exit status"}},
       {subcommand::go_to,
        {"--relative", "--no-wait", "-2147483648..2147483647", "limit switch", "x4ctl halt", "--port",
@@ -633,7 +633,7 @@ TEST(Main, MissingPortExits1) {
 TEST(Main, PositioningUsageErrorsExit2) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
       {{"goto", "1=x"}, "goto: position 'x' is not a whole number"},
-      {{"profile", "1", "--vm", "50000"}, "profile: vm 50000 out of range: use 1 to 45000 steps/s"},
+      {{"profile", "1", "--vm", "100001"}, "profile: vm 100001 out of range: use 1 to 100000 steps/s"},
       {{"home", "1", "--vref1", "0"}, "home: vref1 0 out of range"},
       {{"zero"}, "zero: missing arguments"},
       {{"limits", "--plus", "1"}, "limits: --ref, --plus and --minus need an AXIS"},
@@ -2242,7 +2242,7 @@ TEST(Path, BadLinesNameFileLineAndColumn) {
   EXPECT_EQ(path_error("1 2 3 4 5\n"),
             "square.path:1:9: more than 4 axes: a line is up to 4 step counts, then key=value");
   EXPECT_EQ(path_error("0 0\n"), "square.path:1:1: no steps: give at least one axis a non-zero count");
-  EXPECT_EQ(path_error("10 speed=0\n"), "square.path:1:4: speed '0': use 1..45000 steps/s");
+  EXPECT_EQ(path_error("10 speed=0\n"), "square.path:1:4: speed '0': use 1..100000 steps/s");
   EXPECT_EQ(path_error("10 accel=2000000\n"), "square.path:1:4: accel '2000000': use 1..1000000 steps/s^2");
   EXPECT_EQ(path_error("10 feed=3\n"), "square.path:1:4: unknown key 'feed': use speed=, accel= or corner=");
   EXPECT_EQ(path_error("10 speed=10 5\n"), "square.path:1:13: '5': step counts come first, then key=value");

@@ -95,7 +95,7 @@ std::vector<x4step::segment> read_path(std::istream &in, const std::string &name
       long v = 0;
       if (key == "speed") {
         if (!number_in(value, 1, x4step::vel_max, v))
-          r.fail(t, "speed '" + value + "': use 1..45000 steps/s");
+          r.fail(t, "speed '" + value + "': use 1..100000 steps/s");
         speed = static_cast<unsigned>(v);
       } else if (key == "accel") {
         if (!number_in(value, 1, x4step::acc_max, v))
@@ -103,7 +103,7 @@ std::vector<x4step::segment> read_path(std::istream &in, const std::string &name
         accel = static_cast<unsigned>(v);
       } else if (key == "corner") {
         if (!number_in(value, 0, x4step::vel_max, v))
-          r.fail(t, "corner '" + value + "': use 0..45000 steps/s");
+          r.fail(t, "corner '" + value + "': use 0..100000 steps/s");
         corner = v;
       } else {
         r.fail(t, "unknown key '" + key + "': use speed=, accel= or corner=");

@@ -225,7 +225,7 @@ struct x4step_timing {
  * has bit i for axis i + 1. Every step of every kind of move updates the
  * axis' machine coordinate (signed 32 bits, wrapping).
  */
-#define X4STEP_VEL_MAX 45000 /* steps/s */
+#define X4STEP_VEL_MAX 100000 /* steps/s */
 #define X4STEP_ACC_MAX 1000000 /* steps/s^2 */
 
 /*
