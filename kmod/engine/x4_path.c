@@ -324,13 +324,14 @@ static void flush(struct x4_engine *e)
  * After the last step of the running piece (due at c->origin + c->t_cur):
  * plan the next piece, possibly of the next segment, and return true; or
  * return false when the path comes to rest here (c->path_cut: stopped).
- * Directions that change go out after the hold time (c->dir_fresh).
+ * Directions that change go out after the hold time (c->dir_fresh):
+ * compared with the pins, as an axis that did not move in the segment
+ * before has no direction in its plan.
  */
 bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 {
 	struct x4_path *pa = &e->path;
 	u64 t0 = c->origin + c->t_cur;
-	u8 dirs = c->run.dirs;
 
 	if (c->path_cut)
 		return false;
@@ -353,7 +354,7 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 		start_segment(e, c, v);
 		if (!x4_phase_mode(e))
 			c->dir_fresh = x4_clk_bits(c->run.axes) &
-				       (u8)((dirs ^ c->run.dirs) << 1);
+				       (u8)((e->data ^ c->run.dirs) << 1);
 	} else if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
 		pa->rest = X4_REST_HELD;
 		return false;

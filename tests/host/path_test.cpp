@@ -582,3 +582,25 @@ TEST(PathSignals, ReversingAxisKeepsItsDirectionSetup) {
   EXPECT_GE(y_after - dir_change, X4_DIR_SETUP_NS);
   p.ExpectAtTarget();
 }
+
+// An axis that stands still in a segment and moves again later, the other
+// way, gets its direction pin set first: the pins, not the engine's own
+// counters, must add up to the path (the QEMU test found the pin left as
+// it was, so that such an axis stepped the wrong way).
+TEST(PathSignals, AxisJoiningLaterGetsItsDirection) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(100, 100, 0, 0, 1414, 5000, 50000, 5000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(100, 0, 0, 0, 1000, 5000, 50000, 5000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(100, -100, 0, 0, 1414, 5000, 50000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r);
+  int pins[X4_AXES] = {0, 0, 0, 0};
+  uint8_t data = 0;
+  for (const auto &ev : r.events) {
+    for (int i = 0; i < X4_AXES; i++)
+      if ((ev.data & X4_CLK_BIT(i)) && !(data & X4_CLK_BIT(i))) pins[i] += (ev.data & X4_DIR_BIT(i)) ? 1 : -1;
+    data = ev.data;
+  }
+  p.ExpectAtTarget();
+  for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(pins[i], p.target[i]) << "axis " << i << " from the pins";
+}
