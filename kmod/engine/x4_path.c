@@ -442,6 +442,14 @@ static void cut_piece(struct x4_engine *e)
 		nb = c->n + 1;
 	else
 		return;
+	/*
+	 * Step 1 from rest keeps its clock high for half the time from rest,
+	 * longer than the interval after it; as a piece's last step it keeps
+	 * that (x4_sched.c: rise()) and delays the next step. Cut after step
+	 * 2 instead.
+	 */
+	if (nb == 1 && !plan_speed2(&c->run, 0))
+		nb = 2;
 	if (nb >= c->run.last)
 		return; /* the piece ends there anyway */
 	pa->v_end = (u32)x4_isqrt(plan_speed2(&c->run, nb));

@@ -604,3 +604,21 @@ TEST(PathSignals, AxisJoiningLaterGetsItsDirection) {
   p.ExpectAtTarget();
   for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(pins[i], p.target[i]) << "axis " << i << " from the pins";
 }
+
+// A segment appended while the path waits for its first step from rest
+// cuts the running piece there; step 1's clock, high for half the time
+// from rest, must not delay step 2 (the QEMU test saw step 2 0.3 ms late:
+// a speed dip, then 1.4 times the acceleration limit).
+TEST(PathRun, AppendDuringTheFirstStepKeepsTheRamp) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(0, 17, 0, 0, 170, 80000, 2000000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r, 1);  // the directions are out, step 1 pending
+  ASSERT_EQ(p.Push(Seg(-1, 17, 0, 0, 170, 80000, 2000000, 80000), x4_engine_due(&p.e)), X4_OK);
+  record(p.e, r);
+  p.ExpectAtTarget();
+  ASSERT_GE(r.rises[1].size(), 3u);
+  const double a = 200000, t1 = std::sqrt(2 / a), t2 = std::sqrt(4 / a);
+  EXPECT_NEAR((r.rises[1][1] - r.rises[1][0]) * 1e-9, t2 - t1, 1e-6);
+  CheckPhysics(LeaderSteps(r, p.sent), p.sent);
+}
