@@ -534,6 +534,17 @@ void TestLongStream() {
   // Junctions: where the plan allows the full speed the path does not slow
   // down (no interval at a junction longer than twice its neighbours');
   // where the corner wants less, it is kept; where it wants rest, it stops.
+  // Far from every point where the plan must be slow (a corner, a stop,
+  // the ends), the look-ahead over the queue keeps the path at v_max
+  // through the junctions of pieces too short to reach it alone.
+  std::vector<double> start(segs.size() + 1, 0.0), slow_at;
+  for (size_t k = 0; k < segs.size(); k++) {
+    start[k + 1] = start[k] + segs[k].length;
+    if (segs[k].v_entry < segs[k].v_max) slow_at.push_back(start[k]);
+  }
+  slow_at.push_back(start.back());
+  int full = 0, below = 0;
+  std::string first_below;
   int slow = 0, fast_corner = 0, no_stop = 0, junctions = 0;
   std::string first;
   for (size_t k = 2; k + 1 < w.st.size(); k++) {
@@ -543,6 +554,19 @@ void TestLongStream() {
                  after = w.st[k + 1].t - w.st[k].t;
     const double v = (w.st[k].s - w.st[k - 1].s) / at;
     junctions++;
+    const double need = 1.2 * double(g.v_max) * g.v_max / (2.0 * g.accel), here = start[w.st[k].seg];
+    double d_prev = here, d_next = 1e30;
+    for (double x : slow_at) {
+      if (x <= here) d_prev = std::min(d_prev, here - x);
+      if (x >= here) d_next = std::min(d_next, x - here);
+    }
+    if (g.v_entry >= g.v_max && d_prev >= need && d_next >= need) {
+      full++;
+      if (v < 0.97 * g.v_max - v * 4 * kJitter / at) {
+        below++;
+        if (first_below.empty()) first_below = F("segment %zu at %.0f units/s", w.st[k].seg, v);
+      }
+    }
     if (g.v_entry == 0) {  // from rest: at least the time one step from rest takes
       if (at < 0.95 * std::sqrt(2 * (w.st[k].s - w.st[k - 1].s) / g.accel)) no_stop++;
     } else if (g.v_entry >= g.v_max) {
@@ -559,6 +583,9 @@ void TestLongStream() {
   }
   CheckTiming(slow == 0, F("%d junctions: no slow-down where the plan needs none (%d)%s%s", junctions, slow,
                            first.empty() ? "" : ": ", first.c_str()));
+  CheckTiming(full > 500 && below == 0,
+              F("%d junctions far from the slow points taken at v_max (%d below 97 %%)%s%s", full, below,
+                first_below.empty() ? "" : ": ", first_below.c_str()));
   CheckTiming(fast_corner == 0, F("zig-zag corners taken at most at their speed (%d faster)", fast_corner));
   Check(no_stop == 0, F("the path stops where a segment's entry speed is 0 (%d did not)", no_stop));
   double ratio = 0;
