@@ -1569,6 +1569,8 @@ void probes(int &ctl, Rng &r, Arena &ar) {
 // random memory. Only the controller may write (EBADF); whole records or
 // EINVAL, ERANGE, EBUSY (moves run), EFAULT. `bad`: only invalid records.
 // The caller makes sure the queue has room (no write may block).
+std::atomic<long> g_writes{0}, g_writes_failed{0}, g_records_queued{0};
+
 void write_segments(int fd, Rng &r, Arena &ar, bool controller, bool bad) {
   x4step_segment seg[4];
   std::memset(seg, 0, sizeof seg);
@@ -1599,12 +1601,15 @@ void write_segments(int fd, Rng &r, Arena &ar, bool controller, bool bad) {
   const Payload p = place(ar, r, random_ptr_kind(r, true), reinterpret_cast<const uint8_t *>(seg), size);
   const ssize_t ret = write(fd, reinterpret_cast<const void *>(p.arg), size);
   const int err = errno;
+  g_writes++;
   if (ret >= 0) {
+    g_records_queued += ret / static_cast<ssize_t>(sizeof seg[0]);
     if (!controller || bad || ret % sizeof seg[0] || static_cast<size_t>(ret) > size || !ret)
       violation("write() of %zu bytes (%s, %s) returned %zd", size, controller ? "controller" : "read-only",
                 bad ? "invalid records" : "records", ret);
     return;
   }
+  g_writes_failed++;
   const bool ok =
       controller ? err == EINVAL || err == EFAULT || (!bad && (err == ERANGE || err == EBUSY)) : err == EBADF;
   if (!ok)
@@ -1979,6 +1984,8 @@ int main(int argc, char **argv) {
         "phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld "
         "polls, %ld events read",
         sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load(), sh.events.load());
+    note("phase c: %ld write()s of segments, %ld refused, %ld records queued", g_writes.load(),
+         g_writes_failed.load(), g_records_queued.load());
     g_stats.print("c (threads on one controller)");
     g_stats.reset();
     total += sh.iterations;
