@@ -350,7 +350,9 @@ static void flush(struct x4_engine *e)
  * After the last step of the running piece (due at c->origin + c->t_cur):
  * plan the next piece, possibly of the next segment, and return true; or
  * return false when the path comes to rest here (c->path_cut: stopped).
- * Directions that change go out after the hold time (c->dir_fresh).
+ * Directions that change go out after the hold time (c->dir_fresh):
+ * compared with the pins, as an axis that did not move in the segment
+ * before has no direction in its plan.
  */
 bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 {
@@ -376,7 +378,6 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 			return false;
 		}
 		start_segment(e, c, v);
-		/* Against the pins: an axis may have rested in between. */
 		if (!x4_phase_mode(e))
 			c->dir_fresh = x4_dir_changes(e, &c->run);
 	} else if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
@@ -466,6 +467,14 @@ static void cut_piece(struct x4_engine *e)
 		nb = c->n + 1;
 	else
 		return;
+	/*
+	 * Step 1 from rest keeps its clock high for half the time from rest,
+	 * longer than the interval after it; as a piece's last step it keeps
+	 * that (x4_sched.c: rise()) and delays the next step. Cut after step
+	 * 2 instead.
+	 */
+	if (nb == 1 && !plan_speed2(&c->run, 0))
+		nb = 2;
 	if (nb >= c->run.last)
 		return; /* the piece ends there anyway */
 	pa->v_end = (u32)x4_isqrt(plan_speed2(&c->run, nb));

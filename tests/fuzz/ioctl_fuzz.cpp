@@ -222,6 +222,10 @@ const Cmd kCmds[] = {
     {X4STEP_SET_SWITCHES, "SET_SWITCHES", sizeof(x4step_switches), true},
     {X4STEP_GET_SWITCHES, "GET_SWITCHES", sizeof(x4step_switches), false},
     {X4STEP_GET_AXES, "GET_AXES", sizeof(x4step_axes), false},
+    {X4STEP_GET_PATH, "GET_PATH", sizeof(x4step_path_status), false},
+    {X4STEP_GET_PATH_CONFIG, "GET_PATH_CONFIG", sizeof(x4step_path_config), false},
+    {X4STEP_SET_PATH_CONFIG, "SET_PATH_CONFIG", sizeof(x4step_path_config), true},
+    {X4STEP_PATH_CTL, "PATH_CTL", sizeof(x4step_path_ctl), true},
 };
 constexpr int kNumCmds = sizeof(kCmds) / sizeof(kCmds[0]);
 constexpr int kUnknownOurs = kNumCmds;  // stats slot: our magic, unknown number
@@ -778,6 +782,27 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
       if (!switches_ok(sw)) return invalid("input > 5, nc > 0x1f or reserved != 0");
       return valid(busy);
     }
+    case X4STEP_SET_PATH_CONFIG: {
+      x4step_path_config pc;
+      std::memcpy(&pc, p.bytes, sizeof pc);
+      if (pc.reserved[0] || pc.reserved[1] || (pc.flags & ~X4STEP_PATH_KEYS_ABORT))
+        return invalid("reserved or unknown flags");
+      if (pc.depth && (pc.depth < X4STEP_PATH_DEPTH_MIN || pc.depth > X4STEP_PATH_DEPTH_MAX ||
+                       (pc.depth & (pc.depth - 1))))
+        return invalid("depth not a power of 2 in 256..4096");
+      // A path may be queued (phase c writes segments): EBUSY.
+      return valid(busy | bit(EBUSY) | bit(ENOMEM));
+    }
+    case X4STEP_PATH_CTL: {
+      x4step_path_ctl pc;
+      std::memcpy(&pc, p.bytes, sizeof pc);
+      if (pc.reserved[0] || pc.reserved[1] || (pc.value && pc.cmd != X4STEP_PATH_OVERRIDE))
+        return invalid("reserved, or a value with another command than OVERRIDE");
+      if (pc.cmd == X4STEP_PATH_OVERRIDE)
+        return pc.value >= 1 && pc.value <= 200 ? valid(0) : invalid("override not 1..200");
+      if (pc.cmd < X4STEP_PATH_HOLD || pc.cmd > X4STEP_PATH_ABORT) return invalid("unknown command");
+      return valid(bit(ESRCH));  // no path (or an abort under way)
+    }
     default:
       break;
   }
@@ -1321,6 +1346,27 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
     std::memcpy(c, &m, sizeof m);
     return X4STEP_LOAD;
   }
+  if (x < 26) {
+    x4step_path_ctl pc{};
+    pc.cmd = r.chance(85) ? r.range(0, 5) : static_cast<uint32_t>(r.s32());
+    pc.value = pc.cmd == X4STEP_PATH_OVERRIDE && r.chance(80) ? r.range(0, 202) : maybe_nonzero(r, 10);
+    // Not 1 %: phase c's paths would crawl.
+    if (pc.cmd == X4STEP_PATH_OVERRIDE && pc.value >= 1 && pc.value < 50) pc.value += 50;
+    pc.reserved[0] = maybe_nonzero(r, 5);
+    pc.reserved[1] = maybe_nonzero(r, 5);
+    std::memcpy(c, &pc, sizeof pc);
+    return X4STEP_PATH_CTL;
+  }
+  if (x < 28) {
+    static const uint32_t depths[] = {0, 1, 255, 256, 257, 384, 512, 1024, 4096, 8192, 0x80000000u};
+    x4step_path_config pc{};
+    pc.depth = r.chance(90) ? r.pick(depths) : static_cast<uint32_t>(r.s32());
+    pc.flags = r.chance(80) ? r.below(2) : static_cast<uint32_t>(r.s32());
+    pc.reserved[0] = maybe_nonzero(r, 5);
+    pc.reserved[1] = maybe_nonzero(r, 5);
+    std::memcpy(c, &pc, sizeof pc);
+    return X4STEP_SET_PATH_CONFIG;
+  }
   if (x < 36) return X4STEP_START;
   if (x < 46) return X4STEP_BRAKE;
   if (x < 54) return X4STEP_STOP;
@@ -1517,6 +1563,66 @@ void probes(int &ctl, Rng &r, Arena &ar) {
   }
 }
 
+// write() of path segments (ABI 5): 1..4 records, mostly of sane speeds
+// (leader 500..5000 steps/s, >= 10^5 steps/s^2: a hold on close ends in
+// milliseconds), some fields random, sometimes not whole records, into
+// random memory. Only the controller may write (EBADF); whole records or
+// EINVAL, ERANGE, EBUSY (moves run), EFAULT. `bad`: only invalid records.
+// The caller makes sure the queue has room (no write may block).
+std::atomic<long> g_writes{0}, g_writes_failed{0}, g_records_queued{0};
+
+void write_segments(int fd, Rng &r, Arena &ar, bool controller, bool bad) {
+  x4step_segment seg[4];
+  std::memset(seg, 0, sizeof seg);
+  const size_t n = 1 + r.below(4);
+  for (size_t i = 0; i < n; i++) {
+    x4step_segment &g = seg[i];
+    const int lead = r.below(4);
+    for (int a = 0; a < 4; a++)
+      g.steps[a] = a == lead ? r.range(1, 40) * (r.chance(50) ? 1 : -1) : r.chance(30) ? r.range(-40, 40) : 0;
+    if (r.chance(3)) g.steps[lead] = r.chance(50) ? 0 : r.s32();
+    const uint32_t leader = std::abs(g.steps[lead]);
+    g.length = r.chance(95) ? std::max(leader, 1u) * 10 : static_cast<uint32_t>(r.s32());
+    g.v_max = r.chance(95) ? r.range(5000, 50000) : static_cast<uint32_t>(r.s32());
+    g.v_entry = r.chance(90) ? r.range(0, 50000) : static_cast<uint32_t>(r.s32());
+    g.accel = r.chance(95) ? r.range(1000000, 10000000) : static_cast<uint32_t>(r.s32());
+    g.tag = static_cast<uint64_t>(r.s32());
+    g.flags = maybe_nonzero(r, 5);
+    g.reserved = maybe_nonzero(r, 5);
+    if (bad) {
+      if (r.chance(50))
+        g.flags |= 1u << r.below(32);
+      else
+        g.reserved |= 1u << r.below(32);
+    }
+  }
+  size_t size = n * sizeof seg[0];
+  if (r.chance(bad ? 30 : 10)) size = r.below(size) | 1;  // not whole records
+  const Payload p = place(ar, r, random_ptr_kind(r, true), reinterpret_cast<const uint8_t *>(seg), size);
+  const ssize_t ret = write(fd, reinterpret_cast<const void *>(p.arg), size);
+  const int err = errno;
+  g_writes++;
+  if (ret >= 0) {
+    g_records_queued += ret / static_cast<ssize_t>(sizeof seg[0]);
+    if (!controller || bad || ret % sizeof seg[0] || static_cast<size_t>(ret) > size || !ret)
+      violation("write() of %zu bytes (%s, %s) returned %zd", size, controller ? "controller" : "read-only",
+                bad ? "invalid records" : "records", ret);
+    return;
+  }
+  g_writes_failed++;
+  const bool ok =
+      controller ? err == EINVAL || err == EFAULT || (!bad && (err == ERANGE || err == EBUSY)) : err == EBADF;
+  if (!ok)
+    violation("write() of %zu bytes (%s, %s) at %s: %s", size, controller ? "controller" : "read-only",
+              bad ? "invalid records" : "records", kPtrNames[p.kind], std::strerror(err));
+}
+
+// Room in the path queue for a write that must not block.
+bool path_room(int fd) {
+  pollfd p{fd, POLLOUT, 0};
+  return poll(&p, 1, 0) == 1 && (p.revents & POLLOUT);
+}
+
 // Phase b: structured commands, one thread, failed calls must change nothing.
 long phase_b(int ctl, int ro, Rng &r, Arena &ar, double secs) {
   Ctx cctl{ctl, {true, false}, true}, cro{ro, {false, false}, true};
@@ -1524,6 +1630,17 @@ long phase_b(int ctl, int ro, Rng &r, Arena &ar, double secs) {
   uint8_t content[kMaxPayload];
   long n = 0;
   while (time_left(end)) {
+    if (r.chance(3)) {  // invalid segment records: refused, nothing changes
+      Snapshot before, after_;
+      const bool snap = snapshot(ctl, before);
+      write_segments(ctl, r, ar, true, true);
+      if (snap && snapshot(ctl, after_)) check_unchanged("write", EINVAL, "invalid segments", before, after_);
+      x4step_path_status ps;
+      if (read_dev(ctl, X4STEP_GET_PATH, ps) && (ps.queued || ps.state != X4STEP_PATH_IDLE))
+        violation("invalid segments queued a path: state %u, %u queued", ps.state, ps.queued);
+      n++;
+      continue;
+    }
     unsigned long cmd = gen_structured(r, content, false);
     PtrKind kind = random_ptr_kind(r, true);
     Payload p = place(ar, r, kind, content, cmd_size(cmd));
@@ -1599,12 +1716,17 @@ struct Shared {
   }
 };
 
-void hammer(int ctl, uint64_t seed, Shared &sh) {
+void hammer(int ctl, uint64_t seed, Shared &sh, bool writer = false) {
   Rng r(seed);
   Arena ar;
   Ctx cx{ctl, {true, false}, false};
   uint8_t content[kMaxPayload];
   while (!sh.stop) {
+    if (writer && r.chance(15) && path_room(ctl)) {  // the one thread that writes
+      write_segments(ctl, r, ar, true, r.chance(20));
+      sh.iterations++;
+      continue;
+    }
     unsigned long cmd;
     PtrKind kind;
     unsigned x = r.below(100);
@@ -1657,6 +1779,7 @@ void monitor(uint64_t seed, Shared &sh) {
     if (poll(&epfd, 1, 0) < 0 || (epfd.revents & ~(POLLIN | POLLPRI)))
       violation("poll (POLLPRI) revents 0x%x", epfd.revents);
     for (int i = r.below(4); i > 0; i--) read_events(evfd, r, ar, cur);
+    if (r.chance(5)) write_segments(fd, r, ar, false, r.chance(50));
     if (r.chance(30)) {  // anything on a read-only descriptor
       unsigned long cmd = r.chance(50) ? gen_structured(r, content, true) : random_cmd(r);
       if (cmd_index(cmd) >= kNumCmds || !kCmds[cmd_index(cmd)].state) random_bytes(r, content);
@@ -1850,7 +1973,7 @@ int main(int argc, char **argv) {
     std::vector<std::thread> th;
     g_fast_profiles = false;
     for (int i = 0; i < opt.threads; i++)
-      th.emplace_back(hammer, ctl, opt.seed * 1000 + 10 + i, std::ref(sh));
+      th.emplace_back(hammer, ctl, opt.seed * 1000 + 10 + i, std::ref(sh), i == 0);
     for (int i = 0; i < 2; i++) th.emplace_back(monitor, opt.seed * 1000 + 20 + i, std::ref(sh));
     th.emplace_back(opener, opt.seed * 1000 + 30, std::ref(sh));
     std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long long>(opt.seconds * 0.35e6)));
@@ -1861,6 +1984,8 @@ int main(int argc, char **argv) {
         "phase c: %ld thread iterations, %ld read-only opens, %ld read-write opens refused (EBUSY), %ld "
         "polls, %ld events read",
         sh.iterations.load(), sh.opens_ro.load(), sh.opens_rw_busy.load(), sh.polls.load(), sh.events.load());
+    note("phase c: %ld write()s of segments, %ld refused, %ld records queued", g_writes.load(),
+         g_writes_failed.load(), g_records_queued.load());
     g_stats.print("c (threads on one controller)");
     g_stats.reset();
     total += sh.iterations;

@@ -19,6 +19,7 @@ $cxx -I"$top/include/uapi" -o "$out/discipline_test" "$top/tests/guest/disciplin
 $cxx -pthread -I"$top/include/uapi" -o "$out/reliability_test" "$top/tests/guest/reliability_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/events_test" "$top/tests/guest/events_test.cpp"
 $cxx -I"$top/include/uapi" -o "$out/config_test" "$top/tests/guest/config_test.cpp"
+$cxx -I"$top/include/uapi" -o "$out/path_test" "$top/tests/guest/path_test.cpp"
 $cxx -pthread -I"$top/include/uapi" -o "$out/ioctl_fuzz" "$top/tests/fuzz/ioctl_fuzz.cpp"
 engine_objs=
 for f in "$top"/kmod/engine/*.c; do

@@ -527,7 +527,8 @@ TEST(PathOverride, HalfSpeedFromTheNextStep) {
 
 TEST(PathOverride, AboveHundredIsCappedByThePort) {
   Path p;
-  ASSERT_EQ(p.Push(Seg(40000, 0, 0, 0, 40000, 40000, 400000, 0)), X4_OK);
+  // 200 % of 60000 steps/s: capped at the engine's ceiling (and the write budget's).
+  ASSERT_EQ(p.Push(Seg(100000, 0, 0, 0, 100000, 60000, 1000000, 0)), X4_OK);
   ASSERT_EQ(x4_path_set_override(&p.e, 200), X4_OK);
   Recording r;
   record(p.e, r);
@@ -535,7 +536,7 @@ TEST(PathOverride, AboveHundredIsCappedByThePort) {
   double fastest = 0;
   for (size_t k = 1; k < st.size(); k++) fastest = std::max(fastest, 1 / (st[k].t - st[k - 1].t));
   EXPECT_LE(fastest, X4_VEL_MAX * 1.001);
-  EXPECT_GT(fastest, 44000);
+  EXPECT_GT(fastest, X4_VEL_MAX * 0.99);
 }
 
 // ---- status, switches, directions -------------------------------------------
@@ -664,4 +665,44 @@ TEST(PathSignals, CircleReversalsKeepSpeedAndPins) {
     const double v = (st[k + 1].s - st[k].s) / (st[k + 1].t - st[k].t);
     EXPECT_NEAR(v, 100000, 1000) << "junction before segment " << st[k + 1].seg;
   }
+}
+
+// An axis that stands still in a segment and moves again later, the other
+// way, gets its direction pin set first: the pins, not the engine's own
+// counters, must add up to the path (the QEMU test found the pin left as
+// it was, so that such an axis stepped the wrong way).
+TEST(PathSignals, AxisJoiningLaterGetsItsDirection) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(100, 100, 0, 0, 1414, 5000, 50000, 5000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(100, 0, 0, 0, 1000, 5000, 50000, 5000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(100, -100, 0, 0, 1414, 5000, 50000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r);
+  int pins[X4_AXES] = {0, 0, 0, 0};
+  uint8_t data = 0;
+  for (const auto &ev : r.events) {
+    for (int i = 0; i < X4_AXES; i++)
+      if ((ev.data & X4_CLK_BIT(i)) && !(data & X4_CLK_BIT(i))) pins[i] += (ev.data & X4_DIR_BIT(i)) ? 1 : -1;
+    data = ev.data;
+  }
+  p.ExpectAtTarget();
+  for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(pins[i], p.target[i]) << "axis " << i << " from the pins";
+}
+
+// A segment appended while the path waits for its first step from rest
+// cuts the running piece there; step 1's clock, high for half the time
+// from rest, must not delay step 2 (the QEMU test saw step 2 0.3 ms late:
+// a speed dip, then 1.4 times the acceleration limit).
+TEST(PathRun, AppendDuringTheFirstStepKeepsTheRamp) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(0, 17, 0, 0, 170, 80000, 2000000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r, 1);  // the directions are out, step 1 pending
+  ASSERT_EQ(p.Push(Seg(-1, 17, 0, 0, 170, 80000, 2000000, 80000), x4_engine_due(&p.e)), X4_OK);
+  record(p.e, r);
+  p.ExpectAtTarget();
+  ASSERT_GE(r.rises[1].size(), 3u);
+  const double a = 200000, t1 = std::sqrt(2 / a), t2 = std::sqrt(4 / a);
+  EXPECT_NEAR((r.rises[1][1] - r.rises[1][0]) * 1e-9, t2 - t1, 1e-6);
+  CheckPhysics(LeaderSteps(r, p.sent), p.sent);
 }

@@ -44,6 +44,7 @@ tests=(
 	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh"
 	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko|"
 	"config|tests/guest/config.sh|$g/config_test||tests/qemu/check-config.sh"
+	"path|tests/guest/path.sh|$g/path_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh"
 )
 
 # The kernels the module must pass on: label, glob under /boot, exclusion,
