@@ -149,18 +149,10 @@ std::vector<x4step::segment> read_path_file(const config &c) {
   return read_path(f, name, c.path);
 }
 
-const char *state_name(x4step::path_state s) {
-  switch (s) {
-    case x4step::path_state::idle:
-      return "idle";
-    case x4step::path_state::running:
-      return "running";
-    case x4step::path_state::holding:
-      return "holding";
-    case x4step::path_state::held:
-      return "held";
-  }
-  return "?";
+std::string state_name(x4step::path_state s) {
+  std::ostringstream o;
+  o << s;  // idle, running, holding, held
+  return o.str();
 }
 
 // One progress record: text (redrawn on a terminal) or a JSON line.

@@ -566,9 +566,9 @@ struct x4step_segment {
 #define X4STEP_PATH_DEPTH_MAX 4096
 #define X4STEP_PATH_KEYS_ABORT (1u << 0) /* brake keys: hold, then abort */
 
-/* X4STEP_SET_PATH_CONFIG (only while no path is active, else EBUSY). */
+/* X4STEP_SET_PATH_CONFIG: flags any time; depth while no path is active (EBUSY) */
 struct x4step_path_config {
-	__u32 depth; /* segments the queue holds: a power of 2, 256..4096 */
+	__u32 depth; /* segments the queue holds: a power of 2, 256..4096; 0 keeps it */
 	__u32 flags; /* X4STEP_PATH_KEYS_ABORT */
 	__u32 reserved[2];
 };
@@ -576,7 +576,8 @@ struct x4step_path_config {
 #define X4STEP_PATH_HOLD 1 /* brake along the path to rest (ESRCH: none) */
 #define X4STEP_PATH_RESUME 2 /* go on from a hold */
 #define X4STEP_PATH_ABORT 3 /* hold, then flush the queue */
-#define X4STEP_PATH_OVERRIDE 4 /* value: feed override, 1..200 percent */
+/* value: feed override, 1..200 percent of every v_max (not of v_entry: corners stay) */
+#define X4STEP_PATH_OVERRIDE 4
 
 /* X4STEP_PATH_CTL */
 struct x4step_path_ctl {
