@@ -63,3 +63,10 @@ echo "== module: speed ceiling, one axis, goto and path (QEMU -icount, Debian 6.
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t speed >/dev/null 2>&1 || echo "(the speed run failed: see $qout)"
 cat "$qout"/6.1.*/speed/console.log | tr -d '\r' | grep -E '^ceiling' |
 	sed -E 's/^ceiling //; s/ \(planned ([0-9]+), minimum ([0-9]+)\)/ (min \2)/; s/, [0-9]+ capped, [0-9]+ shifts//'
+
+# Paths in the module (issue 18): the rate at which 20-step segments are
+# taken from a streaming writer, 5000/s asked for (tests/guest/path_test.cpp).
+echo
+echo "== module: sustained segment rate of a streamed path (QEMU -icount, Debian 6.1)"
+X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t path >/dev/null 2>&1 || echo "(the path run failed: see $qout)"
+cat "$qout"/6.1.*/path/console.log | tr -d '\r' | grep -E '^sustained:'
