@@ -389,6 +389,18 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 	return true;
 }
 
+/*
+ * The clock's high time at the last step of the running piece: half the
+ * step interval at the piece's end speed, which the next piece starts
+ * with (half_ns, the interval before, where the path comes to rest).
+ */
+u64 x4_path_end_half(const struct x4_engine *e, u64 half_ns)
+{
+	u32 v = e->path.v_end;
+
+	return v ? x4_div(X4_NSEC_PER_SEC, 2ull * v) : half_ns;
+}
+
 /* The path's channel came to rest: why decides what follows. */
 void x4_path_ended(struct x4_engine *e, struct x4_chan *c)
 {
@@ -467,14 +479,6 @@ static void cut_piece(struct x4_engine *e)
 		nb = c->n + 1;
 	else
 		return;
-	/*
-	 * Step 1 from rest keeps its clock high for half the time from rest,
-	 * longer than the interval after it; as a piece's last step it keeps
-	 * that (x4_sched.c: rise()) and delays the next step. Cut after step
-	 * 2 instead.
-	 */
-	if (nb == 1 && !plan_speed2(&c->run, 0))
-		nb = 2;
 	if (nb >= c->run.last)
 		return; /* the piece ends there anyway */
 	pa->v_end = (u32)x4_isqrt(plan_speed2(&c->run, nb));

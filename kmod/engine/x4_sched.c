@@ -656,8 +656,11 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		c->half_ns = (c->t_next - c->t_cur) / 2;
 	} else if (!c->n) {
 		c->half_ns = p->single_half_ns;
+	} else if (c->path) {
+		/* A path's piece ends: the next interval is at its end speed. */
+		c->half_ns = x4_path_end_half(e, c->half_ns);
 	}
-	/* (The last step keeps the step time of the one before.) */
+	/* (The last step of a move keeps the step time of the one before.) */
 
 	if (now_ns < t_step)
 		now_ns = t_step;

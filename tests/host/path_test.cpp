@@ -693,6 +693,24 @@ TEST(PathSignals, AxisJoiningLaterGetsItsDirection) {
 // cuts the running piece there; step 1's clock, high for half the time
 // from rest, must not delay step 2 (the QEMU test saw step 2 0.3 ms late:
 // a speed dip, then 1.4 times the acceleration limit).
+// Segments of one step: every step ends a piece, and the clock's high time
+// must fit the interval that follows, or each step delays the next.
+TEST(PathRun, OneStepSegmentsKeepTheirSpeed) {
+  Path p;
+  for (int k = 0; k < 200; k++) ASSERT_EQ(p.Push(Seg(1, k % 3 == 0, 0, 0, 10, 30000, 3000000, 30000)), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
+  const auto st = LeaderSteps(r, p.sent);
+  CheckPhysics(st, p.sent);
+  ExpectStopsAtRest(st, p.sent);
+  double fastest = 0;
+  for (size_t k = 1; k < st.size(); k++)
+    fastest = std::max(fastest, (st[k].s - st[k - 1].s) / (st[k].t - st[k - 1].t));
+  EXPECT_GT(fastest, 29000);  // 3000 steps/s, reached after 15 steps
+}
+
 TEST(PathRun, AppendDuringTheFirstStepKeepsTheRamp) {
   Path p;
   ASSERT_EQ(p.Push(Seg(0, 17, 0, 0, 170, 80000, 2000000, 0)), X4_OK);
