@@ -70,7 +70,7 @@ static u64 top_speed(const struct x4_engine *e, const struct x4_path_slot *s)
 {
 	u64 v = x4_div((u64)s->seg.v_max * e->path.override, 100);
 
-	return min_u64(v, to_path(s, rate_max(e)));
+	return min_u64(v, s->v_rate);
 }
 
 bool x4_path_active(const struct x4_engine *e)
@@ -200,6 +200,7 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 			leader = x4_abs_s32(seg->steps[i]);
 	s->seg = *seg;
 	s->leader = leader;
+	s->v_rate = (u32)min_u64(to_path(s, rate_max(e)), X4_PATH_VALUE_MAX);
 	/*
 	 * The timer runs the segment at whole leader steps/s^2: plan with
 	 * that acceleration, not the one asked for, so that the plan's stops

@@ -44,6 +44,7 @@ struct x4_segment {
 struct x4_path_slot {
 	struct x4_segment seg;
 	u32 leader; /* the leader axis' steps: max |steps[i]| */
+	u32 v_rate; /* the path speed of the port's fastest leader rate */
 	u32 limit; /* its entry's limit: corner, top speed (override) */
 	u32 accel; /* its leader's acceleration, steps/s^2 */
 	u64 two_as; /* 2 a length, path units: v^2 gained or lost along it */

@@ -4,6 +4,7 @@
 //   path_bench             fidelity: speeds and accelerations from the
 //                          edges against the limits, speed at the chord
 //                          junctions against the commanded speed
+//   path_bench --chord N   chords of N steps instead of 4
 //   path_bench --per-push  under callgrind: one stats dump per appended
 //                          segment (the planner's cost)
 // Run under `valgrind --tool=callgrind --toggle-collect=x4_engine_fire`
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -21,17 +23,18 @@
 namespace {
 
 constexpr int kChords = 5000;
-constexpr double kRadius = 3183.1;   // steps: 2 pi r / 5000 = 4 steps a chord
+double chord_steps = 4;              // the radius: 2 pi r / 5000 chords
 constexpr uint32_t kUnit = 1000;     // path units per step
 constexpr uint32_t kSpeed = 10000;   // steps/s along the path
 constexpr uint32_t kAccel = 200000;  // steps/s^2
 
 std::vector<x4_segment> circle() {
   std::vector<x4_segment> out;
-  long px = std::lround(kRadius), py = 0;
+  const double radius = chord_steps * kChords / (2 * M_PI);
+  long px = std::lround(radius), py = 0;
   for (int k = 1; k <= kChords; k++) {
-    const long x = std::lround(kRadius * std::cos(2 * M_PI * k / kChords));
-    const long y = std::lround(kRadius * std::sin(2 * M_PI * k / kChords));
+    const long x = std::lround(radius * std::cos(2 * M_PI * k / kChords));
+    const long y = std::lround(radius * std::sin(2 * M_PI * k / kChords));
     x4_segment s{};
     s.steps[0] = int32_t(x - px);
     s.steps[1] = int32_t(y - py);
@@ -49,7 +52,15 @@ std::vector<x4_segment> circle() {
 }  // namespace
 
 int main(int argc, char **argv) {
-  const bool per_push = argc > 1 && !std::strcmp(argv[1], "--per-push");
+  bool per_push = false;
+  for (int i = 1; i < argc; i++) {
+    if (!std::strcmp(argv[i], "--per-push"))
+      per_push = true;
+    else if (!std::strcmp(argv[i], "--chord") && i + 1 < argc)
+      chord_steps = std::atof(argv[++i]);
+    else
+      return 2;
+  }
   const std::vector<x4_segment> segs = circle();
   std::vector<x4_path_slot> q(256);
   x4_engine e;

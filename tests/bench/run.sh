@@ -27,17 +27,21 @@ hit=$(cat "$tmp"/hit.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n | tail -
 echo "worst single event: a shared limit ending four axes' moves: $hit instructions"
 
 echo
-echo "== paths: a circle of 5000 chords of 4 steps (0.05 mm at 80 steps/mm), 10000 steps/s, 256-segment queue"
-"$build/tests/path_bench"
-cg="valgrind --tool=callgrind --toggle-collect=x4_engine_fire"
-$cg --callgrind-out-file="$tmp/path" "$build/tests/path_bench" >"$tmp/path.out" 2>&1
-steps=$(sed -n 's/.*chords, \([0-9]*\) leader steps.*/\1/p' "$tmp/path.out")
-total=$(sed -n 's/^totals: *//p' "$tmp/path")
-echo "engine in path mode: $((total / steps)) instructions per leader step (goal <= 160)"
-valgrind --tool=callgrind --toggle-collect=x4_path_push --callgrind-out-file="$tmp/push" \
-	"$build/tests/path_bench" --per-push >/dev/null 2>&1
-cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
-	awk '{v[NR]=$1; s+=$1} END {printf "planner per appended segment: mean %d, max %d instructions (%d segments)\n", s/NR, v[NR], NR}'
+for chord in 4 20; do
+	echo "== paths: a circle of 5000 chords of $chord steps, 10000 steps/s, 256-segment queue (tests/bench/path_bench.cpp)"
+	"$build/tests/path_bench" --chord $chord
+	valgrind --tool=callgrind --toggle-collect=x4_engine_fire --callgrind-out-file="$tmp/path" \
+		"$build/tests/path_bench" --chord $chord >"$tmp/path.out" 2>&1
+	steps=$(sed -n 's/.*chords, \([0-9]*\) leader steps.*/\1/p' "$tmp/path.out")
+	total=$(sed -n 's/^totals: *//p' "$tmp/path")
+	echo "engine in path mode: $((total / steps)) instructions per leader step (goal <= 160)"
+	rm -f "$tmp"/push.*
+	valgrind --tool=callgrind --toggle-collect=x4_path_push --callgrind-out-file="$tmp/push" \
+		"$build/tests/path_bench" --chord $chord --per-push >/dev/null 2>&1
+	cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
+		awk '{v[NR]=$1; s+=$1} END {printf "planner per appended segment: mean %d, max %d instructions (%d segments)\n", s/NR, v[NR], NR}'
+	echo
+done
 
 # The host tests against one-line mutations of the engine: every one must
 # fail a test (tests/mutation/run.sh, about a minute on 2 cores).
