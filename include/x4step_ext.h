@@ -168,7 +168,8 @@ typedef struct X4Segment {
  *  segment stops there: the ones before it are queued.
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNoSteps,
  *  X4ErrStepsTooHigh, X4ErrFreqTooHigh (faster than the port can step),
- *  X4ErrIsActive (another move runs) */
+ *  X4ErrIsActive (another move runs), X4ErrNotActive (the path was
+ *  flushed: X4PathClear first) */
 int X4PathAppend(const X4Segment *segments, int count);
 /** Brake the path along it to rest. @return X4NoErr, X4ErrInitNotDone, X4ErrNotActive */
 int X4PathHold(void);
@@ -176,6 +177,9 @@ int X4PathHold(void);
 int X4PathResume(void);
 /** Hold, then flush the queue. @return X4NoErr, X4ErrInitNotDone, X4ErrNotActive */
 int X4PathAbort(void);
+/** After a flush (a stop, a limit, an abort, a brake key that aborts),
+ *  X4PathAppend returns X4ErrNotActive until this. @return X4NoErr, X4ErrInitNotDone */
+int X4PathClear(void);
 /** Feed override, 1..200 percent of every top speed.
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail */
 int X4PathOverride(int percent);

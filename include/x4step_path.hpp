@@ -110,7 +110,8 @@ struct path_status {
   std::uint64_t starved = 0;  ///< refills that came after the path began to stop
 };
 
-/// The queue's size (256..4096, a power of 2) and what brake keys do.
+/// The queue's size (256..4096, a power of 2; 0 keeps it: it can change
+/// only while no path is active) and what brake keys do.
 class path_config {
  public:
   path_config &depth(unsigned n) noexcept {
@@ -125,7 +126,7 @@ class path_config {
   bool keys_abort() const noexcept { return keys_abort_; }
 
  private:
-  unsigned depth_ = 256;
+  unsigned depth_ = 0;  // 0: keep the depth (256 at first)
   bool keys_abort_ = false;
 };
 
@@ -141,7 +142,11 @@ class path {
   path_config config() const;
 
   /// Queue segments in order, waiting while the queue is full (poll(), no
-  /// spinning). A bad segment throws; the ones before it are queued.
+  /// spinning). A bad segment throws; the ones before it are queued. Once
+  /// the path was flushed (a stop, an emergency stop, a limit switch, an
+  /// abort, a brake key that aborts), it throws not_active until clear():
+  /// a program learns that its path was stopped, rather than running the
+  /// rest from where it stood.
   void append(const segment &s);
   void append(const std::vector<segment> &s);
   /// Queue what fits now, without waiting; how many were queued.
@@ -150,6 +155,7 @@ class path {
   void hold();    ///< brake along the path to rest (not_active: no path)
   void resume();  ///< go on from a hold
   void abort();   ///< hold, then flush the queue
+  void clear();   ///< accept segments again after a flush (a new path)
   /// Feed override, 1..200 percent of every top speed, within 2 ms.
   void set_override(unsigned percent);
 

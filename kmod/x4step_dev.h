@@ -103,6 +103,7 @@ struct x4_port {
 	struct x4_path_slot *path_slots;
 	u32 path_cfg_flags; /* X4STEP_PATH_KEYS_ABORT */
 	bool path_room_wanted; /* a writer waits for room: wake it */
+	u32 path_flushes_seen; /* the engine's flush count the writer knows */
 	bool path_aborting; /* the path's end is an abort (under slock) */
 };
 

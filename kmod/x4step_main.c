@@ -90,6 +90,8 @@ static int x4_open(struct inode *inode, struct file *file)
 		ret = -EBUSY; /* another driver (lp, ppdev, ...) holds the port */
 	if (!ret) {
 		WRITE_ONCE(x4->controller, file);
+		/* Flushes of paths before it are none of its business. */
+		x4->path_flushes_seen = READ_ONCE(x4->eng.path.flushes);
 		x4_port_claimed(x4);
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		x4_events_controller_locked(x4, X4STEP_CTL_OPENED);

@@ -86,9 +86,34 @@ static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 	return 0;
 }
 
+/* A flush the controller has not acknowledged (X4STEP_PATH_CLEAR). */
+static bool x4_path_flushed(struct x4_port *x4)
+{
+	return READ_ONCE(x4->eng.path.flushes) != x4->path_flushes_seen;
+}
+
 static bool x4_path_has_room(struct x4_port *x4)
 {
-	return x4_path_room(&x4->eng) || READ_ONCE(x4->gone);
+	return x4_path_room(&x4->eng) || x4_path_flushed(x4) ||
+	       READ_ONCE(x4->gone);
+}
+
+/*
+ * After a chunk: start the path, unless it was flushed meanwhile; then
+ * what this write() queued after the flush goes too, and it ends.
+ */
+static int x4_path_go(struct x4_port *x4)
+{
+	unsigned long flags;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4_path_flushed(x4))
+		x4_path_hold(&x4->eng, true);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (x4_path_flushed(x4))
+		return -ECANCELED;
+	x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
+	return 0;
 }
 
 ssize_t x4_path_write(struct x4_port *x4, struct file *file,
@@ -107,6 +132,10 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 	else if (!x4->path_slots)
 		ret = x4_path_resize(x4, X4STEP_PATH_DEPTH_MIN);
 	while (!ret && done < count) {
+		if (x4_path_flushed(x4)) {
+			ret = -ECANCELED;
+			break;
+		}
 		n = min_t(size_t, (count - done) / sizeof(rec[0]),
 			  min_t(u32, X4_PATH_CHUNK, x4_path_room(&x4->eng)));
 		if (!n) { /* full: wait without the lock (hold, abort) */
@@ -137,7 +166,10 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 			if (!ret)
 				done += sizeof(rec[0]);
 		}
-		x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
+		if (x4_path_go(x4)) { /* what it queued is flushed too */
+			ret = -ECANCELED;
+			done = 0;
+		}
 	}
 	mutex_unlock(&x4->lock);
 	return done ? done : ret;
@@ -191,10 +223,14 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 	case X4STEP_PATH_ABORT:
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		ret = x4_path_hold(e, c->cmd == X4STEP_PATH_ABORT);
-		if (!ret && c->cmd == X4STEP_PATH_ABORT)
-			x4->path_aborting = true;
+		if (!ret && c->cmd == X4STEP_PATH_ABORT && x4_path_active(e))
+			x4->path_aborting = true; /* its end says so */
 		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		wake_up_all(&x4->wait); /* a writer waiting for room: flushed */
 		return x4_errno(ret);
+	case X4STEP_PATH_CLEAR:
+		x4->path_flushes_seen = READ_ONCE(e->path.flushes);
+		return 0;
 	case X4STEP_PATH_RESUME:
 		return x4_errno(x4_port_run(x4, x4_resume, NULL,
 					    X4STEP_KIND_PATH));

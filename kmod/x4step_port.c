@@ -452,6 +452,7 @@ int x4_port_stop_locked(struct x4_port *x4, u8 axes)
 	x4_events_stop_locked(x4, x4_events_chans_locked(x4, axes));
 	ret = x4_engine_halt(&x4->eng, axes, true);
 	x4_port_halted_locked(x4);
+	irq_work_queue(&x4->wake_work); /* a path writer: its queue is gone */
 	return ret;
 }
 

@@ -44,26 +44,35 @@ int need_fd(const controller &c) {
   return c.fd();
 }
 
-// Write what fits now (the descriptor is O_NONBLOCK): whole records.
+[[noreturn]] void fail_write(int err) {
+  if (err == ECANCELED)
+    throw error(make_error_code(errc::not_active),
+                "the path was flushed (a stop, an emergency stop, a limit switch, an abort or a brake key): "
+                "path::clear() before a new path");
+  fail_ioctl(err, "write of path segments");
+}
+
+// Write what fits now (the descriptor is O_NONBLOCK): whole records, up to
+// the first bad one (which fails this call if it is the first).
 std::size_t write_some(int fd, const segment *s, std::size_t n) {
   constexpr std::size_t chunk = 64;
   std::size_t done = 0;
   while (done < n) {
     x4step_segment k[chunk];
-    const std::size_t m = std::min(chunk, n - done);
-    for (std::size_t i = 0; i < m; i++) {
-      if (const errc e = check(s[done + i]); e != errc::ok) {
-        if (done + i == 0) fail(e);
-        return done + i;  // the bad one fails the next call
-      }
-      k[i] = to_kernel(s[done + i]);
+    std::size_t m = 0;
+    for (; m < std::min(chunk, n - done); m++) {
+      const errc e = check(s[done + m]);
+      if (e != errc::ok && done + m == 0) fail(e);
+      if (e != errc::ok) break;
+      k[m] = to_kernel(s[done + m]);
     }
+    if (!m) return done;  // the bad one fails the next call
     const ssize_t got = ::write(fd, k, m * sizeof k[0]);
     if (got < 0 && errno == EAGAIN) return done;
     if (got < 0 && errno == EINTR) continue;
     if (got < 0) {
       if (done) return done;
-      fail_ioctl(errno, "write of path segments");
+      fail_write(errno);
     }
     done += static_cast<std::size_t>(got) / sizeof k[0];
     if (static_cast<std::size_t>(got) < m * sizeof k[0]) return done;
@@ -151,6 +160,7 @@ void path::append(const std::vector<segment> &s) {
 
 void path::append(const segment &s) { append(std::vector<segment>{s}); }
 
+void path::clear() { ctl(*c_, X4STEP_PATH_CLEAR, 0, "X4STEP_PATH_CTL clear"); }
 void path::hold() { ctl(*c_, X4STEP_PATH_HOLD, 0, "X4STEP_PATH_CTL hold"); }
 void path::resume() { ctl(*c_, X4STEP_PATH_RESUME, 0, "X4STEP_PATH_CTL resume"); }
 void path::abort() { ctl(*c_, X4STEP_PATH_ABORT, 0, "X4STEP_PATH_CTL abort"); }

@@ -384,6 +384,10 @@ int X4PathAbort(void) {
   return with_port([](x4step::controller &c) { x4step::path(c).abort(); });
 }
 
+int X4PathClear(void) {
+  return with_port([](x4step::controller &c) { x4step::path(c).clear(); });
+}
+
 int X4PathOverride(int percent) {
   if (!port) return X4ErrInitNotDone;
   if (percent < 1 || percent > 200) return X4ErrParamFail;

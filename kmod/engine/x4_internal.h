@@ -77,7 +77,7 @@ bool x4_home_next(struct x4_engine *e, struct x4_chan *c);
 /* x4_path.c: the path's pieces, on channel 0 */
 bool x4_path_next(struct x4_engine *e, struct x4_chan *c);
 u64 x4_path_end_half(const struct x4_engine *e, u64 half_ns);
-void x4_path_ended(struct x4_engine *e, struct x4_chan *c);
+bool x4_path_ended(struct x4_engine *e, struct x4_chan *c);
 
 /* x4_phase.c: the SMC phase output */
 void x4_phase_move(struct x4_engine *e, struct x4_chan *c, u64 t);

@@ -274,7 +274,7 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 	if (v0 > vc) {
 		/* Brake to vc, or as far as the segment lets. */
 		d = x4_div(v0 * v0 - vc * vc + 2 * a - 1, 2 * a);
-		if (d < rest) {
+		if (d <= rest) {
 			ve = vc;
 		} else {
 			d = rest;
@@ -345,6 +345,7 @@ static void flush(struct x4_engine *e)
 	pa->state = X4_PATH_IDLE;
 	pa->started = false;
 	pa->abort = false;
+	pa->flushes++;
 }
 
 /*
@@ -402,24 +403,32 @@ u64 x4_path_end_half(const struct x4_engine *e, u64 half_ns)
 	return v ? x4_div(X4_NSEC_PER_SEC, 2ull * v) : half_ns;
 }
 
-/* The path's channel came to rest: why decides what follows. */
-void x4_path_ended(struct x4_engine *e, struct x4_chan *c)
+/*
+ * The path's channel came to rest: why decides what follows. True: it ran
+ * dry, and segments came while it ended (after its last step, the
+ * direction hold): the caller starts it again (x4_path_kick()).
+ */
+bool x4_path_ended(struct x4_engine *e, struct x4_chan *c)
 {
 	struct x4_path *pa = &e->path;
 
 	c->path = false;
 	if (c->path_cut || pa->rest == X4_REST_CUT) {
 		flush(e);
-		return;
+		return false;
 	}
 	if (pa->rest == X4_REST_HELD) {
 		pa->state = X4_PATH_HELD;
 		if (pa->abort)
 			flush(e);
-		return;
+		return false;
 	}
 	pa->state = X4_PATH_IDLE; /* dry: a push kicks it again */
 	pa->abort = false;
+	if (pa->head == x4_load_acquire(&pa->tail))
+		return false;
+	pa->starved++; /* it stood for want of them */
+	return true;
 }
 
 /* Start (or resume) the path from rest at its current place. */
@@ -527,8 +536,11 @@ int x4_path_hold(struct x4_engine *e, bool abort)
 	struct x4_path *pa = &e->path;
 
 	switch (pa->state) {
-	case X4_PATH_IDLE:
-		return X4_ERR_NOT_ACTIVE;
+	case X4_PATH_IDLE: /* segments queued, not started yet: flushed */
+		if (!abort || pa->head == x4_load_acquire(&pa->tail))
+			return X4_ERR_NOT_ACTIVE;
+		flush(e);
+		return X4_OK;
 	case X4_PATH_HELD:
 		if (abort)
 			flush(e);

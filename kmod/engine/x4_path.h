@@ -83,6 +83,7 @@ struct x4_path {
 	u32 pos; /* steps done before the running piece */
 	u32 piece; /* steps of the running piece */
 	u32 v_end; /* speed at the end of the running piece */
+	u32 flushes; /* queues flushed: the glue's writers learn of them */
 	u64 done; /* segments completed */
 	u64 starved; /* refills that came after the path began to stop */
 };

@@ -479,10 +479,12 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 /* Channel c's move has ended (a reference run may go on to phase 2). */
 void x4_end(struct x4_engine *e, struct x4_chan *c)
 {
+	bool path_goes_on = false;
+
 	if (c->home && x4_home_next(e, c))
 		return;
 	if (c->path)
-		x4_path_ended(e, c);
+		path_goes_on = x4_path_ended(e, c);
 	c->dir_fresh = 0;
 	c->home = 0;
 	c->ctl = 0;
@@ -492,6 +494,8 @@ void x4_end(struct x4_engine *e, struct x4_chan *c)
 	e->ends++;
 	if (x4_phase_mode(e))
 		x4_phase_rest(e, c);
+	if (path_goes_on) /* segments came while it ended */
+		x4_path_kick(e, c->t_pending);
 }
 
 /*
@@ -778,8 +782,8 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 	int ret = X4_ERR_NOT_ACTIVE;
 	int i;
 
-	/* A path held at rest: a stop flushes it. */
-	if (stop && e->path.state == X4_PATH_HELD && axes & x4_mode_axes(e))
+	/* A path at rest (held, or queued): a stop flushes it. */
+	if (stop && !e->ch[0].path && x4_path_active(e) && axes & x4_mode_axes(e))
 		ret = x4_path_hold(e, true);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];

@@ -226,6 +226,7 @@ const Cmd kCmds[] = {
     {X4STEP_GET_PATH_CONFIG, "GET_PATH_CONFIG", sizeof(x4step_path_config), false},
     {X4STEP_SET_PATH_CONFIG, "SET_PATH_CONFIG", sizeof(x4step_path_config), true},
     {X4STEP_PATH_CTL, "PATH_CTL", sizeof(x4step_path_ctl), true},
+    {X4STEP_ESTOP, "ESTOP", sizeof(x4step_estop), false},
 };
 constexpr int kNumCmds = sizeof(kCmds) / sizeof(kCmds[0]);
 constexpr int kUnknownOurs = kNumCmds;  // stats slot: our magic, unknown number
@@ -624,6 +625,14 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
   int i = cmd_index(cmd);
   if (i >= kNumCmds) return invalid("unknown command", bit(ENOTTY));
   const Cmd &c = kCmds[i];
+  if (cmd == X4STEP_ESTOP) {  // changes state, from any descriptor
+    x4step_estop es;
+    if (p.readable < sizeof es) return invalid("bad pointer", bit(EFAULT));
+    std::memcpy(&es, p.bytes, sizeof es);
+    if (es.how > X4STEP_HALT_STOP || es.flags || es.reserved[0] || es.reserved[1])
+      return invalid("how not BRAKE or STOP, or flags or reserved");
+    return valid(bit(ESRCH));  // nothing runs
+  }
   if (!c.state) {
     uint64_t nomem = cmd == X4STEP_GET_TIMING || cmd == X4STEP_GET_TIMING_V2 ? bit(ENOMEM) : 0;
     // GET_PROFILE reads the axis first, then writes the whole profile.
@@ -800,7 +809,8 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
         return invalid("reserved, or a value with another command than OVERRIDE");
       if (pc.cmd == X4STEP_PATH_OVERRIDE)
         return pc.value >= 1 && pc.value <= 200 ? valid(0) : invalid("override not 1..200");
-      if (pc.cmd < X4STEP_PATH_HOLD || pc.cmd > X4STEP_PATH_ABORT) return invalid("unknown command");
+      if (pc.cmd < X4STEP_PATH_HOLD || pc.cmd > X4STEP_PATH_CLEAR) return invalid("unknown command");
+      if (pc.cmd == X4STEP_PATH_CLEAR) return valid(0);
       return valid(bit(ESRCH));  // no path (or an abort under way)
     }
     default:
@@ -1567,7 +1577,8 @@ void probes(int &ctl, Rng &r, Arena &ar) {
 // (leader 500..5000 steps/s, >= 10^5 steps/s^2: a hold on close ends in
 // milliseconds), some fields random, sometimes not whole records, into
 // random memory. Only the controller may write (EBADF); whole records or
-// EINVAL, ERANGE, EBUSY (moves run), EFAULT. `bad`: only invalid records.
+// EINVAL, ERANGE, EBUSY (moves run), EFAULT, ECANCELED (a stop flushed the
+// path: until PATH_CLEAR). `bad`: only invalid records.
 // The caller makes sure the queue has room (no write may block).
 std::atomic<long> g_writes{0}, g_writes_failed{0}, g_records_queued{0};
 
@@ -1610,8 +1621,9 @@ void write_segments(int fd, Rng &r, Arena &ar, bool controller, bool bad) {
     return;
   }
   g_writes_failed++;
-  const bool ok =
-      controller ? err == EINVAL || err == EFAULT || (!bad && (err == ERANGE || err == EBUSY)) : err == EBADF;
+  const bool ok = controller ? err == EINVAL || err == EFAULT || err == ECANCELED ||
+                                   (!bad && (err == ERANGE || err == EBUSY))
+                             : err == EBADF;
   if (!ok)
     violation("write() of %zu bytes (%s, %s) at %s: %s", size, controller ? "controller" : "read-only",
               bad ? "invalid records" : "records", kPtrNames[p.kind], std::strerror(err));

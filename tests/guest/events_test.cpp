@@ -274,7 +274,7 @@ void StatusLeavesThePortAlone() {
 void Basics(Stream &mon) {
   x4step_info info{};
   const int ierr = Ioctl(mon.fd, X4STEP_GET_INFO, &info);
-  Check(!ierr && info.abi_version == 4 && info.event_buffer == 256,
+  Check(!ierr && info.abi_version == X4STEP_ABI_VERSION && info.event_buffer == 256,
         F("GET_INFO: ABI %u, %u events kept", info.abi_version, info.event_buffer));
   x4step_event e;
   Check(read(mon.fd, &e, sizeof e) < 0 && errno == EAGAIN, "nothing to read, O_NONBLOCK: EAGAIN");

@@ -742,6 +742,11 @@ void TestHoldResume(int fd) {
   Check(s.state == X4STEP_PATH_IDLE && s.queued == 0 && Has(ev2, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED),
         F("aborted: state %u, %u queued, events%s", s.state, s.queued, EventList(ev2).c_str()));
   Check(Ctl(fd, X4STEP_PATH_RESUME) == ESRCH, "nothing to resume after an abort: ESRCH");
+  // The flush is latched: writes fail until the controller clears it.
+  const Seg one = MakeSeg(10, 0, 0, 0, 10, 1000, 10000, 1000, 1);
+  errno = 0;
+  Check(::write(fd, &one, sizeof one) < 0 && errno == ECANCELED, "a write after the abort: ECANCELED");
+  Check(Ctl(fd, X4STEP_PATH_CLEAR) == 0, "PATH_CTL CLEAR");
   const Trace ta = ReadTrace();
   const Walk wa = CheckRun("aborted path", segs, ta);
   Check(WalkEnd(wa, segs) == ta.moved && wa.complete < segs.size(), "the abort stopped on the path");
@@ -838,9 +843,9 @@ void TestBadInput(int fd) {
       {with([](Seg &s) { s.length = 1000000, s.v_max = 100, s.accel = 50; }), EINVAL, "leader accel below 1"},
       {with([](Seg &s) { s.length = 10, s.v_max = 100, s.accel = 200000; }), EINVAL,
        "leader accel above 10^6"},
-      {with([](Seg &s) { s.v_max = 1000000, s.accel = 10000000; }), ERANGE, "leader at 100 000 steps/s"},
-      {with([](Seg &s) { s.steps[0] = 1000, s.length = 1000, s.v_max = 45001, s.accel = 500000; }), ERANGE,
-       "leader at 45 001 steps/s"},
+      {with([](Seg &s) { s.v_max = 2000000, s.accel = 10000000; }), ERANGE, "leader at 200 000 steps/s"},
+      {with([](Seg &s) { s.steps[0] = 1000, s.length = 1000, s.v_max = 100001, s.accel = 500000; }), ERANGE,
+       "leader at 100 001 steps/s (X4STEP_VEL_MAX + 1)"},
       {with([](Seg &s) { s.length = 0x80000000u; }), EINVAL, "length 2^31"},
       {with([](Seg &s) { s.v_max = 0x80000000u; }), EINVAL, "v_max 2^31"},
       {with([](Seg &s) { s.v_entry = 0x80000000u; }), EINVAL, "v_entry 2^31"},
@@ -871,9 +876,9 @@ void TestBadInput(int fd) {
             Ctl(fd, X4STEP_PATH_ABORT) == ESRCH,
         "HOLD, RESUME, ABORT without a path: ESRCH");
   pc = {X4STEP_PATH_HOLD, 0, {1, 0}};
-  Check(Ioctl(fd, X4STEP_PATH_CTL, &pc) == EINVAL && Ctl(fd, 0) == EINVAL && Ctl(fd, 5) == EINVAL &&
+  Check(Ioctl(fd, X4STEP_PATH_CTL, &pc) == EINVAL && Ctl(fd, 0) == EINVAL && Ctl(fd, 6) == EINVAL &&
             Ctl(fd, X4STEP_PATH_HOLD, 1) == EINVAL,
-        "PATH_CTL: reserved, command 0 and 5, a value with HOLD: EINVAL");
+        "PATH_CTL: reserved, command 0 and 6, a value with HOLD: EINVAL");
   Check(SetDepth(fd, 255) == EINVAL && SetDepth(fd, 384) == EINVAL && SetDepth(fd, 8192) == EINVAL &&
             SetDepth(fd, 256, 2) == EINVAL,
         "SET_PATH_CONFIG: depth 255, 384, 8192, flags 2: EINVAL");
@@ -933,7 +938,8 @@ void TestBadInput(int fd) {
   g.flags = X4STEP_GOTO_RELATIVE;
   g.target[2] = 10;
   Check(Ioctl(fd, X4STEP_GOTO, &g) == EBUSY, "a goto of another axis while the path runs: EBUSY");
-  Check(Ctl(fd, X4STEP_PATH_ABORT) == 0 && WaitIdle(fd, 5000), "abort");
+  Check(Ctl(fd, X4STEP_PATH_ABORT) == 0 && WaitIdle(fd, 5000) && Ctl(fd, X4STEP_PATH_CLEAR) == 0,
+        "abort, clear");
   Check(PathStatus(fd).queued == 0 && Ioctl(fd, X4STEP_START) == 0 && WaitIdle(fd, 5000),
         "after the abort the loaded X4Step move starts");
 }

@@ -190,9 +190,10 @@ void TestCoordinates() {
         F("profile of axis 2 reads back (%u %u %u %u %u)", gb.start_speed(), gb.end_speed(), gb.top_speed(),
           gb.accel(), gb.decel()));
   Check(Throws([] {
-          ctl->set_profile(x4step::axis{1}, x4step::profile{}.top_speed(45001).accel(1000).decel(1000));
+          ctl->set_profile(x4step::axis{1},
+                           x4step::profile{}.top_speed(x4step::vel_max + 1).accel(1000).decel(1000));
         }) == errc::param_fail,
-        "profile vm 45001 refused (param_fail)");
+        "profile vm vel_max + 1 refused (param_fail)");
   Check(Throws([] {
           ctl->set_profile(x4step::axis{1},
                            x4step::profile{}.start_speed(2000).top_speed(1000).accel(1000).decel(1000));

@@ -456,6 +456,87 @@ TEST(PathHold, HoldAndResumeChangeNoStep) {
   EXPECT_EQ(p.e.pos_base[0] + uint32_t(p.e.steps[0]), ref.e.pos_base[0] + uint32_t(ref.e.steps[0]));
 }
 
+// Six collinear segments of growing length, held at every event from the
+// first to the last: each hold must brake to rest within the limits and
+// stand on the path; a resume must end exactly where the path ends.
+std::vector<x4_segment> Six() {
+  std::vector<x4_segment> out;
+  for (int j = 0; j < 6; j++) out.push_back(Seg(200 + 37 * j, 0, 0, 0, 200 + 37 * j, 4000, 20000, 4000));
+  return out;
+}
+
+TEST(PathHold, AtEveryMomentBrakesAndResumes) {
+  int holds = 0;
+  for (size_t k = 1;; k += 3) {
+    Path p(16);
+    for (const auto &s : Six()) ASSERT_EQ(p.Push(s), X4_OK);
+    Recording r;
+    record(p.e, r, k);
+    if (!x4_engine_busy(&p.e)) break;
+    if (x4_path_hold(&p.e, false) != X4_OK) continue;
+    holds++;
+    record(p.e, r, 100000);
+    ASSERT_FALSE(x4_engine_busy(&p.e)) << "hold at event " << k << " never stood";
+    const x4_path_status st = p.Status();
+    ASSERT_TRUE(st.state == X4_PATH_HELD || (st.state == X4_PATH_IDLE && !st.queued)) << "event " << k;
+    if (st.state == X4_PATH_HELD) {
+      ASSERT_EQ(x4_path_resume(&p.e, r.events.back().t_ns + 1000000), X4_OK);
+    }
+    record(p.e, r, 100000);
+    ASSERT_EQ(p.Status().state, X4_PATH_IDLE) << "event " << k;
+    p.ExpectAtTarget();
+    p.ExpectPinsAtTarget(r);
+    const auto smp = LeaderSteps(r, p.sent);
+    CheckPhysics(smp, p.sent);
+    ExpectStopsAtRest(smp, p.sent);
+    if (HasFailure()) {
+      ADD_FAILURE() << "hold at event " << k;
+      return;
+    }
+  }
+  EXPECT_GT(holds, 500);
+}
+
+TEST(PathOverride, DropAtEveryMomentKeepsTheLimits) {
+  for (uint32_t pct : {1u, 30u}) {
+    for (size_t k = 1;; k += 7) {
+      Path p(16);
+      for (const auto &s : Six()) ASSERT_EQ(p.Push(s), X4_OK);
+      Recording r;
+      record(p.e, r, k);
+      if (!x4_engine_busy(&p.e)) break;
+      ASSERT_EQ(x4_path_set_override(&p.e, pct), X4_OK);
+      x4_path_replan(&p.e);
+      x4_path_kick(&p.e, x4_engine_due(&p.e));
+      record(p.e, r);
+      p.ExpectAtTarget();
+      CheckPhysics(LeaderSteps(r, p.sent), p.sent);
+      if (HasFailure()) {
+        ADD_FAILURE() << "override " << pct << " % at event " << k;
+        return;
+      }
+    }
+  }
+}
+
+// A segment written while the channel still ends a path that ran dry (the
+// direction hold after its last step) starts when that end comes.
+TEST(PathRun, PushWhileADryPathEnds) {
+  Path p(16);
+  x4_timing t = p.e.timing;
+  t.dir_hold_ns = 40000;
+  ASSERT_EQ(x4_engine_configure(&p.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
+  ASSERT_EQ(p.Push(Seg(50, 0, 0, 0, 50, 2000, 20000, 2000)), X4_OK);
+  Recording r;
+  while (x4_engine_busy(&p.e) && p.e.path.head != p.e.path.tail) record(p.e, r, 1);
+  ASSERT_TRUE(x4_engine_busy(&p.e));  // the hold time after the last step
+  ASSERT_EQ(p.Push(Seg(50, 0, 0, 0, 50, 2000, 20000, 2000), x4_engine_due(&p.e) - 1), X4_OK);
+  record(p.e, r);
+  p.ExpectAtTarget();
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  EXPECT_EQ(p.Status().queued, 0u);
+}
+
 TEST(PathHold, AbortAfterHoldFlushes) {
   Path p;
   for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);

@@ -44,7 +44,8 @@
  * 2: positioning; 3: GET_TIMING counts every event, and shifts;
  * 4: events through read() (x4step_event, POLLPRI), X4STEP_SET_OUTPUTS,
  * status reads that leave an unclaimed port alone (X4STEP_ST_INPUTS_STALE);
- * 5: continuous paths (x4step_segment through write(), X4STEP_PATH_*).
+ * 5: continuous paths (x4step_segment through write(), X4STEP_PATH_*),
+ * X4STEP_ESTOP, and X4STEP_VEL_MAX 100000 (was 45000).
  * A version only adds: a program built for version N runs on any >= N.
  */
 #define X4STEP_ABI_VERSION 5
@@ -541,16 +542,22 @@ struct x4step_estop {
  * queued and counted. A path owns every axis while it is active (running,
  * holding, held or queued): X4Step moves and gotos fail with EBUSY.
  *
+ * Once a path's queue is flushed (a stop, an emergency stop, a limit, an
+ * abort, a brake key with X4STEP_PATH_KEYS_ABORT), write() fails with
+ * ECANCELED until the controller acknowledges it with X4STEP_PATH_CLEAR
+ * (or a new controller opens): a program streaming a path learns that it
+ * was stopped, instead of running the rest of it from where it stood.
+ *
  * Starts and ends show in the event stream: MOVE_STARTED (KIND_PATH), and
  * MOVE_ENDED with COMPLETED (the queue ran empty), HELD, ABORTED, STOPPED
  * or LIMIT. X4STEP_BRAKE and brake keys hold a path (keys: then abort,
  * with X4STEP_PATH_KEYS_ABORT); X4STEP_STOP stops it at once and flushes.
  */
 struct x4step_segment {
-	__s32 steps[X4STEP_AXES]; /* |steps| <= 16777216, one non-zero */
+	__s32 steps[X4STEP_AXES]; /* |steps| <= 16777216, at least one non-zero */
 	__u32 length; /* path units, 1..2^31 - 1 */
 	__u32 v_max; /* path units/s, 1..2^31 - 1 */
-	__u32 v_entry; /* the most the corner before it allows, units/s */
+	__u32 v_entry; /* the most the corner before it allows, units/s; 0: stop */
 	__u32 accel; /* path units/s^2; v_max / accel <= 1800 s */
 	__u64 tag; /* reported while it runs (e.g. a program line) */
 	__u32 flags; /* must be 0 */
@@ -570,20 +577,21 @@ struct x4step_segment {
 struct x4step_path_config {
 	__u32 depth; /* segments the queue holds: a power of 2, 256..4096; 0 keeps it */
 	__u32 flags; /* X4STEP_PATH_KEYS_ABORT */
-	__u32 reserved[2];
+	__u32 reserved[2]; /* 0 */
 };
 
 #define X4STEP_PATH_HOLD 1 /* brake along the path to rest (ESRCH: none) */
 #define X4STEP_PATH_RESUME 2 /* go on from a hold */
 #define X4STEP_PATH_ABORT 3 /* hold, then flush the queue */
+#define X4STEP_PATH_CLEAR 5 /* accept segments again after a flush */
 /* value: feed override, 1..200 percent of every v_max (not of v_entry: corners stay) */
 #define X4STEP_PATH_OVERRIDE 4
 
 /* X4STEP_PATH_CTL */
 struct x4step_path_ctl {
 	__u32 cmd; /* X4STEP_PATH_* */
-	__u32 value;
-	__u32 reserved[2];
+	__u32 value; /* OVERRIDE's percent, else 0 */
+	__u32 reserved[2]; /* 0 */
 };
 
 #define X4STEP_PATH_IDLE 0
@@ -600,7 +608,7 @@ struct x4step_path_status {
 	__u32 speed; /* path units/s now */
 	__u32 flags; /* as configured */
 	__u64 tag; /* of the running (or next) segment, 0: none */
-	__u64 done; /* segments completed since the module was loaded */
+	__u64 done; /* segments completed on this port since it appeared */
 	__u64 starved; /* refills that came after the path began to stop */
 	__u32 reserved[4];
 };
