@@ -77,7 +77,8 @@ u8 x4_events_chans_locked(struct x4_port *x4, u8 axes)
 	int i;
 
 	for (i = 0; i < X4_AXES; i++)
-		if (x4->eng.busy & (1u << i) && x4->eng.ch[i].run.axes & axes)
+		if (x4->eng.busy & (1u << i) &&
+		    x4_engine_chan_axes(&x4->eng, i) & axes)
 			chans |= 1u << i;
 	return chans;
 }

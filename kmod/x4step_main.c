@@ -90,8 +90,14 @@ static int x4_open(struct inode *inode, struct file *file)
 		ret = -EBUSY; /* another driver (lp, ppdev, ...) holds the port */
 	if (!ret) {
 		WRITE_ONCE(x4->controller, file);
-		/* Flushes of paths before it are none of its business. */
+		/*
+		 * Flushes of paths before it are none of its business, and its
+		 * feed override starts at 100 %.
+		 */
 		x4->path_flushes_seen = READ_ONCE(x4->eng.path.flushes);
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		x4_path_set_override(&x4->eng, 100);
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
 		x4_port_claimed(x4);
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		x4_events_controller_locked(x4, X4STEP_CTL_OPENED);

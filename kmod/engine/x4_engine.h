@@ -223,6 +223,8 @@ int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw);
 void x4_engine_sense(struct x4_engine *e, u8 levels);
 void x4_engine_axis(const struct x4_engine *e, int axis,
 		    struct x4_axis_state *st);
+/* The axes channel i owns: all of them for a path, else its move's. */
+u8 x4_engine_chan_axes(const struct x4_engine *e, int i);
 
 /* Busy: a move runs, or writes of its last instant are still due. */
 static inline bool x4_engine_busy(const struct x4_engine *e)

@@ -477,6 +477,8 @@ static void cut_piece(struct x4_engine *e)
 			pa->rest = X4_REST_HELD;
 			return;
 		}
+		c->no_steps = false; /* a resume undoes such a hold */
+		pa->rest = X4_REST_CUT;
 		pa->v_end = 0;
 		plan_piece(e, c);
 		c->n = 1;

@@ -66,6 +66,11 @@ u8 x4_mode_axes(const struct x4_engine *e)
 	return x4_phase_mode(e) ? 0x07 : 0x0f;
 }
 
+u8 x4_engine_chan_axes(const struct x4_engine *e, int i)
+{
+	return e->ch[i].path ? x4_mode_axes(e) : e->ch[i].run.axes;
+}
+
 /* The axes of the running moves; an active path owns them all. */
 u8 x4_busy_axes(const struct x4_engine *e)
 {
@@ -788,7 +793,7 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 
-		if (c->phase == X4_IDLE || !(c->run.axes & axes))
+		if (c->phase == X4_IDLE || !(x4_engine_chan_axes(e, i) & axes))
 			continue;
 		ret = X4_OK;
 		/*

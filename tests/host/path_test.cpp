@@ -537,6 +537,32 @@ TEST(PathRun, PushWhileADryPathEnds) {
   EXPECT_EQ(p.Status().queued, 0u);
 }
 
+// A hold before the first step, then a resume: the path runs.
+TEST(PathHold, ResumeBeforeTheFirstStep) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(100, 0, 0, 0, 100, 2000, 20000, 0)), X4_OK);
+  ASSERT_EQ(p.e.ch[0].phase, X4_SETUP);
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  ASSERT_EQ(x4_path_resume(&p.e, kStart), X4_OK);
+  Recording r;
+  record(p.e, r);
+  p.ExpectAtTarget();
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+}
+
+// A path owns every axis: halting one it does not move now holds it too.
+TEST(PathHold, HaltOfAnyAxisHoldsThePath) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(400, 0, 0, 0, 400, 2000, 20000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(0, 400, 0, 0, 400, 2000, 20000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r, 100);  // in the first segment: only X moves
+  ASSERT_EQ(x4_engine_halt(&p.e, 0x2, false), X4_OK);
+  EXPECT_EQ(p.Status().state, X4_PATH_HOLDING);
+  record(p.e, r);
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+}
+
 TEST(PathHold, AbortAfterHoldFlushes) {
   Path p;
   for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
