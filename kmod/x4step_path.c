@@ -180,15 +180,24 @@ __poll_t x4_path_poll(struct x4_port *x4, struct file *file)
 {
 	if (READ_ONCE(x4->controller) != file)
 		return 0;
-	if (!READ_ONCE(x4->path_slots) || x4_path_room(&x4->eng))
+	if (!READ_ONCE(x4->path_slots))
 		return EPOLLOUT | EPOLLWRNORM;
 	WRITE_ONCE(x4->path_room_wanted, true);
-	return 0;
+	smp_mb(); /* pairs with x4_path_room_locked(): one of us sees the other */
+	return x4_path_room(&x4->eng) ? EPOLLOUT | EPOLLWRNORM : 0;
 }
 
 /* The timer freed slots a writer waits for: wake it (slock held). */
 void x4_path_room_locked(struct x4_port *x4)
 {
+	if (!x4_path_active(&x4->eng))
+		return;
+	/*
+	 * The timer advanced head, then reads wanted; a writer sets wanted,
+	 * then reads head (wait_event()'s set_current_state(), or the barrier
+	 * in x4_path_poll()): with this barrier one of them sees the other.
+	 */
+	smp_mb();
 	if (READ_ONCE(x4->path_room_wanted) && x4_path_room(&x4->eng)) {
 		WRITE_ONCE(x4->path_room_wanted, false);
 		irq_work_queue(&x4->wake_work);
