@@ -9,8 +9,9 @@
 #   side (default: X4_QEMU_JOBS or the number of CPUs); -v streams the guest
 #   consoles (and runs one kernel at a time). X4_DEBUGKERNEL=1 adds the debug
 #   kernel (tests/debugkernel) to the kernels.
-# Output: one "PASS|FAIL|SKIP <test> <kver>" line per test and kernel (SKIP: the
-# test does not apply to that kernel, with why), then "N passed, M failed".
+# Output: one "PASS|FAIL|SKIP <test> <kver> [(<seconds> s)]" line per test and
+# kernel (SKIP: the test does not apply to that kernel, with why; the time of a
+# test that ran, to keep the suite's budget in sight), then "N passed, M failed".
 # Logs: build/qemu/<kver>/<test>/ (console.log, dmesg.log, lpt.log,
 # lpt-test.log, run.log, host-check.log), module build: build/qemu/<kver>/src.
 set -euo pipefail
@@ -80,8 +81,8 @@ selected() { # VALUE PATTERNS... : no patterns selects everything
 	return 1
 }
 
-result() { # PASS|FAIL|SKIP TEST KVER [WHY]
-	echo "$1 $2 $3"
+result() { # PASS|FAIL|SKIP TEST KVER [WHY]: with the test's time once it ran
+	echo "$1 $2 $3${took:+ ($took s)}"
 	[ -z "${4:-}" ] || echo "    $4"
 }
 
@@ -116,7 +117,7 @@ kernel_release() { # GLOB EXCLUDE: the newest /boot/vmlinuz-* release matching
 
 # Run the selected tests on one kernel, printing result lines.
 run_kernel() { # KIND|RELEASE (empty: not installed)
-	local label glob exclude skip kver kdir kout why t name script bins flags check out args rc why2 b
+	local label glob exclude skip kver kdir kout why t name script bins flags check out args rc why2 b started took=""
 	IFS='|' read -r label glob exclude skip kver <<<"$1"
 	if [ -z "$kver" ]; then
 		for t in "${tests[@]}"; do
@@ -153,6 +154,7 @@ run_kernel() { # KIND|RELEASE (empty: not installed)
 
 	for t in "${tests[@]}"; do
 		IFS='|' read -r name script bins flags check <<<"$t"
+		took=""
 		selected "$name" "${want_t[@]}" || continue
 		if [[ " ${skip%%:*} " == *" $name "* ]]; then
 			result SKIP "$name" "$kver" "${skip#*:}"
@@ -170,6 +172,7 @@ run_kernel() { # KIND|RELEASE (empty: not installed)
 		# shellcheck disable=SC2206 # flags are words by design
 		args+=(${flags//@KOUT@/$kout})
 		set +e
+		started=$SECONDS
 		if [ "$verbose" = 1 ]; then
 			"$qdir/run-guest.sh" "${args[@]}" "$top/$script" 2>&1 | tee "$out/run.log"
 			rc=${PIPESTATUS[0]}
@@ -178,6 +181,7 @@ run_kernel() { # KIND|RELEASE (empty: not installed)
 			rc=$?
 		fi
 		set -e
+		took=$((SECONDS - started))
 		if [ "$rc" -ne 0 ]; then
 			case "$rc" in
 			124) why2="timeout" ;;
