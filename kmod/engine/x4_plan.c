@@ -282,29 +282,29 @@ void x4_plan_x4step(struct x4_plan *p, u64 steps, u32 freq, u32 ramp)
 void x4_plan_axes(struct x4_plan *p, const s64 *steps)
 {
 	u32 longest = 0;
+	u8 axes = 0, dirs = 0, leader = 0;
 	int i;
 
-	p->dirs = 0;
-	p->axes = 0;
-	p->leader = 0;
+	/* One pass: a path's segment start runs this in the timer. */
 	for (i = 0; i < X4_AXES; i++) {
-		u32 n = (u32)(steps[i] < 0 ? -steps[i] : steps[i]);
+		s64 s = steps[i];
+		u32 n = (u32)(s < 0 ? -s : s);
 
 		p->abs_steps[i] = n;
-		p->sign[i] = steps[i] < 0 ? -1 : 1;
-		if (!n)
-			continue;
-		p->axes |= 1u << i;
-		if (steps[i] > 0)
-			p->dirs |= X4_DIR_BIT(i);
+		p->sign[i] = s < 0 ? -1 : 1;
+		p->bres_inc[i] = 2ull * n;
+		axes |= (n != 0) << i;
+		dirs |= s > 0 ? X4_DIR_BIT(i) : 0;
 		if (n > longest) {
 			longest = n;
-			p->leader = (u8)i;
+			leader = (u8)i;
 		}
 	}
+	p->bres_inc[leader] = 0; /* the leader steps every time */
 	p->bres_2l = 2ull * longest;
-	for (i = 0; i < X4_AXES; i++)
-		p->bres_inc[i] = i == p->leader ? 0 : 2ull * p->abs_steps[i];
+	p->axes = axes;
+	p->dirs = dirs;
+	p->leader = leader;
 }
 
 void x4_plan_search(struct x4_plan *p, u32 v, u32 ae, u32 ve)

@@ -588,26 +588,33 @@ static u64 min_of(u64 planned, u64 min)
 
 /*
  * The fall of the step that rose at now_ns (planned at t_step), and the
- * shortest low time after it. Minimums count from the real edges: a
- * configured pulse or space as configured; otherwise min_of() the plan and
- * X4_CLOCK_MIN_NS (or the configured pulse, for the space).
+ * shortest low time after it, `interval` after t_step the next step's
+ * rise. Minimums count from the real edges: a configured pulse or space
+ * as configured; otherwise min_of() the plan and X4_CLOCK_MIN_NS (or the
+ * configured pulse, for the space).
  */
 static inline void rise_times(struct x4_engine *e, struct x4_chan *c,
-			      u64 t_step, u64 now_ns)
+			      u64 t_step, u64 now_ns, u64 interval)
 {
 	const struct x4_timing *t = &e->timing;
-	u64 high = t->pulse_ns ? t->pulse_ns : c->half_ns;
-	u64 interval = 2 * c->half_ns;
+	u64 high = c->half_ns; /* at most half the interval */
 
-	c->high_min = t->pulse_ns ? high : min_of(high, X4_CLOCK_MIN_NS);
-	if (c->n < c->run.last)
-		interval = c->t_next - c->t_cur;
+	if (!(t->pulse_ns | t->space_ns)) {
+		/* The common case, at every step: no configured times. */
+		c->high_min = min_of(high, X4_CLOCK_MIN_NS);
+		c->space_min = min_of(interval - high, X4_CLOCK_MIN_NS);
+	} else {
+		if (t->pulse_ns)
+			high = t->pulse_ns;
+		c->high_min = t->pulse_ns ? high :
+			min_of(high, X4_CLOCK_MIN_NS);
+		c->space_min = t->space_ns ? t->space_ns :
+			min_of(interval > high ? interval - high : 0,
+			       t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
+	}
 	c->t_pending = t_step + high;
 	if (c->t_pending < now_ns + c->high_min)
 		c->t_pending = now_ns + c->high_min;
-	c->space_min = t->space_ns ? t->space_ns :
-		min_of(interval > high ? interval - high : 0,
-		       t->pulse_ns ? t->pulse_ns : X4_CLOCK_MIN_NS);
 }
 
 /*
@@ -641,6 +648,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	const struct x4_plan *p = &c->run;
 	u64 t_step = c->origin + c->t_cur;
 	u8 hit = (e->inputs ^ c->halt_flip) & c->halt_mask;
+	u64 interval;
 	bool ramp;
 
 	if (hit) {
@@ -662,14 +670,16 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	if (c->n < p->last) {
 		c->t_next = x4_plan_next(&c->run, c->n + 1, c->t_cur, &ramp);
 		c->ctl = ramp ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
-		c->half_ns = (c->t_next - c->t_cur) / 2;
-	} else if (!c->n) {
-		c->half_ns = p->single_half_ns;
-	} else if (c->path) {
-		/* A path's piece ends: the next interval is at its end speed. */
-		c->half_ns = x4_path_end_half(e, c->half_ns);
+		interval = c->t_next - c->t_cur;
+		c->half_ns = interval / 2;
+	} else {
+		if (!c->n)
+			c->half_ns = p->single_half_ns;
+		else if (c->path) /* the next piece begins at its end speed */
+			c->half_ns = x4_path_end_half(e, c->half_ns);
+		/* (A move's last step keeps the step time of the one before.) */
+		interval = 2 * c->half_ns;
 	}
-	/* (The last step of a move keeps the step time of the one before.) */
 
 	if (now_ns < t_step)
 		now_ns = t_step;
@@ -685,7 +695,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	}
 	e->data |= c->stepping;
 	c->phase = X4_FALL;
-	rise_times(e, c, t_step, now_ns);
+	rise_times(e, c, t_step, now_ns, interval);
 }
 
 /* Step n's clock falls and step n + 1 follows (the hot path, with rise()). */
@@ -698,16 +708,23 @@ static inline void fall(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	keep_min(e, c, now_ns + c->space_min);
 }
 
+/* Step n's clock rises (the hot path's other half, with fall()). */
+static noinline void rise_event(struct x4_engine *e, struct x4_chan *c,
+				u64 now_ns)
+{
+	rise(e, c, now_ns);
+	schedule(e, c);
+}
+
 /*
- * Every event but the fall of a step that another step follows (the hot
- * path in x4_engine_fire()), and what runs next.
+ * The events that are not a step's (x4_engine_fire() has those), and what
+ * runs next.
  */
 static noinline void fire_event(struct x4_engine *e, struct x4_chan *c,
 				u64 now_ns)
 {
 	switch (c->phase) {
-	case X4_RISE:
-		rise(e, c, now_ns);
+	case X4_RISE: /* x4_engine_fire()'s */
 		break;
 	case X4_FALL: /* of the last step: the hold counts from the real edge */
 		e->data &= (u8)~c->stepping;
@@ -736,6 +753,10 @@ void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 {
 	struct x4_chan *c = e->cur;
 
+	if (c->phase == X4_RISE) {
+		rise_event(e, c, now_ns);
+		return;
+	}
 	if (c->phase != X4_FALL || c->n >= c->run.last) {
 		fire_event(e, c, now_ns);
 		return;
