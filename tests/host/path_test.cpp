@@ -192,7 +192,7 @@ TEST(PathCheck, BadSegmentsAreRefusedAndChangeNothing) {
     int err;
     const char *what;
   } cases[] = {
-      {Seg(0, 0, 0, 0, 1000, 5000, 50000, 5000), X4_ERR_PARAM_FAIL, "no steps"},
+      {Seg(0, 0, 0, 0, 1000, 5000, 50000, 5000), X4_ERR_NO_STEPS, "no steps"},
       {Seg(100, 0, 0, 0, 0, 5000, 50000, 5000), X4_ERR_PARAM_FAIL, "zero length"},
       {Seg(100, 0, 0, 0, 1000, 0, 50000, 5000), X4_ERR_PARAM_FAIL, "no speed"},
       {Seg(100, 0, 0, 0, 1000, 5000, 0, 5000), X4_ERR_PARAM_FAIL, "no acceleration"},
@@ -209,6 +209,51 @@ TEST(PathCheck, BadSegmentsAreRefusedAndChangeNothing) {
   EXPECT_EQ(st.queued, 0u);
   EXPECT_EQ(st.state, X4_PATH_IDLE);
   EXPECT_FALSE(x4_engine_busy(&p.e));
+}
+
+// The check the module runs on every record and libx4step on every
+// segment (x4_segment_check()), at its edges; x4_path_check() gives the
+// same answer for each (it adds only the port's checks).
+TEST(PathCheck, SegmentCheckAtItsEdges) {
+  Path p;
+  struct {
+    x4_segment s;
+    uint32_t reserved;
+    int err;
+    const char *what;
+  } cases[] = {
+      {Seg(100, 0, 0, 0, 1000, 5000, 50000, 5000), 0, X4_OK, "good"},
+      {Seg(16777216, -16777216, 0, 0, 16777216, 5000, 50000, 0), 0, X4_OK, "+-2^24 steps"},
+      {Seg(-16777217, 0, 0, 0, 16777216, 5000, 50000, 0), 0, X4_ERR_STEPS_TOO_HIGH, "-2^24 - 1 steps"},
+      {Seg(0, INT32_MIN, 0, 0, 1000, 5000, 50000, 0), 0, X4_ERR_STEPS_TOO_HIGH, "INT32_MIN steps"},
+      {Seg(0, 0, INT32_MAX, 0, 1000, 5000, 50000, 0), 0, X4_ERR_STEPS_TOO_HIGH, "INT32_MAX steps"},
+      {Seg(0, 0, 0, 0, 1000, 5000, 50000, 0), 0, X4_ERR_NO_STEPS, "no steps"},
+      {Seg(0, 0, 0, 0, 0, 0, 0, 0), 1, X4_ERR_NO_STEPS, "no steps before reserved fields"},
+      {Seg(100, 0, 0, 0, 0, 5000, 50000, 0), 0, X4_ERR_PARAM_FAIL, "zero length"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 50000, 0), 1, X4_ERR_PARAM_FAIL, "flags"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 50000, 0), 0x80000000u, X4_ERR_PARAM_FAIL, "reserved word"},
+      {Seg(100, 0, 0, 0, 0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff), 0, X4_OK, "values at 2^31 - 1"},
+      {Seg(100, 0, 0, 0, 0x80000000u, 5000, 50000, 0), 0, X4_ERR_PARAM_FAIL, "length 2^31"},
+      {Seg(100, 0, 0, 0, 1000, 0x80000000u, 0x7fffffff, 0), 0, X4_ERR_PARAM_FAIL, "v_max 2^31"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 50000, 0x80000000u), 0, X4_ERR_PARAM_FAIL, "v_entry 2^31"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 0x80000000u, 0), 0, X4_ERR_PARAM_FAIL, "accel 2^31"},
+      {Seg(100, 0, 0, 0, 1000, 0, 50000, 0), 0, X4_ERR_PARAM_FAIL, "no speed"},
+      {Seg(100, 0, 0, 0, 1000, 5000, 0, 0), 0, X4_ERR_PARAM_FAIL, "no acceleration"},
+      {Seg(100, 0, 0, 0, 1000, 1800, 1, 0), 0, X4_ERR_PARAM_FAIL, "leader acceleration 0.1 steps/s^2"},
+      {Seg(100, 0, 0, 0, 100000, 1800000, 1000, 0), 0, X4_OK, "ramp of 1800 s, leader at 1 step/s^2"},
+      {Seg(100, 0, 0, 0, 100000, 1800001, 1000, 0), 0, X4_ERR_PARAM_FAIL, "ramp beyond 1800 s"},
+      {Seg(1000, 0, 0, 0, 1000, 5000, 1000000, 0), 0, X4_OK, "leader acceleration 1e6"},
+      {Seg(1000, 0, 0, 0, 1000, 5000, 1000001, 0), 0, X4_ERR_PARAM_FAIL, "leader acceleration 1e6 + 1"},
+      {Seg(100, 0, 0, 0, 100, 100000, 1000000, 0), 0, X4_OK, "leader at the 100000 steps/s ceiling"},
+      {Seg(100, 0, 0, 0, 100, 100001, 1000000, 0), 0, X4_ERR_RATE_BUDGET, "leader above the ceiling"},
+      {Seg(16777216, 0, 0, 0, 1, 1, 1, 0), 0, X4_ERR_PARAM_FAIL, "2^24 steps in one unit: leader accel"},
+  };
+  for (const auto &c : cases) {
+    EXPECT_EQ(x4_segment_check(&c.s, c.reserved), c.err) << c.what;
+    if (!c.reserved) {
+      EXPECT_EQ(x4_path_check(&p.e, &c.s), c.err) << c.what;
+    }
+  }
 }
 
 TEST(PathCheck, PathAndMovesExcludeEachOther) {
