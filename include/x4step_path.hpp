@@ -83,8 +83,9 @@ class segment {
   std::uint64_t tag_ = 0;
 };
 
-/// Why a segment is invalid (param_fail, steps_too_high, no_steps), or
-/// errc::ok: the kernel's checks that do not depend on the port.
+/// Why a segment is invalid (steps_too_high, no_steps, param_fail, or
+/// freq_too_high: its leader faster than any port steps), or errc::ok: the
+/// kernel's own check of a record, as far as it does not depend on the port.
 errc check(const segment &s) noexcept;
 
 /// The highest speed at the corner between two straight pieces, by GRBL's

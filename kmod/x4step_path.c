@@ -68,8 +68,6 @@ static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 	unsigned long flags;
 	int ret, i;
 
-	if (r->flags || r->reserved)
-		return -EINVAL;
 	for (i = 0; i < X4_AXES; i++)
 		seg.steps[i] = r->steps[i];
 	seg.length = r->length;
@@ -77,6 +75,10 @@ static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 	seg.v_entry = r->v_entry;
 	seg.accel = r->accel;
 	seg.tag = r->tag;
+	/* libx4step runs the same check before it writes. */
+	ret = x4_segment_check(&seg, r->flags | r->reserved);
+	if (ret)
+		return x4_errno(ret);
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_path_check(&x4->eng, &seg);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cstdint>
 #include <string>
 
 #include "x4step.hpp"
@@ -14,6 +15,12 @@
 namespace x4step::detail {
 
 [[noreturn]] void fail(errc e);
+
+/// Steps for the kernel's checks (32 bits): beyond the range, a value they
+/// also refuse.
+inline std::int32_t narrow_steps(long s) {
+  return static_cast<std::int32_t>(std::clamp<long>(s, -steps_max - 1, steps_max + 1));
+}
 /// An errno the library did not expect: std::system_category().
 [[noreturn]] void fail_errno(int err, const std::string &what);
 /// An ioctl's (or write's) errno as the X4Step error it means; `result`:

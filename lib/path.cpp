@@ -14,6 +14,10 @@
 #include "detail.hpp"
 #include "x4step_path.hpp"
 
+extern "C" {
+#include "x4_check.h"  // the kernel's own argument checks
+}
+
 namespace x4step {
 
 using detail::deadline;
@@ -89,16 +93,16 @@ void ctl(const controller &c, unsigned cmd, unsigned value, const char *what) {
 
 }  // namespace
 
+// The kernel's own check of a record (kmod/engine/x4_check.c).
 errc check(const segment &s) noexcept {
-  long leader = 0;
-  for (axis a : axis_set::all()) leader = std::max(leader, std::labs(s.steps(a)));
-  if (!leader) return errc::no_steps;
-  if (leader > 16777216) return errc::steps_too_high;
-  if (!s.length() || !s.top_speed() || !s.accel() || s.length() > value_max || s.top_speed() > value_max ||
-      s.entry_speed() > value_max || s.accel() > value_max ||
-      std::uint64_t(s.top_speed()) > std::uint64_t(1800) * s.accel())
-    return errc::param_fail;
-  return errc::ok;
+  x4_segment k{};
+  for (axis a : axis_set::all()) k.steps[a.index()] = detail::narrow_steps(s.steps(a));
+  k.length = s.length();
+  k.v_max = s.top_speed();
+  k.v_entry = s.entry_speed();
+  k.accel = s.accel();
+  const int ret = x4_segment_check(&k, 0);
+  return ret == X4_ERR_RATE_BUDGET ? errc::freq_too_high : static_cast<errc>(ret);
 }
 
 std::uint32_t junction_speed(const std::array<double, axes> &in, const std::array<double, axes> &out,

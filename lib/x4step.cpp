@@ -122,6 +122,7 @@ using detail::deadline;
 using detail::fail;
 using detail::fail_errno;
 using detail::fail_ioctl;
+using detail::narrow_steps;
 
 // A controller's open refused with EBUSY: say who holds the port. The
 // parport core names the device that has claimed parportN (the device's
@@ -337,11 +338,6 @@ std::array<long, axes> one_axis(axis a, long value) {
 uint8_t narrow_input(int in) {
   if (in < 0 || in > inputs_count) fail(errc::param_fail);
   return static_cast<uint8_t>(in);
-}
-
-int32_t narrow_steps(long s) {
-  // Beyond the range, keep a value the kernel's check also refuses.
-  return static_cast<int32_t>(std::clamp<long>(s, -steps_max - 1, steps_max + 1));
 }
 
 }  // namespace

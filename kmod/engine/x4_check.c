@@ -75,3 +75,27 @@ int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref)
 		return X4_ERR_PARAM_FAIL;
 	return X4_OK;
 }
+
+int x4_segment_check(const struct x4_segment *s, u32 reserved)
+{
+	u32 leader = x4_segment_leader(s);
+	u64 length = s->length;
+
+	if (leader > X4_STEPS_MAX)
+		return X4_ERR_STEPS_TOO_HIGH;
+	if (!leader)
+		return X4_ERR_NO_STEPS;
+	if (reserved || !length || !s->v_max || !s->accel ||
+	    length > X4_PATH_VALUE_MAX || s->v_max > X4_PATH_VALUE_MAX ||
+	    s->v_entry > X4_PATH_VALUE_MAX || s->accel > X4_PATH_VALUE_MAX ||
+	    (u64)s->v_max > (u64)X4_PATH_RAMP_MAX_S * s->accel)
+		return X4_ERR_PARAM_FAIL;
+	/* The leader's acceleration: at least 1, at most the ramp maths'. */
+	if ((u64)s->accel * leader < length ||
+	    (u64)s->accel * leader > (u64)X4_ACC_MAX * length)
+		return X4_ERR_PARAM_FAIL;
+	/* Its rate at v_max: no port steps faster (x4_path_check(): the port's). */
+	if ((u64)s->v_max * leader > (u64)X4_VEL_MAX * length)
+		return X4_ERR_RATE_BUDGET;
+	return X4_OK;
+}

@@ -97,6 +97,43 @@ enum x4_output_mode {
 	X4_MODE_SMC_PHASE_HOLD = 2, /* the same, reduced current at rest */
 };
 
+/*
+ * A path segment (x4_path.h) as written by user space: the axes move by
+ * `steps`, along `length` path units (any unit: user space chooses), at
+ * path speeds (units/s) up to v_max, entering at most at v_entry (the
+ * corner before it allows no more), accelerating and braking with accel
+ * (units/s^2). The leader axis' steps lie at equal path distances.
+ */
+struct x4_segment {
+	s32 steps[X4_AXES];
+	u32 length;
+	u32 v_max;
+	u32 v_entry;
+	u32 accel;
+	u64 tag;
+};
+
+#define X4_PATH_RAMP_MAX_S 1800 /* v_max / accel: 200 % fits the ramp math */
+#define X4_PATH_VALUE_MAX 0x7fffffffu /* lengths, speeds: squares fit 64 bits */
+
+/* |v|, also of S32_MIN (2^31). */
+static inline u32 x4_abs_s32(s32 v)
+{
+	return v < 0 ? (u32)-(s64)v : (u32)v;
+}
+
+/* A segment's leader steps: the largest |steps[i]|. */
+static inline u32 x4_segment_leader(const struct x4_segment *s)
+{
+	u32 leader = 0;
+	int i;
+
+	for (i = 0; i < X4_AXES; i++)
+		if (x4_abs_s32(s->steps[i]) > leader)
+			leader = x4_abs_s32(s->steps[i]);
+	return leader;
+}
+
 /* Reference run phases (x4_engine_home). */
 #define X4_HOME_PHASE1 1
 #define X4_HOME_PHASE2 2
@@ -110,5 +147,13 @@ int x4_profile_check(const struct x4_profile *p);
 int x4_timing_check(const struct x4_timing *t, u8 mode);
 /* A reference run's own arguments (not its axis, switch or output mode). */
 int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref);
+/*
+ * A path segment's own arguments, whatever the port (the module checks
+ * every record with it, libx4step every segment before it writes), in
+ * this order: steps (X4_ERR_STEPS_TOO_HIGH, X4_ERR_NO_STEPS); `reserved`,
+ * the record's fields that must be 0, and the values (X4_ERR_PARAM_FAIL);
+ * the leader's rate at v_max above X4_VEL_MAX (X4_ERR_RATE_BUDGET).
+ */
+int x4_segment_check(const struct x4_segment *s, u32 reserved);
 
 #endif /* X4_CHECK_H */

@@ -44,11 +44,6 @@ static inline s32 x4_position(const struct x4_engine *e, int i)
 	return (s32)(e->pos_base[i] + (u32)e->steps[i]);
 }
 
-static inline u32 x4_abs_s32(s32 v)
-{
-	return v < 0 ? (u32)-(s64)v : (u32)v;
-}
-
 /* Rounded Bresenham: the minor axes start half a step along. */
 static inline void x4_bres_start(struct x4_chan *c)
 {

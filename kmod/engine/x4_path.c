@@ -98,33 +98,20 @@ int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
 
 int x4_path_check(const struct x4_engine *e, const struct x4_segment *s)
 {
-	u32 leader = 0, length = s->length;
+	u32 leader = x4_segment_leader(s);
+	int ret = x4_segment_check(s, 0);
 	u8 axes = 0;
 	int i;
 
-	for (i = 0; i < X4_AXES; i++) {
-		u32 n = x4_abs_s32(s->steps[i]);
-
-		if (n > X4_STEPS_MAX)
-			return X4_ERR_STEPS_TOO_HIGH;
-		if (n)
+	if (ret)
+		return ret;
+	for (i = 0; i < X4_AXES; i++)
+		if (s->steps[i])
 			axes |= 1u << i;
-		if (n > leader)
-			leader = n;
-	}
-	if (!leader || !length || axes & ~x4_mode_axes(e))
-		return X4_ERR_PARAM_FAIL;
-	if (!s->v_max || !s->accel || length > X4_PATH_VALUE_MAX ||
-	    s->v_max > X4_PATH_VALUE_MAX || s->v_entry > X4_PATH_VALUE_MAX ||
-	    s->accel > X4_PATH_VALUE_MAX ||
-	    (u64)s->v_max > (u64)X4_PATH_RAMP_MAX_S * s->accel)
-		return X4_ERR_PARAM_FAIL;
-	/* The leader's acceleration: at least 1, at most the ramp maths'. */
-	if ((u64)s->accel * leader < length ||
-	    (u64)s->accel * leader > (u64)X4_ACC_MAX * length)
+	if (axes & ~x4_mode_axes(e))
 		return X4_ERR_PARAM_FAIL;
 	/* Its rate at v_max: within what the port can do. */
-	if ((u64)s->v_max * leader > rate_max(e) * length)
+	if ((u64)s->v_max * leader > rate_max(e) * s->length)
 		return X4_ERR_RATE_BUDGET;
 	if (e->busy & ~(e->ch[0].path ? 1u : 0u))
 		return X4_ERR_IS_ACTIVE; /* other moves run */
@@ -192,12 +179,8 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 {
 	struct x4_path *pa = &e->path;
 	struct x4_path_slot *s = slot_of(pa, pa->tail);
-	u32 leader = 0;
-	int i;
+	u32 leader = x4_segment_leader(seg);
 
-	for (i = 0; i < X4_AXES; i++)
-		if (x4_abs_s32(seg->steps[i]) > leader)
-			leader = x4_abs_s32(seg->steps[i]);
 	s->seg = *seg;
 	s->leader = leader;
 	s->v_rate = (u32)min_u64(to_path(s, rate_max(e)), X4_PATH_VALUE_MAX);

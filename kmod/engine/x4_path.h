@@ -21,25 +21,6 @@
 
 #include "x4_check.h"
 
-#define X4_PATH_RAMP_MAX_S 1800 /* v_max / accel: 200 % fits the ramp math */
-#define X4_PATH_VALUE_MAX 0x7fffffffu /* lengths, speeds: squares fit 64 bits */
-
-/*
- * A segment as written by user space (validated): the axes move by
- * `steps`, along `length` path units (any unit: user space chooses), at
- * path speeds (units/s) up to v_max, entering at most at v_entry (the
- * corner before it allows no more), accelerating and braking with accel
- * (units/s^2). The leader axis' steps lie at equal path distances.
- */
-struct x4_segment {
-	s32 steps[X4_AXES];
-	u32 length;
-	u32 v_max;
-	u32 v_entry;
-	u32 accel;
-	u64 tag;
-};
-
 /* A queued segment and its planned entry speed (path units/s). */
 struct x4_path_slot {
 	struct x4_segment seg;

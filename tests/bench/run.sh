@@ -8,6 +8,7 @@ build=${BUILD:-build}
 bench=$build/tests/engine_bench
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+failed=0
 
 echo "== engine: 4 axes (20000/15000/-10000/5000 steps), 20 kHz, 50 ms ramps"
 "$bench"
@@ -27,9 +28,17 @@ hit=$(cat "$tmp"/hit.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n | tail -
 echo "worst single event: a shared limit ending four axes' moves: $hit instructions"
 
 echo
+# Junction and ramp fidelity (issue 18): the edges of a multi-segment path
+# against a double-precision reference of its plan; a bound exceeded makes
+# this script exit non-zero at its end.
+echo "== paths: junction and ramp fidelity against the plan in double (tests/bench/path_bench.cpp --junctions)"
+"$build/tests/path_bench" --junctions || failed=1
+echo
+
 for chord in 4 20; do
 	echo "== paths: a circle of 5000 chords of $chord steps, 10000 steps/s, 256-segment queue (tests/bench/path_bench.cpp)"
 	"$build/tests/path_bench" --chord $chord
+	"$build/tests/path_bench" --chord $chord --reference | grep -v '^path:'
 	valgrind --tool=callgrind --toggle-collect=x4_engine_fire --callgrind-out-file="$tmp/path" \
 		"$build/tests/path_bench" --chord $chord >"$tmp/path.out" 2>&1
 	steps=$(sed -n 's/.*chords, \([0-9]*\) leader steps.*/\1/p' "$tmp/path.out")
@@ -74,3 +83,4 @@ echo
 echo "== module: sustained segment rate of a streamed path (QEMU -icount, Debian 6.1)"
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t path >/dev/null 2>&1 || echo "(the path run failed: see $qout)"
 cat "$qout"/6.1.*/path/console.log | tr -d '\r' | grep -E '^sustained:'
+exit $failed

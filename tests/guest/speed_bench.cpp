@@ -18,7 +18,6 @@
 #include <linux/x4step.h>
 #include <poll.h>
 #include <sys/ioctl.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -28,14 +27,17 @@
 #include <string>
 #include <vector>
 
+#include "bench.hpp"
 #include "check.hpp"
 
 namespace {
 
 using guest::Check;
 using guest::F;
+using guest::Percentile;
 using guest::Put;
 using guest::Slurp;
+using guest::Spin;
 
 const std::string kV = "/sys/kernel/debug/x4vport/";
 uint32_t accel = 1000000;  // steps/s^2: 0.1 s ramps at 100 000 steps/s; 0: no ramps
@@ -43,32 +45,7 @@ int fd = -1;
 uint64_t idle_loops;  // of Spin(kSpinNs) with no move running
 constexpr uint64_t kSpinNs = 100000000;
 
-uint64_t NowNs() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
-
-// Loops of a user-space spinner in `ns` of guest time: what the CPU has
-// left for everything but the step timer.
-uint64_t Spin(uint64_t ns) {
-  volatile uint64_t n = 0;
-  const uint64_t end = NowNs() + ns;
-  while (NowNs() < end) n = n + 1;
-  return n;
-}
-
 int Ioctl(unsigned long cmd, void *arg = nullptr) { return ::ioctl(fd, cmd, arg) == 0 ? 0 : errno; }
-
-uint64_t Percentile(const x4step_timing &t, unsigned permille) {
-  const uint64_t want = (t.events * permille + 999) / 1000;
-  uint64_t seen = 0;
-  for (int i = 0; i < X4STEP_TIMING_BUCKETS; i++) {
-    seen += t.hist[i];
-    if (seen >= want) return uint64_t(i + 1) * X4STEP_TIMING_BUCKET_NS;
-  }
-  return t.late_max_ns;
-}
 
 // Axis 1's clock in the trace since the last clear.
 struct Edges {

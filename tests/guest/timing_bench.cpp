@@ -8,7 +8,6 @@
 #include <linux/x4step.h>
 #include <poll.h>
 #include <sys/ioctl.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,22 +19,16 @@
 #include <string>
 #include <vector>
 
+#include "bench.hpp"
 #include "check.hpp"
 #include "engine_ref.h"
 
 namespace {
 
 using guest::Check;
-
-uint64_t Percentile(const x4step_timing &t, unsigned permille) {
-  const uint64_t want = (t.events * permille + 999) / 1000;
-  uint64_t seen = 0;
-  for (int i = 0; i < X4STEP_TIMING_BUCKETS; i++) {
-    seen += t.hist[i];
-    if (seen >= want) return uint64_t(i + 1) * X4STEP_TIMING_BUCKET_NS;
-  }
-  return t.late_max_ns;
-}
+using guest::Percentile;
+using guest::Slurp;
+using guest::Spin;
 
 bool RunMove(const char *dev, x4step_move m, x4step_timing *timing) {
   const int fd = open(dev, O_RDWR);
@@ -48,21 +41,6 @@ bool RunMove(const char *dev, x4step_move m, x4step_timing *timing) {
   if (timing) ok = ok && ioctl(fd, X4STEP_GET_TIMING, timing) == 0;
   close(fd);
   return ok;
-}
-
-uint64_t NowNs() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
-
-// Loops of a user-space spinner in `ns` of guest time: what the CPU has
-// left for everything but the step timer.
-uint64_t Spin(uint64_t ns) {
-  volatile uint64_t n = 0;
-  const uint64_t end = NowNs() + ns;
-  while (NowNs() < end) n = n + 1;
-  return n;
 }
 
 // The CPU time one timer event costs (interrupt, hrtimer, engine, port
@@ -101,13 +79,6 @@ bool StartTwo45k(int fd) {
 bool StartOne20k(int fd) {
   x4step_endless e{1, 1, 20000, 0, 0, 0, {0, 0}};
   return ioctl(fd, X4STEP_MOVE_ENDLESS, &e) == 0;
-}
-
-std::string Slurp(const char *path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <climits>
 #include <cstdarg>
 #include <cstring>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include "x4step.hpp"
 #include "x4step_access.hpp"
 #include "x4step_ext.h"
+#include "x4step_path.hpp"
 
 using namespace std::chrono_literals;
 
@@ -112,6 +114,28 @@ TEST(CppApi, CheckMatchesTheManual) {
             errc::ramp_too_high);
   EXPECT_EQ(x4step::check_endless(1000, 0ms), errc::ok);
   EXPECT_EQ(x4step::check_endless(20, 50ms), errc::ramp_freq);
+}
+
+// A segment is checked by the kernel's own check (x4_segment_check()):
+// steps beyond 32 bits, LONG_MIN among them, are too many, not wrapped.
+TEST(CppApi, SegmentCheckIsTheKernels) {
+  using x4step::axis;
+  using x4step::errc;
+  const auto seg = [](long x, std::uint32_t length, std::uint32_t v, std::uint32_t a) {
+    return x4step::segment{}.steps(axis::x, x).steps(axis::y, 1).length(length).top_speed(v).accel(a);
+  };
+  EXPECT_EQ(x4step::check(seg(100, 1000, 5000, 50000)), errc::ok);
+  EXPECT_EQ(x4step::check(seg(-16777216, 16777216, 5000, 50000)), errc::ok);
+  EXPECT_EQ(x4step::check(seg(-16777217, 16777216, 5000, 50000)), errc::steps_too_high);
+  EXPECT_EQ(x4step::check(seg(LONG_MIN, 1000, 5000, 50000)), errc::steps_too_high);
+  EXPECT_EQ(x4step::check(seg(LONG_MAX, 1000, 5000, 50000)), errc::steps_too_high);
+  EXPECT_EQ(x4step::check(seg((1L << 32) + 100, 1000, 5000, 50000)), errc::steps_too_high);
+  EXPECT_EQ(x4step::check(x4step::segment{}.length(1000).top_speed(5000).accel(50000)), errc::no_steps);
+  EXPECT_EQ(x4step::check(seg(100, 0, 5000, 50000)), errc::param_fail);
+  EXPECT_EQ(x4step::check(seg(100, 1000, 5000, 50000).entry_speed(0x80000000u)), errc::param_fail);
+  EXPECT_EQ(x4step::check(seg(100, 100000, 1000, 1)), errc::param_fail);  // leader at 0.001 steps/s^2
+  EXPECT_EQ(x4step::check(seg(100, 100, 100000, 1000000)), errc::ok);     // 100000 steps/s
+  EXPECT_EQ(x4step::check(seg(100, 100, 100001, 1000000)), errc::freq_too_high);
 }
 
 // Axes are 1..4 and sets of them; integers become either only explicitly
