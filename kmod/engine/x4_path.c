@@ -257,11 +257,18 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 	if (v0 > vc) {
 		/* Brake to vc, or as far as the segment lets. */
 		d = x4_div(v0 * v0 - vc * vc + 2 * a - 1, 2 * a);
-		if (d <= rest) {
+		if (d < rest) {
 			ve = vc;
 		} else {
+			/*
+			 * The brake reaches the segment's end: to the exit
+			 * there (or vc), if the ramp gets that slow.
+			 */
+			u64 reach = v0 * v0 > 2 * a * rest ?
+				x4_isqrt(v0 * v0 - 2 * a * rest) : 0;
+
 			d = rest;
-			ve = x4_isqrt(v0 * v0 - 2 * a * rest);
+			ve = reach > ve ? reach : ve;
 		}
 		f.vm = (u32)v0;
 		f.ae = (u32)a;

@@ -537,14 +537,9 @@ TEST(PathOverride, DropAtEveryMomentKeepsTheLimits) {
       ASSERT_EQ(x4_path_set_override(&p.e, pct), X4_OK);
       x4_path_replan(&p.e);
       x4_path_kick(&p.e, x4_engine_due(&p.e));
-      // Not RunToEnd(): an override dropped during the last segment's
-      // brake to rest (1 %, event 2710) ends the path at the new cruise
-      // speed, 40 steps/s, not at rest (x4_path.c, plan_piece(): a brake
-      // to vc that ends at the segment's end takes ve = vc, not the exit).
-      record(p.e, r);
-      p.ExpectAtTarget();
-      p.ExpectPinsAtTarget(r);
-      CheckPhysics(LeaderSteps(r, p.sent), p.sent);
+      // At 1 %, event 2710: a brake to the new cruise speed that ends
+      // at the last segment's end must still end at rest.
+      RunToEnd(p, r);
       if (HasFailure()) {
         ADD_FAILURE() << "override " << pct << " % at event " << k;
         return;
