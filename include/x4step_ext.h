@@ -169,7 +169,8 @@ typedef struct X4Segment {
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrNoSteps,
  *  X4ErrStepsTooHigh, X4ErrFreqTooHigh (faster than the port can step),
  *  X4ErrIsActive (another move runs), X4ErrNotActive (the path was
- *  flushed: X4PathClear first) */
+ *  flushed: X4PathClear first; or it is held and the queue is full:
+ *  X4PathResume first) */
 int X4PathAppend(const X4Segment *segments, int count);
 /** Brake the path along it to rest. @return X4NoErr, X4ErrInitNotDone, X4ErrNotActive */
 int X4PathHold(void);

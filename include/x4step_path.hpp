@@ -147,7 +147,9 @@ class path {
   /// the path was flushed (a stop, an emergency stop, a limit switch, an
   /// abort, a brake key that aborts), it throws not_active until clear():
   /// a program learns that its path was stopped, rather than running the
-  /// rest from where it stood.
+  /// rest from where it stood. A held path (hold(), a brake key) frees no
+  /// room: with the queue full, it throws not_active, rather than wait
+  /// for a resume() that the waiting thread itself would have to give.
   void append(const segment &s);
   void append(const std::vector<segment> &s);
   /// Queue what fits now, without waiting; how many were queued.
@@ -161,8 +163,9 @@ class path {
   void set_override(unsigned percent);
 
   path_status status() const;
-  /// Block until the path stands: its queue ran empty, or a hold reached
-  /// rest (poll(), no spinning). False on timeout; -1 waits for ever.
+  /// Block until the path stands: its queue ran empty (done, or flushed by
+  /// an abort, a stop or a limit), or a hold reached rest (poll(), no
+  /// spinning); status() tells which. False on timeout; -1: for ever.
   bool wait(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
   /// The controller's descriptor: POLLOUT while the queue has room.
   int fd() const noexcept { return c_->fd(); }

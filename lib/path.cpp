@@ -156,9 +156,22 @@ void path::append(const std::vector<segment> &s) {
   while (done < s.size()) {
     done += try_append(s.data() + done, s.size() - done);
     if (done == s.size()) break;
-    pollfd p{need_fd(*c_), POLLOUT, 0};
+    // Full: wait for room (POLLOUT), or until no move runs (POLLIN). A
+    // path that stands then is held, and no room comes until a resume():
+    // say so rather than wait for ever (or for 5 ms: it starts now).
+    pollfd p{need_fd(*c_), POLLOUT | POLLIN, 0};
     if (::poll(&p, 1, -1) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
     if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
+    if (p.revents & POLLOUT || !(p.revents & POLLIN)) continue;
+    const path_state now = status().state;
+    if (now == path_state::held)
+      throw error(make_error_code(errc::not_active),
+                  "the path is held and its queue is full: resume() it (or abort()) before appending more; " +
+                      std::to_string(done) + " of " + std::to_string(s.size()) + " segments were queued");
+    if (now == path_state::idle) {
+      p.events = POLLOUT;
+      if (::poll(&p, 1, 5) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
+    }
   }
 }
 

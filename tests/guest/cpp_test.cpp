@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <future>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -19,6 +20,7 @@
 
 #include "check.hpp"
 #include "x4step.hpp"
+#include "x4step_path.hpp"
 
 using namespace std::chrono_literals;
 
@@ -167,6 +169,59 @@ void EventsThroughTheLibrary() {
         "operator<< of an event: " + all);
 }
 
+// x4step::path on the virtual port: a path held with a full queue frees
+// no room, so append() says so instead of waiting for ever; after a resume
+// it waits for room, and the path ends where an uninterrupted one would.
+void PathAppendWhileHeld() {
+  const char *dev = "/dev/x4step1";
+  if (access(dev, F_OK)) {
+    std::printf("SKIP path held with a full queue: no %s (x4vport)\n", dev);
+    return;
+  }
+  x4step::controller c{std::string(dev)};
+  x4step::path p(c);
+  const auto one = x4step::segment{}.steps(x4step::axis::x, 10).length(10).top_speed(2000).entry_speed(2000).accel(20000);
+  const std::vector<x4step::segment> all(300, one);
+  const auto done0 = p.status().done;  // since the module was loaded
+  const long x0 = c.get_axes()[x4step::axis::x].position;
+  const std::size_t queued = p.try_append(all.data(), all.size());
+  const std::vector<x4step::segment> rest(all.begin() + long(queued), all.end());
+  p.hold();
+  Check(queued == 256 && p.wait(5s) && p.status().state == x4step::path_state::held,
+        guest::F("path: %zu of 300 segments fit, then held", queued));
+  // Were it to wait for room, an abort from here ends the wait (the one
+  // call from a second thread, only when the check already failed).
+  auto append = std::async(std::launch::async, [&]() -> std::string {
+    try {
+      p.append(rest);
+    } catch (const x4step::error &e) {
+      return std::to_string(e.code().value()) + " " + e.what();
+    }
+    return "returned";
+  });
+  if (append.wait_for(3s) != std::future_status::ready) {
+    Check(false, "path: append() to a held, full path returns within 3 s");
+    p.abort();
+  }
+  const std::string what = append.get();
+  Check(what.rfind("7 ", 0) == 0 && what.find("held and its queue is full: resume()") != std::string::npos,
+        "path: append() to a held, full path throws not_active and says to resume: " + what);
+  p.resume();
+  p.append(rest);
+  const x4step::path_status st = p.status();
+  const bool ended = p.wait(10s);
+  const auto done = p.status().done - done0;
+  const long moved = c.get_axes()[x4step::axis::x].position - x0;
+  const x4step::path_status end = p.status();
+  Check(ended && done == 300 && moved == 3000,
+        guest::F("path: resumed, the rest appended as room came: %llu segments done, %ld steps, state %d, %u "
+                 "queued, speed %u, override %u, starved %llu, active %d",
+                 static_cast<unsigned long long>(done), moved, int(end.state), unsigned(end.queued),
+                 unsigned(end.speed), unsigned(end.override_percent), (unsigned long long)end.starved,
+                 int(c.get_status().active)));
+  Check(st.state == x4step::path_state::running, "path: running while the rest was appended");
+}
+
 }  // namespace
 
 int main() {
@@ -217,6 +272,7 @@ int main() {
   EventsThroughTheLibrary();
   CloseWaitsForTheBrake();
   BusyByPpdev();
+  PathAppendWhileHeld();
   PortGoesAwayInDestructor();
   return guest::Finish("cpp_test");
 }

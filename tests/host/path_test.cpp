@@ -846,3 +846,30 @@ TEST(PathRun, AppendDuringTheFirstStepKeepsTheRamp) {
   const double a = 200000, t1 = std::sqrt(2 / a), t2 = std::sqrt(4 / a);
   EXPECT_NEAR((r.rises[1][1] - r.rises[1][0]) * 1e-9, t2 - t1, 1e-6);
 }
+
+// A full queue held, resumed, and refilled as room comes (as
+// x4step::path::append() does): the path runs to its end.
+TEST(PathHold, FullQueueHeldResumedAndRefilled) {
+  for (size_t k : {0u, 1u, 2u, 5u, 40u, 400u}) {
+    Path p;
+    const x4_segment s = Seg(10, 0, 0, 0, 10, 2000, 20000, 2000);
+    size_t pushed = 0;
+    while (pushed < 256 && p.Push(s) == X4_OK) pushed++;
+    ASSERT_EQ(pushed, 256u);
+    Recording r;
+    if (k) record(p.e, r, k);
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    record(p.e, r);
+    ASSERT_EQ(p.Status().state, X4_PATH_HELD) << "hold after " << k << " events";
+    const uint64_t t = r.events.empty() ? kStart + 1000000 : r.events.back().t_ns + 1000000;
+    ASSERT_EQ(x4_path_resume(&p.e, t), X4_OK);
+    while (x4_engine_busy(&p.e)) {
+      record(p.e, r, 1);
+      if (pushed < 300 && x4_path_room(&p.e) && p.Push(s, r.events.back().t_ns) == X4_OK) pushed++;
+    }
+    EXPECT_EQ(pushed, 300u);
+    p.ExpectAtTarget();
+    EXPECT_EQ(p.Status().state, X4_PATH_IDLE) << "hold after " << k << " events";
+    EXPECT_EQ(p.Status().queued, 0u) << "hold after " << k << " events";
+  }
+}
