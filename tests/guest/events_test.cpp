@@ -6,7 +6,6 @@
 // Prints PASS/FAIL lines.
 #include <fcntl.h>
 #include <linux/ppdev.h>
-#include <linux/uinput.h>
 #include <linux/x4step.h>
 #include <poll.h>
 #include <sys/ioctl.h>
@@ -28,6 +27,7 @@
 #include <vector>
 
 #include "check.hpp"
+#include "keyboard.hpp"
 
 namespace {
 
@@ -171,43 +171,6 @@ int Zero(int fd) {
   x4step_position p{0xf, 0, {0, 0, 0, 0}};
   return Ioctl(fd, X4STEP_SET_POSITION, &p);
 }
-
-// A uinput keyboard (the module's brake key handler listens to every keyboard).
-class Keyboard {
- public:
-  Keyboard() : fd_(open("/dev/uinput", O_WRONLY | O_NONBLOCK | O_CLOEXEC)) {
-    ioctl(fd_, UI_SET_EVBIT, EV_KEY);
-    ioctl(fd_, UI_SET_KEYBIT, KEY_ESC);
-    ioctl(fd_, UI_SET_KEYBIT, KEY_A);
-    uinput_setup setup{};
-    setup.id.bustype = BUS_VIRTUAL;
-    std::strcpy(setup.name, "x4step events test keyboard");
-    ioctl(fd_, UI_DEV_SETUP, &setup);
-    ioctl(fd_, UI_DEV_CREATE);
-    usleep(200000);
-  }
-  ~Keyboard() {
-    ioctl(fd_, UI_DEV_DESTROY);
-    close(fd_);
-  }
-  bool ok() const { return fd_ >= 0; }
-  void Tap(int key) {
-    Send(EV_KEY, key, 1);
-    Send(EV_SYN, SYN_REPORT, 0);
-    Send(EV_KEY, key, 0);
-    Send(EV_SYN, SYN_REPORT, 0);
-  }
-
- private:
-  void Send(int type, int code, int value) {
-    input_event ev{};
-    ev.type = static_cast<uint16_t>(type);
-    ev.code = static_cast<uint16_t>(code);
-    ev.value = value;
-    if (write(fd_, &ev, sizeof ev) != sizeof ev) std::perror("uinput write");
-  }
-  int fd_;
-};
 
 // ---- 1: a port x4step has not claimed is left alone -------------------------
 
@@ -441,7 +404,7 @@ void Switches(Stream &mon, int c) {
 }
 
 void Keys(Stream &mon, int c) {
-  Keyboard kb;
+  guest::Keyboard kb("x4step events test keyboard");
   if (!kb.ok()) {
     Check(false, "uinput keyboard");
     return;

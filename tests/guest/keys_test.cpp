@@ -3,13 +3,10 @@
 // input handler brakes. Prints PASS/FAIL lines and the brake latency.
 // With X4STEP_CFG_KEYS_SWALLOW an evdev reader of the same keyboard checks
 // that a key's press and release are swallowed together.
-#include <dirent.h>
 #include <fcntl.h>
-#include <linux/uinput.h>
 #include <linux/x4step.h>
 #include <poll.h>
 #include <sys/ioctl.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,83 +17,12 @@
 #include <vector>
 
 #include "check.hpp"
+#include "keyboard.hpp"
 
 namespace {
 
 using guest::Check;
-
-uint64_t NowNs() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + ts.tv_nsec;
-}
-
-class Keyboard {
- public:
-  Keyboard() : fd_(open("/dev/uinput", O_WRONLY | O_NONBLOCK)) {
-    ioctl(fd_, UI_SET_EVBIT, EV_KEY);
-    for (int k = 1; k < 128; k++) ioctl(fd_, UI_SET_KEYBIT, k);
-    uinput_setup setup{};
-    setup.id.bustype = BUS_VIRTUAL;
-    std::strcpy(setup.name, "x4step test keyboard");
-    ioctl(fd_, UI_DEV_SETUP, &setup);
-    ioctl(fd_, UI_DEV_CREATE);
-    usleep(200000);  // let the handlers connect
-  }
-  ~Keyboard() {
-    if (evdev_ >= 0) close(evdev_);
-    ioctl(fd_, UI_DEV_DESTROY);
-    close(fd_);
-  }
-  bool ok() const { return fd_ >= 0; }
-  // The keyboard's own /dev/input/eventN, read as an application would.
-  // Returns its descriptor, -1 if not found.
-  int OpenEvdev() {
-    DIR *d = opendir("/dev/input");
-    for (dirent *e; d && (e = readdir(d));) {
-      if (std::strncmp(e->d_name, "event", 5)) continue;
-      const std::string path = std::string("/dev/input/") + e->d_name;
-      const int fd = open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-      char name[64] = {};
-      if (fd >= 0 && ioctl(fd, EVIOCGNAME(sizeof name - 1), name) >= 0 &&
-          !std::strcmp(name, "x4step test keyboard")) {
-        evdev_ = fd;
-        break;
-      }
-      if (fd >= 0) close(fd);
-    }
-    if (d) closedir(d);
-    return evdev_;
-  }
-  // What the reader got since the last call: "+" press, "-" release, "r"
-  // repeat of `key`, in order (the other keys are ignored).
-  std::string Seen(int key) {
-    std::string seen;
-    input_event ev[64];
-    ssize_t n;
-    while ((n = read(evdev_, ev, sizeof ev)) > 0)
-      for (ssize_t i = 0; i < n / ssize_t(sizeof ev[0]); i++)
-        if (ev[i].type == EV_KEY && ev[i].code == key) seen += "-+r"[std::min(ev[i].value, 2)];
-    return seen;
-  }
-  bool Grab(bool on) { return ioctl(evdev_, EVIOCGRAB, on ? 1 : 0) == 0; }
-  // value: 1 press, 0 release, 2 auto-repeat. Returns the time before writing.
-  uint64_t Key(int code, int value) {
-    input_event ev[2] = {};
-    ev[0].type = EV_KEY;
-    ev[0].code = code;
-    ev[0].value = value;
-    ev[1].type = EV_SYN;
-    ev[1].code = SYN_REPORT;
-    const uint64_t t = NowNs();
-    if (write(fd_, ev, sizeof ev) != sizeof ev) std::perror("uinput write");
-    return t;
-  }
-
- private:
-  int fd_;
-  int evdev_ = -1;
-};
+using guest::Keyboard;
 
 x4step_status Status(int fd) {
   x4step_status st{};
