@@ -711,7 +711,8 @@ struct interpreter::impl {
     bool axis = false;
     for (char c : {'X', 'Y', 'Z', 'A', 'B', 'C'}) axis = axis || b.has(c);
     bool uses_axes = g0 == 100 || g0 == 920 || moved_by_nonmodal || b.g[g_tool_length] == 431;
-    if (!uses_axes && (axis || (b.g[g_motion] >= 0 && (motion == 20 || motion == 30)))) move(g0 == 530);
+    // A motion word moves even without axis words (LinuxCNC: to where it is).
+    if (!uses_axes && (axis || b.g[g_motion] >= 0)) move(g0 == 530);
     // 21. stop
     if (b.m[m_stop] >= 0) {
       int m = b.m[m_stop];
