@@ -8,8 +8,6 @@
 // Internally every length is in millimetres and every position in machine
 // coordinates (program + G5x + G92 + tool length offset); the program's
 // words are scaled on reading, the sink's values on output.
-#include "gcode.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,6 +19,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "gcode.hpp"
 
 namespace x4step::gcode {
 
@@ -495,8 +495,8 @@ struct interpreter::impl {
     bool g0_axes = g0 == 100 || g0 == 280 || g0 == 300 || g0 == 920;
     bool motion_in_block = b.g[g_motion] >= 0;
     if (g0_axes && motion_in_block && b.g[g_motion] != 800 && axis)
-      fail(b.g_col[g_motion], g_name(b.g[g_motion]) + " and " + g_name(g0) +
-                                  " both use axis values: one of them per line");
+      fail(b.g_col[g_motion],
+           g_name(b.g[g_motion]) + " and " + g_name(g0) + " both use axis values: one of them per line");
     if (axis && !g0_axes && b.g[g_tool_length] != 431) {
       if (eff_motion == 800) {
         if (motion_in_block)
@@ -515,8 +515,7 @@ struct interpreter::impl {
     }
     bool arc = (eff_motion == 20 || eff_motion == 30) && (axis || motion_in_block) && !g0_axes;
     for (char c : {'I', 'J', 'K'})
-      if (b.has(c) && !arc)
-        fail(b.at(c), std::string(1, c) + " word with no G2 or G3 to use it");
+      if (b.has(c) && !arc) fail(b.at(c), std::string(1, c) + " word with no G2 or G3 to use it");
     if (b.has('R') && !arc) fail(b.at('R'), "R word with no G2 or G3 to use it");
     if (b.has('L') && g0 != 100) fail(b.at('L'), "L word with no G10 to use it");
     if (b.has('P') && !(g0 == 40 || g0 == 100 || arc || b.g[g_path] == 640))
@@ -543,9 +542,7 @@ struct interpreter::impl {
     }
   }
 
-  bool incremental_after() const {
-    return b.g[g_distance] >= 0 ? b.g[g_distance] == 910 : incremental;
-  }
+  bool incremental_after() const { return b.g[g_distance] >= 0 ? b.g[g_distance] == 910 : incremental; }
 
   // ---- execution ------------------------------------------------------
 
@@ -632,7 +629,9 @@ struct interpreter::impl {
     }
     // 7. spindle, 8. coolant
     if (b.m[m_spindle] >= 0) {
-      sdir = b.m[m_spindle] == 3 ? spindle_dir::cw : b.m[m_spindle] == 4 ? spindle_dir::ccw : spindle_dir::off;
+      sdir = b.m[m_spindle] == 3   ? spindle_dir::cw
+             : b.m[m_spindle] == 4 ? spindle_dir::ccw
+                                   : spindle_dir::off;
       simple(event::spindle_ev, speed, 0, 0, int(sdir));
     }
     if (b.m[m_coolant] >= 0) {
@@ -667,8 +666,9 @@ struct interpreter::impl {
     }
     // 16. path control
     if (b.g[g_path] >= 0) {
-      pmode = b.g[g_path] == 610 ? path_mode::exact_path
-                                 : b.g[g_path] == 611 ? path_mode::exact_stop : path_mode::blend;
+      pmode = b.g[g_path] == 610   ? path_mode::exact_path
+              : b.g[g_path] == 611 ? path_mode::exact_stop
+                                   : path_mode::blend;
       double p = b.has('P') ? b.v('P') * k / out_scale : 0, q = b.has('Q') ? b.v('Q') * k / out_scale : 0;
       if (b.has('P') && b.v('P') < 0) fail(b.at('P'), "negative G64 P tolerance");
       if (b.has('Q') && b.v('Q') < 0) fail(b.at('Q'), "negative G64 Q tolerance");
@@ -697,8 +697,8 @@ struct interpreter::impl {
       case 920:
         for (int a = 0; a < n_axes; ++a)
           if (b.has("XYZABC"[a]))
-            g92[size_t(a)] = pos[size_t(a)] - tlo[size_t(a)] - g5x[size_t(cs)][size_t(a)] -
-                             b.v("XYZABC"[a]) * scale(a);
+            g92[size_t(a)] =
+                pos[size_t(a)] - tlo[size_t(a)] - g5x[size_t(cs)][size_t(a)] - b.v("XYZABC"[a]) * scale(a);
         break;
       case 921:
         g92.fill(0);
@@ -828,7 +828,8 @@ struct interpreter::impl {
     int turns = 1;
     if (b.has('P')) {
       double p = b.v('P');
-      if (p != std::floor(p) || p < 1) fail(b.at('P'), std::string(gname) + " P (turns) must be a whole number >= 1");
+      if (p != std::floor(p) || p < 1)
+        fail(b.at('P'), std::string(gname) + " P (turns) must be a whole number >= 1");
       turns = int(p);
     }
     double s1 = pos[size_t(a1)], s2 = pos[size_t(a2)];
@@ -838,7 +839,8 @@ struct interpreter::impl {
       if (b.has('I') || b.has('J') || b.has('K'))
         fail(b.at('R'), "mixed R and I J K forms for an arc: use one");
       if (!b.has(L1) && !b.has(L2))
-        fail(mcol, std::string(1, L1) + " and " + L2 + " words missing for an R arc in the " + pname + " plane");
+        fail(mcol,
+             std::string(1, L1) + " and " + L2 + " words missing for an R arc in the " + pname + " plane");
       double r = b.v('R') * k;
       if (e1 == s1 && e2 == s2)
         fail(b.at('R'), "R arc whose end point is its start point (the centre is undefined: use I J K)");
@@ -864,8 +866,10 @@ struct interpreter::impl {
         fail(b.at(iforbidden), std::string(1, iforbidden) + " word for an arc in the " + pname + " plane");
       double o1 = b.has(i1) ? b.v(i1) * k : 0, o2 = b.has(i2) ? b.v(i2) * k : 0;
       if (arc_absolute) {
-        if (!b.has(i1)) fail(mcol, std::string(1, i1) + " word missing for an arc with absolute centre (G90.1)");
-        if (!b.has(i2)) fail(mcol, std::string(1, i2) + " word missing for an arc with absolute centre (G90.1)");
+        if (!b.has(i1))
+          fail(mcol, std::string(1, i1) + " word missing for an arc with absolute centre (G90.1)");
+        if (!b.has(i2))
+          fail(mcol, std::string(1, i2) + " word missing for an arc with absolute centre (G90.1)");
         c1 = o1 + offset(a1);
         c2 = o2 + offset(a2);
       } else {
@@ -880,7 +884,8 @@ struct interpreter::impl {
       if (abs_err > tol().spiral_abs * 100.0 || (rel_err > spiral_rel && abs_err > tol().spiral_abs)) {
         char msg[160];
         std::snprintf(msg, sizeof msg,
-                      "radius to the end of the arc (%.6g) differs from the radius to its start (%.6g)", r2, r1);
+                      "radius to the end of the arc (%.6g) differs from the radius to its start (%.6g)", r2,
+                      r1);
         fail(icol, msg);
       }
     }
