@@ -19,6 +19,12 @@ test | all) want=$test_pkgs ;;
 *) echo "usage: $0 [build|test|all]" >&2; exit 2 ;;
 esac
 
+# The G-code tests' oracle, LinuxCNC's rs274: unpacked into a cache, not
+# installed (tools/get-rs274.sh).
+if [ "${1:-all}" != build ] && [ "$(id -u)" -eq 0 ]; then
+	"$(dirname "$0")/get-rs274.sh"
+fi
+
 missing=""
 for p in $want; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing="$missing $p"

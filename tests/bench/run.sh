@@ -52,6 +52,12 @@ for chord in 4 20; do
 	echo
 done
 
+# The G-code interpreter (issue 20): lines per second from a 100 000-line
+# file of a real CAM program (LinuxCNC's plasmatest.ngc) repeated.
+echo "== G-code interpreter: 100 000 lines of CAM output (tests/bench/gcode_bench.cpp)"
+"$build/tests/gcode_bench" || echo "(the G-code bench failed: tools/get-rs274.sh fetches its program)"
+echo
+
 # The host tests against one-line mutations of the engine: every one must
 # fail a test (tests/mutation/run.sh, about a minute on 2 cores).
 echo

@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/**
+ * @file gcode.hpp
+ * @brief The G-code interpreter: RS274/NGC text in, canonical machining
+ *        commands out (issue 20, first slice).
+ *
+ * The subset CAM post-processors for GRBL and LinuxCNC emit, with the modal
+ * rules of the NIST RS274/NGC interpreter (version 3) as LinuxCNC applies
+ * them: G0 G1 G2 G3 (IJK and R, full circles, helices, P turns), G4, G10 L2
+ * and L20, G17 G18 G19, G20 G21, G28 G28.1 G30 G30.1, G40, G43 H, G43.1,
+ * G49, G53, G54..G59.3, G61 G61.1 G64 (P, Q), G80, G90 G91, G90.1 G91.1,
+ * G92 G92.1, G93 G94; M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9; F S T N;
+ * comments ( ) and ;, (MSG,...), block delete /, %. Anything else is
+ * refused with an error naming file:line:column, never skipped.
+ *
+ * Streaming: a program is read one line at a time; nothing is kept of a
+ * line once it is executed. The interpreter knows nothing of motors or
+ * the kernel: it calls a sink (below), in the order of the program.
+ *
+ * Coordinates: every position given to the sink is in machine coordinates
+ * (program position + G5x offset + G92 offset + tool length offset) in the
+ * machine's length unit (options::machine_units); rotary axes A B C are
+ * in degrees. The offsets and the G28/G30 positions live in memory, from
+ * zero at construction, for the interpreter's life (no .var file yet).
+ *
+ * Not installed (yet): built as a static library inside the tree, linked
+ * by the tests and the bench, later by x4ctl; its interface may change
+ * while the machine file and the planner are added.
+ */
+#ifndef X4STEP_GCODE_HPP
+#define X4STEP_GCODE_HPP
+
+#include <array>
+#include <iosfwd>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace x4step::gcode {
+
+/// Axes, in LinuxCNC's order: X Y Z (length) A B C (degrees).
+enum axis_index { X = 0, Y, Z, A, B, C, n_axes };
+using pose = std::array<double, n_axes>;
+
+enum class units { mm, inch };
+/// G17 (XY), G18 (ZX), G19 (YZ).
+enum class plane { xy, zx, yz };
+/// G61 exact path, G61.1 exact stop, G64 blending (with tolerances).
+enum class path_mode { exact_path, exact_stop, blend };
+/// G93 inverse time (1/min), G94 units per minute.
+enum class feed_mode { inverse_time, units_per_minute };
+enum class spindle_dir { off, cw, ccw };
+
+/// A refused program: what() is "file:line:column: message".
+class error : public std::runtime_error {
+ public:
+  error(std::string file, int line, int column, const std::string &message);
+  const std::string &file() const noexcept { return file_; }
+  int line() const noexcept { return line_; }
+  int column() const noexcept { return column_; }
+  /// The message alone, without the location.
+  const std::string &message() const noexcept { return message_; }
+
+ private:
+  std::string file_;
+  int line_, column_;
+  std::string message_;
+};
+
+/// A straight move (G0 traverse, G1 feed, G28/G30 traverses, G53).
+struct straight {
+  pose end;
+  /// Feed rate for feeds: machine units per minute, or 1/min in inverse
+  /// time (then the move lasts 1/feed minutes). 0 for traverses.
+  double feed;
+  feed_mode mode;
+};
+
+/// A circular or helical arc (G2/G3) in the active plane. The end is the
+/// full pose (the helix's travel is along the plane's normal axis, other
+/// axes move linearly); the centre is in machine coordinates, on the
+/// plane's first and second axes (G17: X Y, G18: Z X, G19: Y Z).
+struct arc {
+  pose end;
+  double centre_first, centre_second;
+  plane in;
+  /// LinuxCNC's rotation: > 0 counter-clockwise, < 0 clockwise seen from
+  /// the plane's positive normal; |turns| - 1 full circles beyond the arc
+  /// to the end (end == start in the plane: |turns| full circles).
+  int turns;
+  double feed;
+  feed_mode mode;
+};
+
+/// Where the canonical commands go. Every function has an empty default:
+/// a sink overrides what it needs. Calls come in the program's order.
+class sink {
+ public:
+  virtual ~sink() = default;
+  virtual void straight_traverse(const straight &) {}
+  virtual void straight_feed(const straight &) {}
+  virtual void arc_feed(const arc &) {}
+  virtual void dwell(double /*seconds*/) {}
+  /// The program's length unit changed (G20/G21); positions stay in machine units.
+  virtual void program_units(units) {}
+  virtual void select_plane(plane) {}
+  /// G64 P (blend tolerance, machine units, 0 = none) Q (naive CAM tolerance).
+  virtual void set_path_mode(path_mode, double /*p_tolerance*/, double /*q_tolerance*/) {}
+  virtual void spindle(spindle_dir, double /*rpm*/) {}
+  virtual void coolant(bool /*mist*/, bool /*flood*/) {}
+  /// T: the tool to have ready; M6: change to it (a pause for the operator).
+  virtual void select_tool(int) {}
+  virtual void change_tool(int) {}
+  /// The tool length offset now in force (machine units per axis).
+  virtual void tool_length_offset(const pose &) {}
+  /// M0 (optional false) and M1 (optional true): wait for the operator.
+  virtual void pause(bool /*optional*/) {}
+  /// (MSG, text)
+  virtual void message(std::string_view) {}
+  /// M2 or M30 (or the closing %): nothing is read after it.
+  virtual void program_end(bool /*m30*/) {}
+};
+
+struct options {
+  /// The unit of every length given to the sink.
+  units machine_units = units::mm;
+  /// The program's unit until a G20/G21 (LinuxCNC without an INI: mm).
+  units initial_units = units::mm;
+  /// Honour block delete: skip lines that start with '/'.
+  bool block_delete = false;
+};
+
+/// One tool: length offsets (G43 H) in machine units.
+struct tool {
+  pose offset{};
+  double diameter = 0;
+};
+
+/// A LinuxCNC tool table file ("T1 P1 Z0.5 D0.125 ;comment" per line),
+/// its values in `in` units, converted to the machine's.
+std::map<int, tool> read_tool_table(const std::string &path, units in, units machine);
+
+class interpreter {
+ public:
+  explicit interpreter(sink &out, options o = {});
+  ~interpreter();
+  interpreter(const interpreter &) = delete;
+  interpreter &operator=(const interpreter &) = delete;
+
+  void set_tool_table(std::map<int, tool> table);
+
+  /// Runs a program to its end (M2, M30, closing % or end of file), line by
+  /// line; `name` is the file name errors give. Throws gcode::error on the
+  /// first line that is refused: nothing of that line reaches the sink.
+  /// A program must end with M2/M30 or %: else an error at its end.
+  void run(std::istream &in, const std::string &name);
+  /// The same, opening a file (error "cannot open" at line 0).
+  void run_file(const std::string &path);
+  /// Runs a whole program into a sink that drops everything: the check to
+  /// make before any motion (the interpreter's state is left untouched).
+  void check(std::istream &in, const std::string &name) const;
+
+  /// One line (MDI, a streaming protocol): executed at once. Returns false
+  /// once the program ended (M2/M30).
+  bool execute_line(std::string_view line, const std::string &name, int line_no);
+
+  /// The current position, machine coordinates, machine units.
+  const pose &position() const noexcept;
+  units program_units() const noexcept;
+
+ private:
+  struct impl;
+  std::unique_ptr<impl> p_;
+};
+
+}  // namespace x4step::gcode
+
+#endif

@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-2.0
+// G-code interpreter throughput (issue 20, goal >= 200 000 lines/s): a
+// 100 000-line file made of a real CAM program's body repeated (by
+// default LinuxCNC's plasmatest.ngc, the EMC-Plasma post processor's
+// output, from tools/get-rs274.sh's cache), run from the file through
+// the interpreter into a sink that counts; the best of 5 runs.
+// Usage: gcode_bench [CAM.ngc] [LINES]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "gcode.hpp"
+
+namespace g = x4step::gcode;
+
+namespace {
+
+struct counter : g::sink {
+  long moves = 0, arcs = 0;
+  double sum = 0;
+  void straight_traverse(const g::straight &s) override { ++moves, sum += s.end[0]; }
+  void straight_feed(const g::straight &s) override { ++moves, sum += s.end[0]; }
+  void arc_feed(const g::arc &a) override { ++arcs, sum += a.centre_first; }
+};
+
+bool is_end(const std::string &l) {
+  std::string u;
+  for (char c : l)
+    if (c != ' ' && c != '\t' && c != '\r') u += char(std::toupper(static_cast<unsigned char>(c)));
+  auto p = u.find('M');
+  while (p != std::string::npos) {
+    std::string n;
+    for (size_t i = p + 1; i < u.size() && std::isdigit(static_cast<unsigned char>(u[i])); ++i) n += u[i];
+    if (!n.empty() && (std::atoi(n.c_str()) == 2 || std::atoi(n.c_str()) == 30)) return true;
+    p = u.find('M', p + 1);
+  }
+  return u == "%";
+}
+
+}  // namespace
+
+int main(int argc, char **argv) {
+  std::string src =
+      argc > 1 ? argv[1] : "/var/cache/x4step/linuxcnc/root/usr/share/linuxcnc/ncfiles/plasmatest.ngc";
+  long want = argc > 2 ? std::atol(argv[2]) : 100000;
+  std::ifstream in(src);
+  if (!in) {
+    std::fprintf(stderr, "gcode_bench: cannot open %s (tools/get-rs274.sh fetches LinuxCNC's examples)\n",
+                 src.c_str());
+    return 1;
+  }
+  std::vector<std::string> body;
+  for (std::string l; std::getline(in, l);)
+    if (!is_end(l)) body.push_back(l);
+  char tmpl[] = "/tmp/gcode_bench.XXXXXX";
+  int fd = mkstemp(tmpl);
+  if (fd < 0) return 1;
+  std::string path = tmpl;
+  {
+    std::ofstream out(path);
+    long n = 0;
+    while (n < want - 1)
+      for (const auto &l : body) {
+        if (n >= want - 1) break;
+        out << l << '\n';
+        ++n;
+      }
+    out << "M2\n";
+  }
+  double best = 1e30;
+  counter c;
+  for (int run = 0; run < 5; ++run) {
+    c = counter{};
+    auto t0 = std::chrono::steady_clock::now();
+    try {
+      g::interpreter interp(c);
+      interp.run_file(path);
+    } catch (const g::error &e) {
+      std::fprintf(stderr, "%s\n", e.what());
+      std::remove(path.c_str());
+      return 1;
+    }
+    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (s < best) best = s;
+  }
+  std::remove(path.c_str());
+  std::printf("gcode: %ld lines of %s (%zu-line body repeated): %ld straight moves, %ld arcs\n", want,
+              src.substr(src.rfind('/') + 1).c_str(), body.size(), c.moves, c.arcs);
+  std::printf("gcode: %.0f lines/s, best of 5 runs (%.1f ms; goal >= 200000 lines/s)\n", double(want) / best,
+              best * 1e3);
+  return 0;
+}

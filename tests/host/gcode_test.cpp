@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: GPL-2.0
+// The G-code interpreter's refusals (issue 20): each names
+// file:line:column and what is wrong, and nothing of a refused line
+// reaches the sink. Modal group conflicts, bad arcs, words out of place.
+#include "gcode.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace g = x4step::gcode;
+
+namespace {
+
+struct recorder : g::sink {
+  std::vector<std::string> log;
+  void straight_traverse(const g::straight &s) override { log.push_back("G0 " + pose(s.end)); }
+  void straight_feed(const g::straight &s) override { log.push_back("G1 " + pose(s.end)); }
+  void arc_feed(const g::arc &a) override {
+    log.push_back("ARC " + pose(a.end) + " c " + num(a.centre_first) + " " + num(a.centre_second) + " t " +
+                  std::to_string(a.turns));
+  }
+  void message(std::string_view m) override { log.push_back("MSG " + std::string(m)); }
+  void program_end(bool m30) override { log.push_back(m30 ? "M30" : "M2"); }
+  static std::string num(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  }
+  static std::string pose(const g::pose &p) { return num(p[0]) + " " + num(p[1]) + " " + num(p[2]); }
+};
+
+// Runs a program; returns the error's text ("" when accepted).
+std::string run(const std::string &text, recorder *r = nullptr) {
+  recorder local;
+  g::interpreter in(r ? *r : local);
+  std::istringstream s(text);
+  try {
+    in.run(s, "t.ngc");
+  } catch (const g::error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Gcode, AcceptsAndEnds) {
+  recorder r;
+  EXPECT_EQ(run("G21 G90\nG0 X1 Y2\nG1 X3 F100\nM2\nG0 X99\n", &r), "");
+  ASSERT_EQ(r.log.size(), 3u);
+  EXPECT_EQ(r.log[0], "G0 1 2 0");
+  EXPECT_EQ(r.log[1], "G1 3 2 0");
+  EXPECT_EQ(r.log[2], "M2");
+}
+
+TEST(Gcode, ErrorsNameFileLineColumn) {
+  EXPECT_EQ(run("G21\nG0 X1 Y2 X3\nM2\n"), "t.ngc:2:10: multiple X words on one line");
+  EXPECT_EQ(run("G21\n  G81 X1\nM2\n"), "t.ngc:2:3: G81 is not supported by this interpreter");
+  EXPECT_EQ(run("G21\nG12.7\nM2\n"), "t.ngc:2:1: unknown G code G12.7");
+  EXPECT_EQ(run("G0 X#1\nM2\n"), "t.ngc:1:5: numbered parameters (#) are not supported");
+  EXPECT_EQ(run("G0 X[1+2]\nM2\n"), "t.ngc:1:5: expressions ([ ]) are not supported");
+  EXPECT_EQ(run("o100 sub\nM2\n"), "t.ngc:1:1: O-word subroutines and control flow are not supported");
+  EXPECT_EQ(run("G0 U1\nM2\n"), "t.ngc:1:4: U words are not supported (axes are X Y Z A B C)");
+  EXPECT_EQ(run("G0 X1 (open\nM2\n"), "t.ngc:1:7: comment not closed: ')' missing");
+  EXPECT_EQ(run("G0 X1 (a (b) c)\nM2\n"), "t.ngc:1:10: nested comment: '(' inside a comment");
+  EXPECT_EQ(run("G0 X1 N5\nM2\n"), "t.ngc:1:7: N word (line number) must begin the line");
+  EXPECT_EQ(run("G0 X\nM2\n"), "t.ngc:1:4: bad number after X (a value must follow the letter)");
+  EXPECT_EQ(run("G0 X1 $\nM2\n"), "t.ngc:1:7: unexpected character '$'");
+  EXPECT_EQ(run("M62 P1\nM2\n"), "t.ngc:1:1: M62 is not supported by this interpreter");
+  EXPECT_EQ(run("G0 X1\n"), "t.ngc:2:1: file ended without M2, M30 or '%'");
+  EXPECT_EQ(run("%\nG0 X1\n"), "t.ngc:3:1: file ended without its closing '%'");
+}
+
+TEST(Gcode, ModalGroupConflicts) {
+  EXPECT_EQ(run("G0 G1 X1\nM2\n"), "t.ngc:1:4: G1 and G0 are in the same modal group (group 1)");
+  EXPECT_EQ(run("G20 G21\nM2\n"), "t.ngc:1:5: G21 and G20 are in the same modal group (group 6)");
+  EXPECT_EQ(run("G17 G18\nM2\n"), "t.ngc:1:5: G18 and G17 are in the same modal group (group 2)");
+  EXPECT_EQ(run("G90 G91\nM2\n"), "t.ngc:1:5: G91 and G90 are in the same modal group (group 3)");
+  EXPECT_EQ(run("G54 G55\nM2\n"), "t.ngc:1:5: G55 and G54 are in the same modal group (group 12)");
+  EXPECT_EQ(run("G92 X0 G28\nM2\n"), "t.ngc:1:8: G28 and G92 are in the same modal group (group 0)");
+  EXPECT_EQ(run("M3 M4\nM2\n"), "t.ngc:1:4: M4 and M3 are in the same modal group");
+  EXPECT_EQ(run("M0 M2\n"), "t.ngc:1:4: M2 and M0 are in the same modal group");
+  EXPECT_EQ(run("M7 M8\nM2\n"), "");  // mist and flood together: LinuxCNC allows it
+  EXPECT_EQ(run("G1 F1 G92 X0\nM2\n"), "t.ngc:1:1: G1 and G92 both use axis values: one of them per line");
+  EXPECT_EQ(run("X1\nM2\n"),
+            "t.ngc:1:1: axis values without a G code that uses them (no motion mode is active: G80)");
+  EXPECT_EQ(run("G0 X1\nG80 X2\nM2\n"), "t.ngc:2:5: axis values with G80: G80 takes none");
+  EXPECT_EQ(run("G1 G53 X1 F1\nG91\nG53 G1 X1\nM2\n"),
+            "t.ngc:3:1: G53 with G91: G53 takes absolute values only");
+  EXPECT_EQ(run("G2 G53 X1 I1\nM2\n"), "t.ngc:1:4: G53 needs G0 or G1");
+}
+
+TEST(Gcode, WordsWithoutAUser) {
+  EXPECT_EQ(run("G0 X1 I2\nM2\n"), "t.ngc:1:7: I word with no G2 or G3 to use it");
+  EXPECT_EQ(run("G1 X1 R2 F1\nM2\n"), "t.ngc:1:7: R word with no G2 or G3 to use it");
+  EXPECT_EQ(run("G0 X1 L2\nM2\n"), "t.ngc:1:7: L word with no G10 to use it");
+  EXPECT_EQ(run("G0 X1 P2\nM2\n"), "t.ngc:1:7: P word with no G4, G10, G2/G3 or G64 to use it");
+  EXPECT_EQ(run("G0 X1 H2\nM2\n"), "t.ngc:1:7: H word with no G43 to use it");
+  EXPECT_EQ(run("G4\nM2\n"), "t.ngc:1:1: G4 needs P (the dwell time, seconds)");
+  EXPECT_EQ(run("G10 L1 P1 X0\nM2\n"), "t.ngc:1:5: only G10 L2 and G10 L20 are supported");
+  EXPECT_EQ(run("G1 X1\nM2\n"), "t.ngc:1:1: G1 with a feed rate of zero (no F given)");
+  EXPECT_EQ(run("G93 G1 X1 F10\nX2\nM2\n"),
+            "t.ngc:2:1: G1 in inverse time mode (G93) needs an F word on its line");
+  EXPECT_EQ(run("G43 H7\nM2\n"), "t.ngc:1:5: tool 7 is not in the tool table");
+}
+
+TEST(Gcode, BadArcs) {
+  // IJK: the end is not on the circle (LinuxCNC's spiral tolerance).
+  EXPECT_EQ(run("G21 G1 F100 X0 Y0\nG2 X10 Y0 I4 J0\nM2\n"),
+            "t.ngc:2:11: radius to the end of the arc (6) differs from the radius to its start (4)");
+  // Within it: a rounded centre is accepted.
+  EXPECT_EQ(run("G21 G1 F100 X0 Y0\nG2 X10 Y0 I5.001 J0\nM2\n"), "");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X0 Y0 I0 J0\nM2\n"), "t.ngc:2:10: zero-radius arc");
+  EXPECT_EQ(
+      run("G1 F100 X0\nG2 X10 Y0 R4\nM2\n"),
+      "t.ngc:2:11: arc radius too small to reach the end point (half the chord is 5.000000, R 4.000000)");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X0 Y0 R4\nM2\n"),
+            "t.ngc:2:10: R arc whose end point is its start point (the centre is undefined: use I J K)");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X10 R5 I5\nM2\n"), "t.ngc:2:8: mixed R and I J K forms for an arc: use one");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X10 K5\nM2\n"), "t.ngc:2:8: K word for an arc in the XY (G17) plane");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X10\nM2\n"), "t.ngc:2:1: G2 needs R or the centre (I J K)");
+  EXPECT_EQ(run("G1 F100 X0\nG2 Z1 R5\nM2\n"),
+            "t.ngc:2:1: X and Y words missing for an R arc in the XY (G17) plane");
+  EXPECT_EQ(run("G1 F100 X0\nG90.1 G2 X10 I5\nM2\n"),
+            "t.ngc:2:7: J word missing for an arc with absolute centre (G90.1)");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X10 I5 P1.5\nM2\n"), "t.ngc:2:11: G2 P (turns) must be a whole number >= 1");
+}
+
+TEST(Gcode, RefusedLineReachesNothing) {
+  recorder r;
+  g::interpreter in(r);
+  EXPECT_TRUE(in.execute_line("G1 X1 F100", "mdi", 1));
+  EXPECT_THROW(in.execute_line("G0 X5 Y1 Y2", "mdi", 2), g::error);
+  EXPECT_THROW(in.execute_line("M3 G2 X3 I9", "mdi", 3), g::error);  // spindle before the bad arc
+  ASSERT_EQ(r.log.size(), 1u);
+  EXPECT_EQ(in.position()[0], 1.0);
+}
+
+TEST(Gcode, CheckBeforeMotion) {
+  recorder r;
+  g::interpreter in(r);
+  std::istringstream s("G0 X1\nG1 X2 F1\nG2 X3 I9\nM2\n");
+  try {
+    in.check(s, "p.ngc");
+    FAIL() << "accepted";
+  } catch (const g::error &e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.column(), 7);
+  }
+  EXPECT_TRUE(r.log.empty());
+}
+
+TEST(Gcode, UnitsOffsetsAndArcs) {
+  recorder r;
+  EXPECT_EQ(
+      run("G20 G0 X1 (MSG, hello)\nG92 X0\nG0 X1\nG91 G1 X-1 F10\nG90 G3 X1 Y1 R1\nG2 X1 Y1 I-1 J0 P2\nM30\n",
+          &r),
+      "");
+  ASSERT_EQ(r.log.size(), 7u);
+  EXPECT_EQ(r.log[0], "MSG  hello");  // the message first: NIST's order of execution
+  EXPECT_EQ(r.log[1], "G0 25.4 0 0");
+  EXPECT_EQ(r.log[2], "G0 50.8 0 0");
+  EXPECT_EQ(r.log[3], "G1 25.4 0 0");
+  EXPECT_EQ(r.log[4], "ARC 50.8 25.4 0 c 25.4 25.4 t 1");  // G3 R > 0: centre left of the chord
+  EXPECT_EQ(r.log[5], "ARC 50.8 25.4 0 c 25.4 25.4 t -2");
+}
+
+}  // namespace
