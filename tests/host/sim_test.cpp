@@ -191,8 +191,12 @@ TEST_F(Sim, InputsAndOutputs) {
   EXPECT_EQ(c.inputs(), 0u);
   p->set_inputs(0x15);
   EXPECT_EQ(c.inputs(), 0x15u);
+  p->record(true);
   c.set_output(x4step::signal::two, true);
   EXPECT_EQ(c.get_status().outputs & 0x3, 0x2u);
+  const auto w = p->writes();  // the output is a pin write of its own
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].ctl, X4_CTL_SIGNAL2);
 }
 
 // The manual's C API, unchanged, on the simulator: X4STEP_SIM=1.
