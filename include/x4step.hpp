@@ -496,6 +496,10 @@ const char *version() noexcept;
 /// Owns one port: the only one that moves its motors. Move-only.
 /// Destroying it while motors run brakes them along the ramp first, and
 /// waits until they stand (see close()).
+namespace detail {
+struct access;
+}
+
 class controller {
  public:
   /// Open LPT1..4. Throws lpt_not_found if the port is missing or taken;
@@ -587,6 +591,7 @@ class controller {
   void close() noexcept;
 
  private:
+  friend struct detail::access;
   struct impl;
   const impl &need() const;  // throws init_not_done after close()
   std::unique_ptr<impl> impl_;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <string>
 
+#include "port_io.hpp"
 #include "x4step.hpp"
 
 namespace x4step::detail {
@@ -27,24 +28,30 @@ inline std::int32_t narrow_steps(long s) {
 /// the X4Step code the kernel returned with EINVAL, if any.
 [[noreturn]] void fail_ioctl(int err, const char *what, int result = 0);
 
-// The end of a wait; a negative timeout never comes.
+// The end of a wait on the port's clock; a negative timeout never comes.
 class deadline {
  public:
-  explicit deadline(std::chrono::milliseconds timeout)
-      : forever_(timeout.count() < 0), end_(std::chrono::steady_clock::now() + timeout) {}
-  bool expired() const { return !forever_ && std::chrono::steady_clock::now() >= end_; }
+  deadline(std::chrono::milliseconds timeout, const port_io &io)
+      : io_(io), forever_(timeout.count() < 0), end_(io.now() + timeout) {}
+  bool expired() const { return !forever_ && io_.now() >= end_; }
   // Milliseconds for poll(): up to the end (rounded up, so that a timeout
   // has expired when poll() returns), at most cap if cap >= 0; -1 for ever.
   int poll_ms(int cap = -1) const {
     if (forever_) return cap;
-    const auto left = std::chrono::ceil<std::chrono::milliseconds>(end_ - std::chrono::steady_clock::now());
+    const auto left = std::chrono::ceil<std::chrono::milliseconds>(end_ - io_.now());
     const long long ms = std::max<long long>(0, left.count());
     return static_cast<int>(cap >= 0 ? std::min<long long>(ms, cap) : std::min<long long>(ms, INT_MAX));
   }
 
  private:
+  const port_io &io_;
   bool forever_;
   std::chrono::steady_clock::time_point end_;
+};
+
+/// Library-internal access to a controller's port (paths use it).
+struct access {
+  static port_io &io(const controller &c);
 };
 
 }  // namespace x4step::detail

@@ -3,7 +3,6 @@
 // of segment records and its X4STEP_PATH_* ioctls.
 #include <linux/x4step.h>
 #include <poll.h>
-#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -42,11 +41,8 @@ x4step_segment to_kernel(const segment &s) {
   return k;
 }
 
-// The controller's descriptor; init_not_done once it is closed.
-int need_fd(const controller &c) {
-  if (c.fd() < 0) fail(errc::init_not_done);
-  return c.fd();
-}
+// The controller's port; init_not_done once it is closed.
+detail::port_io &need_io(const controller &c) { return detail::access::io(c); }
 
 [[noreturn]] void fail_write(int err) {
   if (err == ECANCELED)
@@ -58,7 +54,7 @@ int need_fd(const controller &c) {
 
 // Write what fits now (the descriptor is O_NONBLOCK): whole records, up to
 // the first bad one (which fails this call if it is the first).
-std::size_t write_some(int fd, const segment *s, std::size_t n) {
+std::size_t write_some(detail::port_io &io, const segment *s, std::size_t n) {
   constexpr std::size_t chunk = 64;
   std::size_t done = 0;
   while (done < n) {
@@ -71,7 +67,7 @@ std::size_t write_some(int fd, const segment *s, std::size_t n) {
       k[m] = to_kernel(s[done + m]);
     }
     if (!m) return done;  // the bad one fails the next call
-    const ssize_t got = ::write(fd, k, m * sizeof k[0]);
+    const ssize_t got = io.write(k, m * sizeof k[0]);
     if (got < 0 && errno == EAGAIN) return done;
     if (got < 0 && errno == EINTR) continue;
     if (got < 0) {
@@ -88,7 +84,7 @@ void ctl(const controller &c, unsigned cmd, unsigned value, const char *what) {
   x4step_path_ctl k{};
   k.cmd = cmd;
   k.value = value;
-  if (::ioctl(need_fd(c), X4STEP_PATH_CTL, &k)) fail_ioctl(errno, what);
+  if (need_io(c).ioctl(X4STEP_PATH_CTL, &k)) fail_ioctl(errno, what);
 }
 
 }  // namespace
@@ -140,16 +136,16 @@ void path::configure(const path_config &c) {
   x4step_path_config k{};
   k.depth = c.depth();
   k.flags = c.keys_abort() ? X4STEP_PATH_KEYS_ABORT : 0;
-  if (::ioctl(need_fd(*c_), X4STEP_SET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_SET_PATH_CONFIG");
+  if (need_io(*c_).ioctl(X4STEP_SET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_SET_PATH_CONFIG");
 }
 
 path_config path::config() const {
   x4step_path_config k{};
-  if (::ioctl(need_fd(*c_), X4STEP_GET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_GET_PATH_CONFIG");
+  if (need_io(*c_).ioctl(X4STEP_GET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_GET_PATH_CONFIG");
   return path_config().depth(k.depth).keys_abort(k.flags & X4STEP_PATH_KEYS_ABORT);
 }
 
-std::size_t path::try_append(const segment *s, std::size_t n) { return write_some(need_fd(*c_), s, n); }
+std::size_t path::try_append(const segment *s, std::size_t n) { return write_some(need_io(*c_), s, n); }
 
 void path::append(const std::vector<segment> &s) {
   std::size_t done = 0;
@@ -159,19 +155,18 @@ void path::append(const std::vector<segment> &s) {
     // Full: wait for room (POLLOUT), or until no move runs (POLLIN). A
     // path that stands then is held, and no room comes until a resume():
     // say so rather than wait for ever (or for 5 ms: it starts now).
-    pollfd p{need_fd(*c_), POLLOUT | POLLIN, 0};
-    if (::poll(&p, 1, -1) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
-    if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
-    if (p.revents & POLLOUT || !(p.revents & POLLIN)) continue;
+    short revents = 0;
+    if (need_io(*c_).poll(POLLOUT | POLLIN, -1, &revents) < 0 && errno != EINTR)
+      fail_errno(errno, "poll " + c_->path());
+    if (revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
+    if (revents & POLLOUT || !(revents & POLLIN)) continue;
     const path_state now = status().state;
     if (now == path_state::held)
       throw error(make_error_code(errc::not_active),
                   "the path is held and its queue is full: resume() it (or abort()) before appending more; " +
                       std::to_string(done) + " of " + std::to_string(s.size()) + " segments were queued");
-    if (now == path_state::idle) {
-      p.events = POLLOUT;
-      if (::poll(&p, 1, 5) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
-    }
+    if (now == path_state::idle && need_io(*c_).poll(POLLOUT, 5, &revents) < 0 && errno != EINTR)
+      fail_errno(errno, "poll " + c_->path());
   }
 }
 
@@ -189,7 +184,7 @@ void path::set_override(unsigned percent) {
 
 path_status path::status() const {
   x4step_path_status k{};
-  if (::ioctl(need_fd(*c_), X4STEP_GET_PATH, &k)) fail_ioctl(errno, "X4STEP_GET_PATH");
+  if (need_io(*c_).ioctl(X4STEP_GET_PATH, &k)) fail_ioctl(errno, "X4STEP_GET_PATH");
   path_status s;
   s.state = static_cast<path_state>(k.state);
   s.queued = k.queued;
@@ -204,17 +199,18 @@ path_status path::status() const {
 }
 
 bool path::wait(std::chrono::milliseconds timeout) const {
-  const deadline d(timeout);
+  const deadline d(timeout, need_io(*c_));
   for (;;) {
     const path_status s = status();
     if (s.state == path_state::held || (s.state == path_state::idle && !s.queued)) return true;
     if (d.expired()) return false;
     // POLLIN: no move runs (the end of a move wakes the pollers). A path
     // idle with segments queued starts in a moment: look again in 5 ms.
-    pollfd p{need_fd(*c_), POLLIN, 0};
+    short revents = 0;
     const int ms = s.state == path_state::idle ? d.poll_ms(5) : d.poll_ms();
-    if (::poll(&p, 1, ms) < 0 && errno != EINTR) fail_errno(errno, "poll " + c_->path());
-    if (p.revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
+    if (need_io(*c_).poll(POLLIN, ms, &revents) < 0 && errno != EINTR)
+      fail_errno(errno, "poll " + c_->path());
+    if (revents & (POLLERR | POLLHUP)) fail(errc::lpt_not_found);
   }
 }
 

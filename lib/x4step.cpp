@@ -124,63 +124,6 @@ using detail::fail_errno;
 using detail::fail_ioctl;
 using detail::narrow_steps;
 
-// A controller's open refused with EBUSY: say who holds the port. The
-// parport core names the device that has claimed parportN (the device's
-// minor) in /proc/sys/dev/parport/parportN/devices/active: "x4step" (a
-// controller, or the module still braking the moves of one that closed),
-// "ppdev0" (a program using /dev/parport0), "lp", ..., or "none".
-[[noreturn]] void fail_busy(const std::string &path) {
-  std::string why = "port busy: another x4step controller, or another driver (lp, ppdev), has it";
-  struct stat sb {};
-  if (::stat(path.c_str(), &sb) == 0 && S_ISCHR(sb.st_mode)) {
-    const std::string port = "parport" + std::to_string(minor(sb.st_rdev));
-    std::ifstream active("/proc/sys/dev/parport/" + port + "/devices/active");
-    std::string holder;
-    if (!(active >> holder)) {
-      // No parport sysctl: keep the general text.
-    } else if (holder == "x4step") {
-      why = "port busy: another x4step controller has " + port +
-            ", or the module is still braking the motors of one that closed";
-    } else if (holder == "none") {
-      why = "port busy: " + port + " was busy and is free now: try again";
-    } else {
-      why = "port busy: " + port + " is claimed by " + holder + " (another parport driver" +
-            (holder.rfind("ppdev", 0) == 0 ? ", for a program using /dev/" + port + ": end it"
-             : holder == "lp"              ? ", the printer driver: wait for the print job, or unload it: "
-                                             "sudo modprobe -r lp"
-                                           : std::string()) +
-            ")";
-    }
-  }
-  throw error(make_error_code(errc::lpt_not_found), path + ": " + why);
-}
-
-int open_device(const std::string &path, int flags) {
-  // Non-blocking: read_event() polls, and its read must not outlast the
-  // wait (another descriptor of the same open file may take the event).
-  const int fd = ::open(path.c_str(), flags | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) {
-    if (errno == EBUSY) fail_busy(path);
-    if (errno == ENOENT || errno == ENODEV || errno == ENXIO) fail(errc::lpt_not_found);
-    if (errno == EACCES || errno == EPERM)
-      throw error(make_error_code(errc::lpt_not_found), detail::access_denied_text(path));
-    fail_errno(errno, "open " + path);
-  }
-  x4step_info info{};
-  // Versions only add: any module of this version or newer will do.
-  if (::ioctl(fd, X4STEP_GET_INFO, &info)) {
-    ::close(fd);
-    fail(errc::lpt_not_found);
-  }
-  if (info.abi_version < X4STEP_ABI_VERSION) {
-    ::close(fd);
-    throw error(make_error_code(errc::lpt_not_found),
-                path + ": the x4step module speaks interface version " + std::to_string(info.abi_version) +
-                    ", this library needs " + std::to_string(X4STEP_ABI_VERSION) + ": update x4step.ko");
-  }
-  return fd;
-}
-
 void need_axes(axis_set s) {
   if (s.empty()) fail(errc::param_fail);
 }
@@ -188,20 +131,15 @@ void need_axes(axis_set s) {
 // The axes of a mask from the kernel (bits beyond axis 4 name none).
 axis_set axes_of(uint32_t mask) { return axis_set(mask & axis_set::all().mask()); }
 
-// One open descriptor; the common part of controller and monitor.
+// One open port; the common part of controller and monitor.
 struct device {
-  int fd = -1;
+  std::unique_ptr<detail::port_io> io;
   std::string path;
 
-  device(const std::string &p, int flags) : fd(open_device(p, flags)), path(p) {}
-  device(const device &) = delete;
-  device &operator=(const device &) = delete;
-  ~device() {
-    if (fd >= 0) ::close(fd);
-  }
+  device(const std::string &p, int flags) : io(detail::open_port(p, flags)), path(p) {}
 
   void call(unsigned long cmd, void *arg, const char *what) const {
-    if (::ioctl(fd, cmd, arg)) fail_ioctl(errno, what);
+    if (io->ioctl(cmd, arg)) fail_ioctl(errno, what);
   }
 
   status get_status() const {
@@ -227,16 +165,16 @@ struct device {
   // One poll() for POLLIN (no move runs) of up to ms (-1: for ever);
   // false on timeout or signal.
   bool poll_in(int ms) const {
-    pollfd p{fd, POLLIN, 0};
-    const int n = ::poll(&p, 1, ms);
+    short revents = 0;
+    const int n = io->poll(POLLIN, ms, &revents);
     if (n < 0 && errno == EINTR) return false;
     if (n < 0) fail_errno(errno, "poll " + path);
-    if (n > 0 && (p.revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
+    if (n > 0 && (revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
     return n > 0;
   }
 
   bool wait(std::chrono::milliseconds timeout) const {
-    const deadline d(timeout);
+    const deadline d(timeout, *io);
     for (;;) {
       if (poll_in(d.poll_ms())) return true;
       if (d.expired()) return false;
@@ -269,21 +207,21 @@ struct device {
 
   // Events are POLLPRI (POLLIN means idle): poll, then read one.
   std::optional<event> read_event(std::chrono::milliseconds timeout) const {
-    const deadline d(timeout);
+    const deadline d(timeout, *io);
     for (;;) {
-      pollfd p{fd, POLLPRI, 0};
-      const int n = ::poll(&p, 1, d.poll_ms());
+      short revents = 0;
+      const int n = io->poll(POLLPRI, d.poll_ms(), &revents);
       if (n < 0 && errno == EINTR) return std::nullopt;
       if (n < 0) fail_errno(errno, "poll " + path);
-      if (n > 0 && (p.revents & POLLPRI)) {
+      if (n > 0 && (revents & POLLPRI)) {
         x4step_event k{};
-        const ssize_t got = ::read(fd, &k, sizeof k);
+        const ssize_t got = io->read(&k, sizeof k);
         if (got == static_cast<ssize_t>(sizeof k)) return to_event(k);
         if (got < 0 && errno == ENODEV) fail(errc::lpt_not_found);
         if (got < 0 && errno != EAGAIN && errno != EINTR) fail_errno(errno, "read " + path);
         continue;  // a dup of the descriptor read it
       }
-      if (n > 0 && (p.revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
+      if (n > 0 && (revents & (POLLERR | POLLHUP))) fail(errc::lpt_not_found);
       if (d.expired()) return std::nullopt;
     }
   }
@@ -310,7 +248,7 @@ struct device {
   // ends, and within 5 ms when only the axes waited for end.
   bool wait_axes(axis_set which, std::chrono::milliseconds timeout) const {
     need_axes(which);
-    const deadline d(timeout);
+    const deadline d(timeout, *io);
     for (;;) {
       const axes_status s = get_axes();
       bool runs = false;
@@ -468,7 +406,7 @@ struct controller::impl : device {
   using device::device;
 };
 
-controller::controller(int lpt) : controller(device_path(lpt)) {}
+controller::controller(int lpt) : controller(detail::port_name(lpt)) {}
 controller::controller(const std::filesystem::path &path)
     : impl_(std::make_unique<impl>(path.string(), O_RDWR)) {}
 controller::controller(controller &&other) noexcept = default;
@@ -488,7 +426,7 @@ const std::string &controller::path() const noexcept {
   return impl_ ? impl_->path : none;
 }
 
-int controller::fd() const noexcept { return impl_ ? impl_->fd : -1; }
+int controller::fd() const noexcept { return impl_ ? impl_->io->fd() : -1; }
 
 const controller::impl &controller::need() const {
   if (!impl_) fail(errc::init_not_done);
@@ -502,7 +440,7 @@ void controller::load(const move &m) {
   for (int i = 0; i < axes; i++) km.steps[i] = narrow_steps(m.steps[i]);
   km.freq_hz = m.freq_hz;
   km.ramp_ms = static_cast<int32_t>(m.ramp.count());
-  if (::ioctl(d.fd, X4STEP_LOAD, &km)) fail_ioctl(errno, "X4STEP_LOAD", km.result);
+  if (d.io->ioctl(X4STEP_LOAD, &km)) fail_ioctl(errno, "X4STEP_LOAD", km.result);
 }
 
 void controller::start() { need().call(X4STEP_START, nullptr, "X4STEP_START"); }
@@ -517,7 +455,7 @@ void controller::move_endless(axis a, direction dir, int freq_hz, std::chrono::m
   ke.direction = dir == direction::negative ? -1 : 1;
   ke.freq_hz = freq_hz;
   ke.ramp_ms = static_cast<int32_t>(ramp.count());
-  if (::ioctl(d.fd, X4STEP_MOVE_ENDLESS, &ke)) fail_ioctl(errno, "X4STEP_MOVE_ENDLESS", ke.result);
+  if (d.io->ioctl(X4STEP_MOVE_ENDLESS, &ke)) fail_ioctl(errno, "X4STEP_MOVE_ENDLESS", ke.result);
 }
 
 status controller::get_status() const { return need().get_status(); }
@@ -622,7 +560,7 @@ void controller::move_to(axis_set s, const std::array<long, axes> &targets, bool
   g.axes = s.mask();
   g.flags = relative ? X4STEP_GOTO_RELATIVE : 0;
   for (axis a : s) g.target[a.index()] = narrow_s32(targets[a.index()]);
-  if (::ioctl(d.fd, X4STEP_GOTO, &g)) fail_ioctl(errno, "X4STEP_GOTO", g.result);
+  if (d.io->ioctl(X4STEP_GOTO, &g)) fail_ioctl(errno, "X4STEP_GOTO", g.result);
 }
 
 void controller::home(axis a, const homing &h) {
@@ -635,7 +573,7 @@ void controller::home(axis a, const homing &h) {
   kh.vref1 = h.phase1_speed();
   kh.vref2 = h.phase2_speed();
   kh.sref = static_cast<uint32_t>(h.max_travel());
-  if (::ioctl(d.fd, X4STEP_HOME, &kh)) fail_ioctl(errno, "X4STEP_HOME", kh.result);
+  if (d.io->ioctl(X4STEP_HOME, &kh)) fail_ioctl(errno, "X4STEP_HOME", kh.result);
 }
 
 void controller::halt(axis_set s, halt_mode how) {
@@ -703,7 +641,7 @@ void controller::close() noexcept {
   // so nothing is thrown: an error (the port went away: POLLERR) ends the
   // wait, and the device is closed anyway.
   x4step_halt all{axis_set::all().mask(), X4STEP_HALT_BRAKE, {}};
-  ::ioctl(impl_->fd, X4STEP_HALT, &all);  // ESRCH: nothing to brake
+  impl_->io->ioctl(X4STEP_HALT, &all);  // ESRCH: nothing to brake
   try {
     impl_->wait(std::chrono::milliseconds(-1));
   } catch (...) {
@@ -711,13 +649,22 @@ void controller::close() noexcept {
   impl_.reset();
 }
 
+namespace detail {
+
+port_io &access::io(const controller &c) {
+  if (!c.impl_) fail(errc::init_not_done);
+  return *c.impl_->io;
+}
+
+}  // namespace detail
+
 // ---- monitor ------------------------------------------------------------------
 
 struct monitor::impl : device {
   using device::device;
 };
 
-monitor::monitor(int lpt) : monitor(device_path(lpt)) {}
+monitor::monitor(int lpt) : monitor(detail::port_name(lpt)) {}
 monitor::monitor(const std::filesystem::path &path)
     : impl_(std::make_unique<impl>(path.string(), O_RDONLY)) {}
 monitor::monitor(monitor &&other) noexcept = default;
@@ -731,7 +678,7 @@ const std::string &monitor::path() const noexcept {
   return impl_ ? impl_->path : none;
 }
 
-int monitor::fd() const noexcept { return impl_ ? impl_->fd : -1; }
+int monitor::fd() const noexcept { return impl_ ? impl_->io->fd() : -1; }
 
 void monitor::close() noexcept { impl_.reset(); }
 
@@ -771,7 +718,7 @@ void monitor::emergency_halt(halt_mode how) const {
   if (!impl_) fail(errc::init_not_done);
   x4step_estop k{};
   k.how = how == halt_mode::stop ? X4STEP_HALT_STOP : X4STEP_HALT_BRAKE;
-  if (::ioctl(impl_->fd, X4STEP_ESTOP, &k) == 0) return;
+  if (impl_->io->ioctl(X4STEP_ESTOP, &k) == 0) return;
   if (errno == ENOTTY)
     throw error(std::make_error_code(std::errc::not_supported),
                 impl_->path +

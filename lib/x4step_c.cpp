@@ -16,6 +16,7 @@
 extern "C" {
 #include "x4_check.h"  // the kernel's own timing check
 }
+#include "detail.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
@@ -234,12 +235,19 @@ int X4BrakeCodes(char *codes) {
 
 int X4LastBrakeCode(void) { return status_or_idle().last_brake_code; }
 
-void X4ClearTimer(void) { timer_start = std::chrono::steady_clock::now(); }
+// The timer runs on the port's clock: a simulated port's in virtual time.
+static std::chrono::steady_clock::time_point timer_now() noexcept {
+  if (!port) return std::chrono::steady_clock::now();
+  x4step::detail::port_io &io = x4step::detail::access::io(*port);
+  io.let_time_pass();
+  return io.now();
+}
+
+void X4ClearTimer(void) { timer_start = timer_now(); }
 
 long X4GetTimer(void) {
   return static_cast<long>(
-      std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - timer_start)
-          .count());
+      std::chrono::duration_cast<std::chrono::milliseconds>(timer_now() - timer_start).count());
 }
 
 int X4GetIn(void) { return static_cast<int>(status_or_idle().inputs); }

@@ -28,6 +28,7 @@ using std::chrono::milliseconds;
 enum opt_id {
   opt_port,
   opt_device,
+  opt_sim,
   opt_help,
   opt_version,
   opt_freq,
@@ -82,6 +83,7 @@ struct option_spec {
 const option_spec common_options[] = {
     {"port", 'p', true, opt_port},
     {"device", 'd', true, opt_device},
+    {"sim", 0, false, opt_sim},
     {"help", 'h', false, opt_help},
 };
 
@@ -344,6 +346,9 @@ bool apply_common(config &c, const option_value &o, const std::string &prefix) {
     case opt_device:
       if (o.value.empty()) throw usage_error(prefix + "--device needs a path");
       c.device = o.value;
+      return true;
+    case opt_sim:
+      c.sim = true;
       return true;
     case opt_help:
       c.help = true;
@@ -745,6 +750,8 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
 const char *const port_help =
     "  -p, --port=LPT       parallel port 1..4 (/dev/x4step0..3), default 1\n"
     "  -d, --device=PATH    device node to use instead of --port\n"
+    "      --sim            a simulated port in this process (sim:0..3 for LPT\n"
+    "                       1..4): no module, no root; X4STEP_SIM=1 does the same\n"
     "  -h, --help           show this help\n";
 
 const char *const motion_help =
@@ -776,7 +783,16 @@ std::string message(x4step::errc e) { return x4step::make_error_code(e).message(
 
 int default_ramp_ms(int freq_hz) { return std::min(50, freq_hz); }
 
-std::string device_of(const config &c) { return c.device.empty() ? x4step::device_path(c.lpt) : c.device; }
+// The simulated port of --sim (or X4STEP_SIM=1) is named sim:0..3.
+bool sim_wanted(const config &c) {
+  const char *env = std::getenv("X4STEP_SIM");
+  return c.sim || (env && *env && std::string(env) != "0");
+}
+
+std::string device_of(const config &c) {
+  if (!c.device.empty()) return c.device;
+  return sim_wanted(c) ? "sim:" + std::to_string(c.lpt - 1) : x4step::device_path(c.lpt);
+}
 
 std::optional<subcommand> find_command(const std::string &name) {
   for (const auto &c : commands)
@@ -796,6 +812,7 @@ config parse_args(const std::vector<std::string> &args) {
   config c;
   const std::vector<option_spec> specs = {{"port", 'p', true, opt_port},
                                           {"device", 'd', true, opt_device},
+                                          {"sim", 0, false, opt_sim},
                                           {"help", 'h', false, opt_help},
                                           {"version", 'v', false, opt_version}};
   const split_result r = split(args, 1, specs, "", true);
@@ -820,6 +837,8 @@ config parse_args(const std::vector<std::string> &args) {
   c.cmd = *cmd;
   const size_t at = args.size() - r.operands.size() + 1;  // after the subcommand's name
   parse_subcommand(c, args, at);
+  // A simulated port lives in this process: no background holder.
+  if (sim_wanted(c)) c.wait = true;
   return c;
 }
 

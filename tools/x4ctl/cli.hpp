@@ -70,6 +70,7 @@ struct config {
   subcommand cmd = subcommand::interactive;
   int lpt = 1;
   std::string device;  ///< -d PATH; empty: the device of lpt
+  bool sim = false;    ///< --sim: the simulated port sim:lpt-1
   bool help = false;   ///< --help: show the help of cmd
   bool version = false;
   subcommand topic = subcommand::interactive;  ///< help COMMAND

@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+// The simulated port: the module's engine (kmod/engine, the very objects
+// the host tests run) behind the module's request interface, with a clock
+// of its own instead of the hrtimer and a record of the pins instead of
+// the port registers. What the module's glue does around the engine
+// (kmod/x4step_main.c, x4step_port.c, x4step_events.c) is done here in
+// the same order with the same engine calls: the checks, errnos, events
+// and pin writes are the module's. Internal to libx4step.
+#ifndef X4STEP_SIM_PORT_HPP
+#define X4STEP_SIM_PORT_HPP
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "options.hpp"
+
+extern "C" {
+#include "x4_engine.h"
+}
+
+struct x4step_event;
+
+namespace x4step::sim {
+
+class vcd_writer;
+
+/// One port write: the data register and the control outputs (pin
+/// levels, X4_CTL_*) after it, at engine time t_ns.
+struct pin_write {
+  std::uint64_t t_ns;
+  std::uint8_t data;
+  std::uint8_t ctl;
+};
+
+/// An open descriptor of a port (the module's struct x4_file).
+struct file {
+  bool controller = false;
+  std::uint64_t ev_next = 0;  ///< seq of the next event it reads
+  int efd = -1;               ///< eventfd, readable while poll would report
+  bool efd_set = false;
+};
+
+class port {
+ public:
+  using time_point = std::chrono::steady_clock::time_point;
+
+  port(int number, options o);
+  port(const port &) = delete;
+  port &operator=(const port &) = delete;
+  ~port();
+
+  /// The port sim:number, shared by every descriptor of this process that
+  /// has it open; a fresh one if none has.
+  static std::shared_ptr<port> get(int number, const options &o);
+  /// The port if any descriptor of this process has it open.
+  static std::shared_ptr<port> find(int number);
+
+  /// The module's open() and release() of a descriptor.
+  void open(file &f, bool controller);
+  void close(file &f);
+
+  int ioctl(file &f, unsigned long cmd, void *arg);
+  ssize_t read(file &f, void *buf, size_t n);
+  ssize_t write(file &f, const void *buf, size_t n);
+  int poll(file &f, short events, int timeout_ms, short *revents);
+  time_point now() const;
+
+  // The machine side, for tests and scripts.
+
+  /// Input pin levels (X4GetIn bits); they read LOW until set.
+  void set_inputs(unsigned levels);
+  /// A key event (set-1 code) as the module's input handler sees it:
+  /// true if it braked a move.
+  bool key(unsigned code);
+  /// Keep every pin write from now on (off: none kept).
+  void record(bool on);
+  std::vector<pin_write> writes() const;
+  /// Virtual time only: run the engine's events up to engine time t_ns.
+  void run_until(std::uint64_t t_ns);
+  std::uint64_t engine_now() const;
+  /// Virtual time: what passes while a program polls the state (a status
+  /// read, X4GetTimer), so that a loop such as the manual's
+  /// `while (X4GetState()) ;` ends. Real time: nothing.
+  static constexpr std::uint64_t poll_quantum_ns = 100000;
+  void let_time_pass();
+  const options &settings() const noexcept { return opt_; }
+
+ private:
+  using lock = std::unique_lock<std::mutex>;
+  using starter = int (*)(x4_engine *e, const void *arg, std::uint64_t now);
+
+  std::uint64_t now_locked() const;
+  std::uint64_t steady_ns_locked() const;
+  unsigned inputs_locked();
+  void write_locked(std::uint64_t t);
+  void write_rest_locked();
+  void fire_locked(std::uint64_t t);
+  void drain_locked(std::uint64_t until);
+  void tick_done_locked();
+  void note_ends_locked();
+  void changed_locked();
+  short revents_locked(const file &f) const;
+  bool step_virtual_locked(std::uint64_t limit);
+  void advance_locked(std::uint64_t t_ns);
+  void timer_thread();
+
+  int run_locked(starter start, const void *arg, unsigned kind);
+  int goto_locked(std::uint8_t axes, const std::int32_t *target, bool relative);
+  void halted_locked();
+  int brake_locked(std::uint8_t axes, unsigned source, unsigned code);
+  int stop_locked(std::uint8_t axes);
+  void claimed_locked();
+  void quiesce_locked();
+  void let_go_locked();
+  void set_invert_locked(std::uint8_t clock_invert, std::uint8_t dir_invert);
+
+  // ioctl.cpp: the module's x4_ioctl() and its helpers.
+  int ioctl_locked(file &f, unsigned long cmd, void *arg);
+  int status_locked(void *arg);
+  int axes_locked(void *arg);
+
+  // events.cpp: the module's x4step_events.c.
+  void ev_push_locked(unsigned type, unsigned axes, unsigned how, unsigned value, unsigned flags);
+  std::uint8_t ev_chans_locked(std::uint8_t axes) const;
+  std::uint8_t ev_chan_axes_locked(std::uint8_t chans) const;
+  void ev_brake_locked(std::uint8_t chans, unsigned source, unsigned code);
+  void ev_stop_locked(std::uint8_t chans) { ev_stopped_ |= chans; }
+  void ev_errors_locked();
+  void ev_ref_locked(int c);
+  void ev_home_locked(int c, std::uint8_t was);
+  int ev_chan_of_axis_locked(int i) const;
+  void ev_update_locked(int c, unsigned kind);
+  void ev_fired_locked(int c);
+
+  const int number_;
+  const options opt_;
+  mutable std::mutex m_;
+  std::condition_variable wake_;   // pollers and readers
+  std::condition_variable timer_;  // the real-time thread
+  time_point epoch_;               // engine time 0
+  std::uint64_t vnow_ = 0;         // virtual time: the engine's now
+
+  x4_engine eng_{};
+  x4_engine plan_eng_{};
+  x4_goto plan_goto_{};
+  std::vector<file *> files_;
+  const file *controller_ = nullptr;
+  bool releasing_ = false;
+  bool claimed_ = false;
+  unsigned inputs_ = 0;  // the input levels the machine sets
+  unsigned inputs_read_ = 0;
+  std::uint64_t inputs_ns_ = 0;
+  bool written_valid_ = false;
+  std::uint8_t data_written_ = 0, ctl_written_ = 0;
+  std::uint8_t clock_invert_ = 0, dir_invert_ = 0, data_invert_ = 0;
+  std::uint32_t cfg_flags_ = 0;
+  std::uint16_t brake_codes_[20] = {};
+  std::uint32_t n_brake_codes_ = 0;
+  std::uint32_t last_brake_code_ = 0;
+  std::uint64_t brake_time_ns_ = 0;
+  std::uint64_t moves_ended_ = 0;
+
+  bool recording_ = false;
+  std::vector<pin_write> writes_;
+  std::unique_ptr<vcd_writer> vcd_;
+
+  // The event stream, as the module's x4_port ev_* fields.
+  std::vector<x4step_event> events_;
+  std::uint64_t ev_seq_ = 1;
+  std::uint64_t ev_time_ns_ = 0;
+  std::uint8_t ev_busy_ = 0;
+  std::uint8_t ev_err_[X4_AXES] = {};
+  std::uint8_t ev_home_[X4_AXES] = {};
+  bool ev_ref_found_[X4_AXES] = {};
+  std::uint8_t ev_how_[X4_AXES] = {};
+  bool ev_path_ = false;
+  std::uint8_t ev_braked_ = 0;
+  std::uint8_t ev_stopped_ = 0;
+
+  bool quit_ = false;
+  std::thread thread_;  // real time only
+};
+
+}  // namespace x4step::sim
+
+#endif  // X4STEP_SIM_PORT_HPP
