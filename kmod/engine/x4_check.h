@@ -1,4 +1,4 @@
-/* SPDX-License-Identifier: GPL-2.0 */
+/* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
  * x4step engine: the commands' arguments, their limits and the checks of
  * them. Pure functions without state: the module runs them on every ioctl

@@ -1,4 +1,4 @@
-/* SPDX-License-Identifier: GPL-2.0 */
+/* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
  * x4step engine: turns moves into a stream of port events. The public
  * interface of kmod/engine/ for the module's glue and the host tests.

@@ -1,4 +1,4 @@
-/* SPDX-License-Identifier: GPL-2.0 */
+/* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
  * x4step engine: what its files share with each other and with nobody
  * else (the glue and the tests use x4_engine.h).

@@ -1,4 +1,4 @@
-// SPDX-License-Identifier: GPL-2.0
+// SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
  * x4step engine: continuous paths (x4_path.h). The writer's half queues
  * segments and plans their entry speeds backward (as GRBL's planner does);

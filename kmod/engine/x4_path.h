@@ -1,4 +1,4 @@
-/* SPDX-License-Identifier: GPL-2.0 */
+/* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
  * x4step engine: continuous paths (x4_path.c). A path is a queue of
  * straight segments that run back to back, at path speeds planned ahead

@@ -1,4 +1,4 @@
-// SPDX-License-Identifier: GPL-2.0
+// SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
  * x4step engine: the SMC800/SMC1500 phase drive (SMCMOT.PAS). Instead of
  * clock and direction, the data byte addresses one motor and sets the

@@ -1,4 +1,4 @@
-// SPDX-License-Identifier: GPL-2.0
+// SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
  * x4step engine: profile mathematics (x4_plan.h). The profile is the
  * X4Step manual's (chapter 2) with the thesis' analytic step times, and

@@ -1,4 +1,4 @@
-/* SPDX-License-Identifier: GPL-2.0 */
+/* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
  * x4step engine: profile mathematics. A plan is the leader axis' schedule
  * of one move, computed once when the move is loaded or started, so that

@@ -1,4 +1,4 @@
-// SPDX-License-Identifier: GPL-2.0
+// SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
  * x4step engine: the channels. The commands that start, brake and stop
  * moves; the event state machine that turns a running plan into clock,

@@ -1,4 +1,4 @@
-// SPDX-License-Identifier: GPL-2.0
+// SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
  * x4step engine: what an axis is doing, for GET_AXES and the library's
  * axes status: coordinate, ProStep4 state and error bits, and its speed

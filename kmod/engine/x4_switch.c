@@ -1,4 +1,4 @@
-// SPDX-License-Identifier: GPL-2.0
+// SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
  * x4step engine: reference and limit switches, and reference runs
  * (ProStep4). Which inputs end a channel's move, what a hit does to the

@@ -1,4 +1,4 @@
-/* SPDX-License-Identifier: GPL-2.0 */
+/* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
  * x4step engine: the fixed-width types and the 64-bit division of the
  * kernel, also in user space. The engine is plain C with no floating

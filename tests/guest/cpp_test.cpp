@@ -180,7 +180,8 @@ void PathAppendWhileHeld() {
   }
   x4step::controller c{std::string(dev)};
   x4step::path p(c);
-  const auto one = x4step::segment{}.steps(x4step::axis::x, 10).length(10).top_speed(2000).entry_speed(2000).accel(20000);
+  const auto one =
+      x4step::segment{}.steps(x4step::axis::x, 10).length(10).top_speed(2000).entry_speed(2000).accel(20000);
   const std::vector<x4step::segment> all(300, one);
   const auto done0 = p.status().done;  // since the module was loaded
   const long x0 = c.get_axes()[x4step::axis::x].position;
