@@ -339,6 +339,28 @@ static void flush(struct x4_engine *e)
 }
 
 /*
+ * When the running piece's last step is due: at c->origin + c->t_cur,
+ * which the plan rounds down to a whole ns. The next piece counts from
+ * there, so where the piece ends cruising (as most do on a path at its
+ * feed), the fraction carries over: a path of thousands of pieces does
+ * not run ahead of its plan by half a ns a piece.
+ */
+static u64 piece_end(struct x4_path *pa, const struct x4_chan *c)
+{
+	const struct x4_plan *p = &c->run;
+	u64 t = c->origin + c->t_cur, x, r;
+
+	if (p->last < p->n_cruise || p->last >= p->n_decel)
+		return t;
+	x = (2 * p->last - p->c_m0) * p->c_num; /* x4_plan_cruise_time() */
+	r = x - x4_div(x, p->c_den) * p->c_den;
+	pa->frac += x4_div(r << 32, p->c_den);
+	t += pa->frac >> 32;
+	pa->frac &= 0xffffffffull;
+	return t;
+}
+
+/*
  * After the last step of the running piece (due at c->origin + c->t_cur):
  * plan the next piece, possibly of the next segment, and return true; or
  * return false when the path comes to rest here (c->path_cut: stopped).
@@ -349,10 +371,11 @@ static void flush(struct x4_engine *e)
 bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 {
 	struct x4_path *pa = &e->path;
-	u64 t0 = c->origin + c->t_cur;
+	u64 t0;
 
 	if (c->path_cut)
 		return false;
+	t0 = piece_end(pa, c);
 	pa->pos += pa->piece;
 	pa->piece = 0;
 	if (pa->pos >= pa->leader) {
@@ -432,6 +455,7 @@ static void begin_path(struct x4_engine *e, u64 now_ns)
 	if (!pa->started)
 		start_segment(e, c, 0);
 	pa->v_end = 0;
+	pa->frac = 0;
 	pa->state = X4_PATH_RUN;
 	pa->rest = X4_REST_CUT;
 	c->home = 0;

@@ -67,6 +67,7 @@ struct x4_path {
 	u32 flushes; /* queues flushed: the glue's writers learn of them */
 	u64 done; /* segments completed */
 	u64 starved; /* refills that came after the path began to stop */
+	u64 frac; /* the ns fraction the pieces' ends left out, 32.32 */
 };
 
 #define X4_PATH_OVERRIDE_MAX 200

@@ -873,3 +873,18 @@ TEST(PathHold, FullQueueHeldResumedAndRefilled) {
     EXPECT_EQ(p.Status().queued, 0u) << "hold after " << k << " events";
   }
 }
+
+// Pieces end at whole ns: a path of a thousand short pieces at its feed
+// carries the fractions over, so its steps keep the pace of its speed
+// (without the carry it ran 0.45 ns a piece ahead: 450 ns here).
+TEST(PathRun, ThousandPiecesKeepThePace) {
+  Path p(1024);
+  for (int k = 0; k < 1000; k++) ASSERT_EQ(p.Push(Seg(7, 0, 0, 0, 7, 3000, 30000, 3000)), X4_OK);
+  Recording r;
+  RunToEnd(p, r);
+  const std::vector<uint64_t> &t = r.rises[0];
+  ASSERT_EQ(t.size(), 7000u);
+  const size_t i = 1000, j = 6500;  // both in the cruise at 3000 steps/s
+  const double ideal = (j - i) * 1e9 / 3000;
+  EXPECT_NEAR(double(t[j] - t[i]), ideal, 2.0);
+}
