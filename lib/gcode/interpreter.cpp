@@ -39,6 +39,10 @@ constexpr double mm_per_inch = 25.4;
 // radii may differ by up to spiral_abs, or by up to 100 spiral_abs when
 // they differ by at most spiral_rel of the radius (a spiral that a CAM
 // system's rounding made).
+// Bounds that keep numbers inside an int, and an arc of P turns sane.
+constexpr int tool_max = 99999;
+constexpr int turns_max = 10000;
+
 struct arc_tolerances {
   double radius, spiral_abs;
 };
@@ -249,18 +253,12 @@ inline char upper(char c) { return (c >= 'a' && c <= 'z') ? char(c - 'a' + 'A') 
 
 }  // namespace
 
-struct interpreter::impl {
-  sink *out;
-  options opt;
-  std::map<int, tool> tools;
-
-  // The file being run and the line being read, for errors.
-  std::string file;
-  int line_no = 0;
-
-  // Modal state.
-  units prog_units;
-  double k;  // mm per program unit
+// What a line changes: copied before each line and put back if the line
+// is refused, so that a refused line changes nothing (execute_line() goes
+// on after it: MDI, a streaming bridge).
+struct modal_state {
+  units prog_units = units::mm;
+  double k = 1;  // mm per program unit
   plane pl = plane::xy;
   bool incremental = false;
   bool arc_absolute = false;  // G90.1
@@ -281,6 +279,16 @@ struct interpreter::impl {
   pose g92{};
   pose tlo{};
   pose g28{}, g30{};
+};
+
+struct interpreter::impl : modal_state {
+  sink *out;
+  options opt;
+  std::map<int, tool> tools;
+
+  // The file being run and the line being read, for errors.
+  std::string file;
+  int line_no = 0;
 
   double out_scale;  // mm per machine unit
   std::vector<event> events;
@@ -429,6 +437,7 @@ struct interpreter::impl {
         continue;
       }
       any_word = true;
+      if ((L == 'G' || L == 'M') && !(std::fabs(v) < 10000)) fail(col, std::string("unknown ") + L + " code");
       if (L == 'G') {
         int code10 = int(std::lround(v * 10));
         if (std::fabs(v * 10 - code10) > 1e-6 || v < 0) fail(col, "unknown G code");
@@ -529,7 +538,8 @@ struct interpreter::impl {
     if (b.has('S') && b.v('S') < 0) fail(b.at('S'), "negative spindle speed");
     if (b.has('T')) {
       double t = b.v('T');
-      if (t < 0 || t != std::floor(t)) fail(b.at('T'), "T must be a tool number (a whole number >= 0)");
+      if (t < 0 || t != std::floor(t) || t > tool_max)
+        fail(b.at('T'), "T must be a tool number (a whole number 0.." + std::to_string(tool_max) + ")");
     }
     if (g0 == 100) {
       if (!b.has('L')) fail(b.g_col[g_nonmodal], "G10 needs L2 or L20");
@@ -730,7 +740,8 @@ struct interpreter::impl {
       int h = tool_loaded;
       if (b.has('H')) {
         double hv = b.v('H');
-        if (hv < 0 || hv != std::floor(hv)) fail(b.at('H'), "H must be a tool number (a whole number >= 0)");
+        if (hv < 0 || hv != std::floor(hv) || hv > tool_max)
+          fail(b.at('H'), "H must be a tool number (a whole number 0.." + std::to_string(tool_max) + ")");
         h = int(hv);
       }
       if (h != 0) {
@@ -828,8 +839,9 @@ struct interpreter::impl {
     int turns = 1;
     if (b.has('P')) {
       double p = b.v('P');
-      if (p != std::floor(p) || p < 1)
-        fail(b.at('P'), std::string(gname) + " P (turns) must be a whole number >= 1");
+      if (p != std::floor(p) || p < 1 || p > turns_max)
+        fail(b.at('P'),
+             std::string(gname) + " P (turns) must be a whole number 1.." + std::to_string(turns_max));
       turns = int(p);
     }
     double s1 = pos[size_t(a1)], s2 = pos[size_t(a2)];
@@ -845,6 +857,7 @@ struct interpreter::impl {
       if (e1 == s1 && e2 == s2)
         fail(b.at('R'), "R arc whose end point is its start point (the centre is undefined: use I J K)");
       double ar = std::fabs(r);
+      if (ar / k < tol().radius) fail(b.at('R'), "zero-radius arc (R " + std::to_string(r / k) + ")");
       double m1 = (s1 + e1) / 2, m2 = (s2 + e2) / 2;
       double half = std::hypot(e1 - m1, e2 - m2);
       if ((half - ar) / k > tol().radius)
@@ -979,7 +992,13 @@ struct interpreter::impl {
     if (ended) return false;
     if (!parse(s)) return true;
     events.clear();
-    execute();
+    const modal_state before = *this;
+    try {
+      execute();
+    } catch (const error &) {
+      static_cast<modal_state &>(*this) = before;
+      throw;
+    }
     flush();
     return !ended;
   }
@@ -1077,6 +1096,9 @@ std::map<int, tool> read_tool_table(const std::string &path, units in, units mac
       if (w.size() < 2 || *endp) throw error(path, n, 1, "bad word '" + w + "' in the tool table");
       static const char axes[] = "XYZABC";
       const char *ax = std::strchr(axes, L);
+      if (L == 'T' && (v < 0 || v != std::floor(v) || v > tool_max))
+        throw error(path, n, 1,
+                    "bad tool number '" + w + "' in the tool table: 0.." + std::to_string(tool_max));
       if (L == 'T')
         number = int(v);
       else if (L == 'D')

@@ -124,7 +124,21 @@ TEST(Gcode, BadArcs) {
             "t.ngc:2:1: X and Y words missing for an R arc in the XY (G17) plane");
   EXPECT_EQ(run("G1 F100 X0\nG90.1 G2 X10 I5\nM2\n"),
             "t.ngc:2:7: J word missing for an arc with absolute centre (G90.1)");
-  EXPECT_EQ(run("G1 F100 X0\nG2 X10 I5 P1.5\nM2\n"), "t.ngc:2:11: G2 P (turns) must be a whole number >= 1");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X10 I5 P1.5\nM2\n"),
+            "t.ngc:2:11: G2 P (turns) must be a whole number 1..10000");
+  EXPECT_EQ(run("G1 F100 X0\nG2 X10 I5 P1000000000\nM2\n"),
+            "t.ngc:2:11: G2 P (turns) must be a whole number 1..10000");
+  // R 0 with an end within the radius tolerance: no centre (not NaN).
+  EXPECT_EQ(run("G21 G1 F100 X0 Y0\nG2 X0.001 Y0 R0\nM2\n"), "t.ngc:2:14: zero-radius arc (R 0.000000)");
+}
+
+// Numbers that do not fit the words' meaning are refused, not converted.
+TEST(Gcode, HugeNumbers) {
+  EXPECT_EQ(run("T3000000000\nM2\n"), "t.ngc:1:1: T must be a tool number (a whole number 0..99999)");
+  EXPECT_EQ(run("G1 F1 X0\nG43 H3000000000\nM2\n"),
+            "t.ngc:2:5: H must be a tool number (a whole number 0..99999)");
+  EXPECT_EQ(run("G1234567890123456789\nM2\n"), "t.ngc:1:1: unknown G code");
+  EXPECT_EQ(run("M99999999999999999999\nM2\n"), "t.ngc:1:1: unknown M code");
 }
 
 TEST(Gcode, RefusedLineReachesNothing) {
@@ -135,6 +149,13 @@ TEST(Gcode, RefusedLineReachesNothing) {
   EXPECT_THROW(in.execute_line("M3 G2 X3 I9", "mdi", 3), g::error);  // spindle before the bad arc
   ASSERT_EQ(r.log.size(), 1u);
   EXPECT_EQ(in.position()[0], 1.0);
+  // Nor does it change the state: units, distance mode, feed.
+  EXPECT_THROW(in.execute_line("G20 G91 F7 G43 H7 X1", "mdi", 4), g::error);  // no tool 7
+  EXPECT_EQ(in.program_units(), g::units::mm);
+  EXPECT_TRUE(in.execute_line("G1 X2", "mdi", 5));
+  ASSERT_EQ(r.log.size(), 2u);
+  EXPECT_EQ(r.log[1], "G1 2 0 0");
+  EXPECT_EQ(in.position()[0], 2.0);
 }
 
 TEST(Gcode, CheckBeforeMotion) {
