@@ -149,7 +149,9 @@ class path {
   /// a program learns that its path was stopped, rather than running the
   /// rest from where it stood. A held path (hold(), a brake key) frees no
   /// room: with the queue full, it throws not_active, rather than wait
-  /// for a resume() that the waiting thread itself would have to give.
+  /// for a resume() that the waiting thread itself would have to give (a
+  /// program that resumes from another thread appends the rest then:
+  /// status().done + queued grew by the segments this call queued).
   void append(const segment &s);
   void append(const std::vector<segment> &s);
   /// Queue what fits now, without waiting; how many were queued.
