@@ -521,7 +521,11 @@ class controller {
   /// asyncio): readable (POLLIN) while no move runs, POLLPRI when an event
   /// is there to read_event(), POLLERR | POLLHUP once the port is gone
   /// (with PORT_GONE the last event). Opened O_NONBLOCK; owned by this
-  /// object; -1 when closed.
+  /// object; -1 when closed. A simulated port ("sim") gives an eventfd,
+  /// readable while the module's would poll POLLIN or POLLPRI: read_event()
+  /// or get_status() tell which; it has no POLLOUT of its own. In virtual
+  /// time the clock moves only in this library's calls (waits, status),
+  /// so a loop that only polls fd() waits for ever.
   int fd() const noexcept;
 
   void load(const move &m);  ///< prepare (or preload while running)
