@@ -493,13 +493,13 @@ std::string device_path(int lpt);
 /// The library's version, "major.minor.patch" (libx4stepcxx.so.major).
 const char *version() noexcept;
 
-/// Owns one port: the only one that moves its motors. Move-only.
-/// Destroying it while motors run brakes them along the ramp first, and
-/// waits until they stand (see close()).
 namespace detail {
 struct access;
 }
 
+/// Owns one port: the only one that moves its motors. Move-only.
+/// Destroying it while motors run brakes them along the ramp first, and
+/// waits until they stand (see close()).
 class controller {
  public:
   /// Open LPT1..4. Throws lpt_not_found if the port is missing or taken;

@@ -294,7 +294,7 @@ void x4_plan_axes(struct x4_plan *p, const s64 *steps)
 		p->sign[i] = s < 0 ? -1 : 1;
 		p->bres_inc[i] = 2ull * n;
 		axes |= (n != 0) << i;
-		dirs |= s > 0 ? X4_DIR_BIT(i) : 0;
+		dirs |= n && s > 0 ? X4_DIR_BIT(i) : 0;
 		if (n > longest) {
 			longest = n;
 			leader = (u8)i;
