@@ -49,3 +49,12 @@ echo "== what the pins did (QEMU's trace of the port writes; host time, so timin
 echo
 echo "VCD (GTKWave, PulseView): $out/demo.vcd"
 echo "step frequency per axis over time (SVG): $out/demo.svg"
+
+# The same example on libx4step's simulated port: no QEMU, module or root.
+sim="X4STEP_SIM_TIME=virtual X4STEP_SIM_VCD=$out/sim.vcd build/tools/x4ctl/x4ctl --sim move 1000 800 600 400 --freq 1000 --ramp 50 --then -1000 -800 -600 -400 --wait"
+echo
+echo "== the same example simulated (libx4step's simulated port: no QEMU, no module, no root), in one line:"
+echo "   $sim"
+env X4STEP_SIM_TIME=virtual X4STEP_SIM_VCD="$out/sim.vcd" "$top/build/tools/x4ctl/x4ctl" --sim \
+	move 1000 800 600 400 --freq 1000 --ramp 50 --then -1000 -800 -600 -400 --wait
+echo "its VCD: $out/sim.vcd"
