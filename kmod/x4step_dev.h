@@ -14,6 +14,8 @@
 #include <linux/x4step.h>
 
 #include "x4_engine.h"
+#include "x4_req.h"
+#include "x4_track.h"
 
 #define X4_MAX_PORTS 16 /* minors: parport numbers 0..15 */
 #define X4_EVENTS 256 /* events kept per port, a power of 2 */
@@ -71,21 +73,14 @@ struct x4_port {
 	/*
 	 * The event stream (x4step_events.c), under slock: a ring of
 	 * X4_EVENTS, event `seq` at seq % X4_EVENTS, ev_seq the next one's.
-	 * The ev_ fields below are the engine as last seen, and why the moves
-	 * of each channel will end.
+	 * `ev` is the engine as last seen, and why the moves of each channel
+	 * will end (engine/x4_track.c).
 	 */
 	struct x4step_event *events;
 	u64 ev_seq;
 	u64 ev_time_ns; /* the last event's time: times never go back */
 	bool ev_closed; /* PORT_GONE is in the ring: readers end after it */
-	u8 ev_busy; /* channels that ran */
-	u8 ev_err[X4_AXES]; /* the axes' error bits */
-	u8 ev_home[X4_AXES]; /* each channel's reference phase */
-	bool ev_ref_found[X4_AXES]; /* ... and whether its phase 1 saw REF */
-	u8 ev_how[X4_AXES]; /* X4STEP_END_* a channel's move ends with, or 0 */
-	bool ev_path; /* channel 0 runs a path */
-	u8 ev_braked; /* channels whose brake was asked for */
-	u8 ev_stopped; /* channels stopped at once */
+	struct x4_track ev;
 
 	/*
 	 * Deferred release (x4step_main.c). A controller that closes while
@@ -104,7 +99,6 @@ struct x4_port {
 	u32 path_cfg_flags; /* X4STEP_PATH_KEYS_ABORT */
 	bool path_room_wanted; /* a writer waits for room: wake it */
 	u32 path_flushes_seen; /* the engine's flush count the writer knows */
-	bool path_aborting; /* the path's end is an abort (under slock) */
 };
 
 /* One open file of /dev/x4stepN (file->private_data). */
@@ -148,7 +142,6 @@ void x4_events_open(struct x4_port *x4, struct x4_file *xf);
 __poll_t x4_events_poll(struct x4_port *x4, struct x4_file *xf);
 ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
 		       struct file *file, char __user *buf, size_t count);
-int x4_errno(int result);
 ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 		      const char __user *buf, size_t count);
 __poll_t x4_path_poll(struct x4_port *x4, struct file *file);

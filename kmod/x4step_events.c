@@ -13,8 +13,9 @@
  * Moves end where the engine says so; why comes from what the glue did
  * (a brake or stop asked for) and from what the engine shows after each
  * of its calls: new error bits (a limit hit, a reference run too long), a
- * reference phase ended. x4_events_update_locked() compares it with what
- * was seen last, so the engine itself keeps no event state.
+ * reference phase ended. The engine's tracker (engine/x4_track.c, shared
+ * with libx4step's simulated port) compares it with what was seen last,
+ * so the engine itself keeps no event state.
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
@@ -28,12 +29,16 @@
 
 #include "x4step_dev.h"
 
+static void x4_ev_track_push(struct x4_track *t, u32 type, u32 axes, u32 how,
+			     u32 value, u32 flags);
+
 int x4_events_alloc(struct x4_port *x4)
 {
 	x4->events = kcalloc(X4_EVENTS, sizeof(*x4->events), GFP_KERNEL);
 	if (!x4->events)
 		return -ENOMEM;
 	x4->ev_seq = 1;
+	x4->ev.push = x4_ev_track_push;
 	return 0;
 }
 
@@ -70,28 +75,19 @@ static void x4_ev_push_locked(struct x4_port *x4, u32 type, u32 axes,
 	irq_work_queue(&x4->wake_work);
 }
 
+/* The events the tracker (engine/x4_track.c) tells of. */
+static void x4_ev_track_push(struct x4_track *t, u32 type, u32 axes, u32 how,
+			     u32 value, u32 flags)
+{
+	x4_ev_push_locked(container_of(t, struct x4_port, ev), type, axes, how,
+			  value, flags);
+}
+
 /* The channels that run moves of the axes in `axes`. */
 u8 x4_events_chans_locked(struct x4_port *x4, u8 axes)
 {
-	u8 chans = 0;
-	int i;
-
-	for (i = 0; i < X4_AXES; i++)
-		if (x4->eng.busy & (1u << i) &&
-		    x4_engine_chan_axes(&x4->eng, i) & axes)
-			chans |= 1u << i;
-	return chans;
-}
-
-static u8 x4_chan_axes(struct x4_port *x4, u8 chans)
-{
-	u8 axes = 0;
-	int i;
-
-	for (i = 0; i < X4_AXES; i++)
-		if (chans & (1u << i))
-			axes |= x4->eng.ch[i].run.axes;
-	return axes;
+	lockdep_assert_held(&x4->slock);
+	return x4_track_chans(&x4->eng, axes);
 }
 
 /* A brake of the moves of channels `chans` was asked for, by `source`. */
@@ -99,18 +95,14 @@ void x4_events_brake_locked(struct x4_port *x4, u8 chans, u32 source,
 			    u32 code)
 {
 	lockdep_assert_held(&x4->slock);
-	if (!chans)
-		return;
-	x4->ev_braked |= chans;
-	x4_ev_push_locked(x4, X4STEP_EV_BRAKE, x4_chan_axes(x4, chans), source,
-			  code, 0);
+	x4_track_brake(&x4->ev, &x4->eng, chans, source, code);
 }
 
 /* The moves of channels `chans` are being stopped at once. */
 void x4_events_stop_locked(struct x4_port *x4, u8 chans)
 {
 	lockdep_assert_held(&x4->slock);
-	x4->ev_stopped |= chans;
+	x4_track_stop(&x4->ev, chans);
 }
 
 void x4_events_controller_locked(struct x4_port *x4, u32 how)
@@ -124,155 +116,21 @@ void x4_events_gone_locked(struct x4_port *x4)
 	x4->ev_closed = true;
 }
 
-/* The channel that runs axis i, or -1. */
-static int x4_chan_of_axis(struct x4_port *x4, int i)
-{
-	int c;
-
-	for (c = 0; c < X4_AXES; c++)
-		if (x4->ev_busy & (1u << c) && x4->eng.ch[c].run.axes & (1u << i))
-			return c;
-	return -1;
-}
-
-/* Limit switches and reference runs: the error bits that became set. */
-static void x4_ev_errors_locked(struct x4_port *x4)
-{
-	const struct x4_engine *e = &x4->eng;
-	u8 new;
-	int i, c;
-
-	for (i = 0; i < X4_AXES; i++) {
-		new = e->err[i] & ~x4->ev_err[i];
-		x4->ev_err[i] = e->err[i];
-		if (!new)
-			continue;
-		c = x4_chan_of_axis(x4, i);
-		if (new & X4_AXERR_LIMIT_POS)
-			x4_ev_push_locked(x4, X4STEP_EV_SWITCH, 1u << i,
-					  X4STEP_SW_LIMIT_POS, e->sw.plus[i],
-					  e->err[i] & X4_AXERR_AMBIGUOUS ?
-					  X4STEP_EVF_AMBIGUOUS : 0);
-		if (new & X4_AXERR_LIMIT_NEG)
-			x4_ev_push_locked(x4, X4STEP_EV_SWITCH, 1u << i,
-					  X4STEP_SW_LIMIT_NEG, e->sw.minus[i],
-					  e->err[i] & X4_AXERR_AMBIGUOUS ?
-					  X4STEP_EVF_AMBIGUOUS : 0);
-		if (c < 0)
-			continue;
-		if (new & (X4_AXERR_LIMIT_POS | X4_AXERR_LIMIT_NEG))
-			x4->ev_how[c] = X4STEP_END_LIMIT;
-		else if (new & X4_AXERR_REF_TRAVEL)
-			x4->ev_how[c] = X4STEP_END_REF_TRAVEL;
-		else if (new & X4_AXERR_REF_PASSED)
-			x4->ev_how[c] = X4STEP_END_REF_PASSED;
-	}
-}
-
-/* Channel c's reference switch ended a phase of its reference run. */
-static void x4_ev_ref_locked(struct x4_port *x4, int c)
-{
-	int axis = x4->eng.ch[c].run.leader;
-
-	x4_ev_push_locked(x4, X4STEP_EV_SWITCH, 1u << axis, X4STEP_SW_REF,
-			  x4->eng.sw.ref[axis], 0);
-}
-
 /*
- * Channel c's reference phase changed from `was` in the timer: phase 1,
- * having seen REF (x4_ev_ref_locked() then) and stopped or braked past
- * it, ended (phase 2 follows, or the run ends there), or REF ended phase
- * 2 (the axis is at 0 and synchronized).
+ * After the engine changed: what the changes mean (x4_track_update()).
+ * `c`: the engine fired an event of channel c; `kind`: the moves that
+ * start now are of this X4STEP_KIND_*.
  */
-static void x4_ev_home_locked(struct x4_port *x4, int c, u8 was)
-{
-	const struct x4_chan *ch = &x4->eng.ch[c];
-
-	if (x4->ev_how[c])
-		return; /* a limit or the travel ended it */
-	if (was == X4_HOME_PHASE1 && !ch->ref_found)
-		return; /* braked or stopped before REF */
-	if (was == X4_HOME_PHASE2)
-		x4_ev_ref_locked(x4, c);
-	if (!ch->home)
-		x4->ev_how[c] = was == X4_HOME_PHASE2 ? X4STEP_END_HOMED :
-							X4STEP_END_REF_FOUND;
-}
-
-/*
- * After the engine changed: what the changes mean. `fired`: the engine
- * fired an event of channel `c` (its reference phase is worth a look);
- * `kind`: the moves that start now are of this X4STEP_KIND_*.
- */
-/* Why a path's channel came to rest: held, aborted, stopped, or done. */
-static u8 x4_ev_path_end_locked(struct x4_port *x4)
-{
-	bool aborting = x4->path_aborting;
-
-	if (x4->eng.path.state == X4_PATH_HELD)
-		return X4STEP_END_HELD;
-	x4->path_aborting = false;
-	if (x4->ev_stopped & 1)
-		return X4STEP_END_STOPPED;
-	return aborting ? X4STEP_END_ABORTED : X4STEP_END_COMPLETED;
-}
-
 void x4_events_update_locked(struct x4_port *x4, int c, u32 kind)
 {
-	const struct x4_engine *e = &x4->eng;
-	u8 ended, started, how, bit;
-	int i;
-
 	lockdep_assert_held(&x4->slock);
-	if (memcmp(e->err, x4->ev_err, sizeof(x4->ev_err)))
-		x4_ev_errors_locked(x4);
-	for (i = 0; i < X4_AXES; i++) {
-		u8 was = x4->ev_home[i];
-
-		if (e->ch[i].ref_found && !x4->ev_ref_found[i] && e->ch[i].home)
-			x4_ev_ref_locked(x4, i);
-		x4->ev_ref_found[i] = e->ch[i].ref_found;
-		x4->ev_home[i] = e->ch[i].home;
-		if (i == c && was && was != e->ch[i].home)
-			x4_ev_home_locked(x4, i, was);
-	}
-	ended = x4->ev_busy & ~e->busy;
-	started = e->busy & ~x4->ev_busy;
-	for (i = 0; i < X4_AXES; i++) {
-		bit = 1u << i;
-		if (!(ended & bit))
-			continue;
-		how = x4->ev_how[i];
-		if (!how && !i && x4->ev_path)
-			how = x4_ev_path_end_locked(x4);
-		else if (!how)
-			how = x4->ev_stopped & bit ? X4STEP_END_STOPPED :
-			      x4->ev_braked & bit ? X4STEP_END_BRAKED :
-			      X4STEP_END_COMPLETED;
-		x4_ev_push_locked(x4, X4STEP_EV_MOVE_ENDED, e->ch[i].run.axes,
-				  how, 0, 0);
-		x4->ev_how[i] = 0;
-	}
-	x4->ev_braked &= ~ended;
-	x4->ev_stopped &= ~ended;
-	x4->ev_busy = e->busy;
-	if (started & 1)
-		x4->ev_path = kind == X4STEP_KIND_PATH;
-	for (i = 0; i < X4_AXES; i++)
-		if (started & (1u << i))
-			x4_ev_push_locked(x4, X4STEP_EV_MOVE_STARTED,
-					  e->ch[i].run.axes, kind, 0, 0);
+	x4_track_update(&x4->ev, &x4->eng, c, kind);
 }
 
 /* What the engine may have changed by firing an event of channel c. */
 void x4_events_fired_locked(struct x4_port *x4, int c)
 {
-	const struct x4_engine *e = &x4->eng;
-
-	if (e->busy != x4->ev_busy || e->ch[c].home != x4->ev_home[c] ||
-	    e->ch[c].ref_found != x4->ev_ref_found[c] ||
-	    memcmp(e->err, x4->ev_err, sizeof(x4->ev_err)))
-		x4_events_update_locked(x4, c, 0);
+	x4_track_fired(&x4->ev, &x4->eng, c);
 }
 
 void x4_events_open(struct x4_port *x4, struct x4_file *xf)

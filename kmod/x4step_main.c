@@ -265,26 +265,6 @@ static int x4_get_status(struct x4_port *x4, struct x4step_status *st)
 	return 0;
 }
 
-int x4_errno(int result)
-{
-	switch (result) {
-	case X4_OK:
-		return 0;
-	case X4_ERR_IS_ACTIVE:
-		return -EBUSY;
-	case X4_ERR_IS_LOADED:
-		return -EEXIST;
-	case X4_ERR_NOT_LOADED:
-		return -ENODATA;
-	case X4_ERR_NOT_ACTIVE:
-		return -ESRCH;
-	case X4_ERR_RATE_BUDGET:
-		return -ERANGE;
-	default:
-		return -EINVAL;
-	}
-}
-
 static int x4_ioctl_load(struct x4_port *x4, struct x4step_move __user *arg)
 {
 	struct x4_move m;
@@ -375,35 +355,24 @@ static int x4_ioctl_run(struct x4_port *x4, void __user *uarg, void *karg,
 	if (bad(karg))
 		return -EINVAL;
 	result = run(x4, karg);
-	/* Over the write budget: the API's nearest code, errno ERANGE. */
-	if (put_user(result == X4_ERR_RATE_BUDGET ? X4_ERR_FREQ_TOO_HIGH : result,
-		     uresult))
+	if (put_user(x4_req_result(result), uresult))
 		return -EFAULT;
 	return x4_errno(result);
 }
 
 static bool x4_bad_endless(const void *karg)
 {
-	const struct x4step_endless *ue = karg;
-
-	return (ue->direction != 1 && ue->direction != -1) || ue->flags ||
-	       ue->reserved[0] || ue->reserved[1];
+	return x4_req_bad_endless(karg);
 }
 
 static bool x4_bad_goto(const void *karg)
 {
-	const struct x4step_goto *ug = karg;
-
-	return ug->axes > 0x0f || ug->flags & ~X4STEP_GOTO_RELATIVE ||
-	       ug->reserved[0] || ug->reserved[1] || ug->reserved[2];
+	return x4_req_bad_goto(karg);
 }
 
 static bool x4_bad_home(const void *karg)
 {
-	const struct x4step_home *uh = karg;
-
-	return uh->phases > (X4STEP_HOME_AUTO | X4STEP_HOME_BRAKE) ||
-	       uh->reserved[0] || uh->reserved[1];
+	return x4_req_bad_home(karg);
 }
 
 /* Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs. */
@@ -428,8 +397,7 @@ static int x4_ioctl_halt_axes(struct x4_port *x4,
 
 	if (copy_from_user(&h, arg, sizeof(h)))
 		return -EFAULT;
-	if (!h.axes || h.axes > 0x0f || h.how > X4STEP_HALT_STOP ||
-	    h.reserved[0] || h.reserved[1])
+	if (x4_req_bad_halt(&h))
 		return -EINVAL;
 	return x4_ioctl_halt(x4, h.axes, h.how);
 }
@@ -448,8 +416,7 @@ static int x4_ioctl_estop(struct x4_port *x4, struct x4step_estop __user *arg)
 
 	if (copy_from_user(&es, arg, sizeof(es)))
 		return -EFAULT;
-	if (es.how > X4STEP_HALT_STOP || es.flags ||
-	    memchr_inv(es.reserved, 0, sizeof(es.reserved)))
+	if (x4_req_bad_estop(&es))
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4->gone) {
@@ -475,7 +442,7 @@ static int x4_ioctl_set_position(struct x4_port *x4,
 
 	if (copy_from_user(&up, arg, sizeof(up)))
 		return -EFAULT;
-	if (!up.axes || up.axes > 0x0f || up.reserved)
+	if (x4_req_bad_position(&up))
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4_events_stop_locked(x4, x4_events_chans_locked(x4, (u8)up.axes));
@@ -495,14 +462,9 @@ static int x4_ioctl_set_profile(struct x4_port *x4,
 
 	if (copy_from_user(&up, arg, sizeof(up)))
 		return -EFAULT;
-	if (up.reserved[0] || up.reserved[1] || up.axis < 1 ||
-	    up.axis > X4_AXES)
-		return -EINVAL;
-	p.v0 = up.v0;
-	p.ve = up.ve;
-	p.vm = up.vm;
-	p.a0 = up.a0;
-	p.ae = up.ae;
+	ret = x4_req_profile(&up, &p);
+	if (ret)
+		return ret;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_set_profile(&x4->eng, up.axis, &p);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -513,7 +475,6 @@ static int x4_ioctl_get_profile(struct x4_port *x4,
 				struct x4step_profile __user *arg)
 {
 	struct x4step_profile up;
-	struct x4_profile p;
 	unsigned long flags;
 	u32 axis;
 
@@ -522,15 +483,8 @@ static int x4_ioctl_get_profile(struct x4_port *x4,
 	if (axis < 1 || axis > X4_AXES)
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	p = x4->eng.prof[axis - 1];
+	x4_req_get_profile(&x4->eng, axis, &up);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	memset(&up, 0, sizeof(up));
-	up.axis = axis;
-	up.v0 = p.v0;
-	up.ve = p.ve;
-	up.vm = p.vm;
-	up.a0 = p.a0;
-	up.ae = p.ae;
 	return copy_to_user(arg, &up, sizeof(up)) ? -EFAULT : 0;
 }
 
@@ -544,12 +498,9 @@ static int x4_ioctl_set_switches(struct x4_port *x4,
 
 	if (copy_from_user(&us, arg, sizeof(us)))
 		return -EFAULT;
-	if (memchr_inv(us.reserved, 0, sizeof(us.reserved)))
+	if (x4_req_bad_switches(&us))
 		return -EINVAL;
-	memcpy(sw.ref, us.ref, sizeof(sw.ref));
-	memcpy(sw.plus, us.plus, sizeof(sw.plus));
-	memcpy(sw.minus, us.minus, sizeof(sw.minus));
-	sw.nc = us.nc;
+	x4_req_switches(&us, &sw);
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_set_switches(&x4->eng, &sw);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -561,22 +512,16 @@ static int x4_ioctl_get_switches(struct x4_port *x4, void __user *uarg)
 	struct x4step_switches us;
 	unsigned long flags;
 
-	memset(&us, 0, sizeof(us));
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	memcpy(us.ref, x4->eng.sw.ref, sizeof(us.ref));
-	memcpy(us.plus, x4->eng.sw.plus, sizeof(us.plus));
-	memcpy(us.minus, x4->eng.sw.minus, sizeof(us.minus));
-	us.nc = x4->eng.sw.nc;
+	x4_req_get_switches(&x4->eng, &us);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return copy_to_user(uarg, &us, sizeof(us)) ? -EFAULT : 0;
 }
 
 static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 {
-	struct x4_axis_state st;
 	struct x4step_axes ua;
 	unsigned long flags;
-	int i;
 
 	memset(&ua, 0, sizeof(ua));
 	raw_spin_lock_irqsave(&x4->slock, flags);
@@ -584,19 +529,10 @@ static int x4_ioctl_get_axes(struct x4_port *x4, void __user *uarg)
 		raw_spin_unlock_irqrestore(&x4->slock, flags);
 		return -ENODEV;
 	}
-	ua.inputs = x4_port_inputs_locked(x4);
+	x4_req_get_axes(&x4->eng, x4_port_inputs_locked(x4), x4->inputs_ns,
+			&ua);
 	if (!x4->claimed)
 		ua.flags = X4STEP_ST_INPUTS_STALE;
-	/* Inputs never read (no controller yet) show no active switch. */
-	if (x4->inputs_ns)
-		ua.switches = x4_engine_active(&x4->eng, ua.inputs);
-	for (i = 0; i < X4_AXES; i++) {
-		x4_engine_axis(&x4->eng, i, &st);
-		ua.axis[i].position = st.position;
-		ua.axis[i].state = st.state;
-		ua.axis[i].error = st.error;
-		ua.axis[i].velocity = st.velocity;
-	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return copy_to_user(uarg, &ua, sizeof(ua)) ? -EFAULT : 0;
 }
@@ -624,8 +560,7 @@ static int x4_ioctl_output(struct x4_port *x4, struct x4step_output __user *arg)
 
 	if (copy_from_user(&out, arg, sizeof(out)))
 		return -EFAULT;
-	if ((out.signal != X4STEP_OUT_SIGNAL1 &&
-	     out.signal != X4STEP_OUT_SIGNAL2) || out.level > 1)
+	if (x4_req_bad_output(&out))
 		return -EINVAL;
 	x4_set_outputs(x4, out.signal, out.level ? out.signal : 0);
 	return 0;
@@ -634,13 +569,11 @@ static int x4_ioctl_output(struct x4_port *x4, struct x4step_output __user *arg)
 static int x4_ioctl_outputs(struct x4_port *x4,
 			    struct x4step_outputs __user *arg)
 {
-	const u32 signals = X4STEP_OUT_SIGNAL1 | X4STEP_OUT_SIGNAL2;
 	struct x4step_outputs out;
 
 	if (copy_from_user(&out, arg, sizeof(out)))
 		return -EFAULT;
-	if (!out.mask || out.mask & ~signals || out.levels & ~out.mask ||
-	    out.flags || memchr_inv(out.reserved, 0, sizeof(out.reserved)))
+	if (x4_req_bad_outputs(&out))
 		return -EINVAL;
 	x4_set_outputs(x4, out.mask, out.levels);
 	return 0;
@@ -651,15 +584,11 @@ static int x4_ioctl_brake_codes(struct x4_port *x4,
 {
 	struct x4step_brake_codes bc;
 	unsigned long flags;
-	u32 i;
 
 	if (copy_from_user(&bc, arg, sizeof(bc)))
 		return -EFAULT;
-	if (bc.reserved || bc.count > X4STEP_MAX_BRAKE_CODES)
+	if (x4_req_bad_brake_codes(&bc))
 		return -EINVAL;
-	for (i = 0; i < bc.count; i++)
-		if (!bc.codes[i] || bc.codes[i] > 255)
-			return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	memcpy(x4->brake_codes, bc.codes, sizeof(x4->brake_codes));
 	x4->n_brake_codes = bc.count;
@@ -672,16 +601,11 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 {
 	struct x4step_config cfg;
 	unsigned long flags;
-	int i, ret = 0;
+	int ret;
 
 	if (copy_from_user(&cfg, arg, sizeof(cfg)))
 		return -EFAULT;
-	for (i = 0; i < ARRAY_SIZE(cfg.reserved); i++)
-		if (cfg.reserved[i])
-			return -EINVAL;
-	if (cfg.clock_invert > 0xf || cfg.dir_invert > 0xf ||
-	    cfg.flags & ~X4STEP_CFG_KEYS_SWALLOW ||
-	    cfg.output_mode > X4STEP_MODE_SMC_PHASE_HOLD)
+	if (x4_req_bad_config(&cfg))
 		return -EINVAL;
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_configure(&x4->eng, &x4->eng.timing, cfg.output_mode);
@@ -700,17 +624,13 @@ static int x4_ioctl_set_step_timing(struct x4_port *x4,
 	struct x4step_step_timing ut;
 	struct x4_timing t;
 	unsigned long flags;
-	int i, ret;
+	int ret;
 
 	if (copy_from_user(&ut, arg, sizeof(ut)))
 		return -EFAULT;
-	for (i = 0; i < ARRAY_SIZE(ut.reserved); i++)
-		if (ut.reserved[i])
-			return -EINVAL;
-	t.pulse_ns = ut.pulse_ns;
-	t.space_ns = ut.space_ns;
-	t.dir_setup_ns = ut.dir_setup_ns;
-	t.dir_hold_ns = ut.dir_hold_ns;
+	if (x4_req_bad_step_timing(&ut))
+		return -EINVAL;
+	x4_req_step_timing(&ut, &t);
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_configure(&x4->eng, &t, x4->eng.mode);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -721,12 +641,8 @@ static int x4_ioctl_get_step_timing(struct x4_port *x4, void __user *uarg)
 {
 	struct x4step_step_timing ut;
 
-	memset(&ut, 0, sizeof(ut));
 	mutex_lock(&x4->lock);
-	ut.pulse_ns = x4->eng.timing.pulse_ns;
-	ut.space_ns = x4->eng.timing.space_ns;
-	ut.dir_setup_ns = x4->eng.timing.dir_setup_ns;
-	ut.dir_hold_ns = x4->eng.timing.dir_hold_ns;
+	x4_req_get_step_timing(&x4->eng, &ut);
 	mutex_unlock(&x4->lock);
 	return copy_to_user(uarg, &ut, sizeof(ut)) ? -EFAULT : 0;
 }

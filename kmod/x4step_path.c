@@ -66,17 +66,9 @@ static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 {
 	struct x4_segment seg;
 	unsigned long flags;
-	int ret, i;
+	int ret;
 
-	for (i = 0; i < X4_AXES; i++)
-		seg.steps[i] = r->steps[i];
-	seg.length = r->length;
-	seg.v_max = r->v_max;
-	seg.v_entry = r->v_entry;
-	seg.accel = r->accel;
-	seg.tag = r->tag;
-	/* libx4step runs the same check before it writes. */
-	ret = x4_segment_check(&seg, r->flags | r->reserved);
+	ret = x4_req_segment(r, &seg);
 	if (ret)
 		return x4_errno(ret);
 	raw_spin_lock_irqsave(&x4->slock, flags);
@@ -209,13 +201,10 @@ void x4_path_room_locked(struct x4_port *x4)
 /* Brake a path: hold it, and flush it too for `source` (slock held). */
 void x4_path_brake_locked(struct x4_port *x4, u32 source)
 {
-	bool abort = source == X4STEP_SRC_CLOSE ||
-		     (source == X4STEP_SRC_KEY &&
-		      x4->path_cfg_flags & X4STEP_PATH_KEYS_ABORT);
-
 	lockdep_assert_held(&x4->slock);
-	if (abort && x4_path_active(&x4->eng)) {
-		x4->path_aborting = true;
+	if (x4_req_brake_aborts_path(source, READ_ONCE(x4->path_cfg_flags)) &&
+	    x4_path_active(&x4->eng)) {
+		x4->ev.path_aborting = true;
 		x4_path_hold(&x4->eng, true);
 	}
 }
@@ -226,8 +215,7 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 	unsigned long flags;
 	int ret;
 
-	if (c->reserved[0] || c->reserved[1] ||
-	    (c->value && c->cmd != X4STEP_PATH_OVERRIDE))
+	if (x4_req_bad_path_ctl(c))
 		return -EINVAL;
 	switch (c->cmd) {
 	case X4STEP_PATH_HOLD:
@@ -235,7 +223,7 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		ret = x4_path_hold(e, c->cmd == X4STEP_PATH_ABORT);
 		if (!ret && c->cmd == X4STEP_PATH_ABORT && x4_path_active(e))
-			x4->path_aborting = true; /* its end says so */
+			x4->ev.path_aborting = true; /* its end says so */
 		raw_spin_unlock_irqrestore(&x4->slock, flags);
 		wake_up_all(&x4->wait); /* a writer waiting for room: flushed */
 		return x4_errno(ret);
@@ -264,12 +252,7 @@ static int x4_path_set_config(struct x4_port *x4,
 {
 	int ret = 0;
 
-	if (c->reserved[0] || c->reserved[1] ||
-	    c->flags & ~X4STEP_PATH_KEYS_ABORT)
-		return -EINVAL;
-	if (c->depth && (c->depth < X4STEP_PATH_DEPTH_MIN ||
-			 c->depth > X4STEP_PATH_DEPTH_MAX ||
-			 c->depth & (c->depth - 1)))
+	if (x4_req_bad_path_config(c))
 		return -EINVAL;
 	if (c->depth)
 		ret = x4_path_resize(x4, c->depth);
@@ -307,24 +290,13 @@ int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
 	unsigned long flags;
 
 	if (cmd == X4STEP_GET_PATH_CONFIG) {
-		memset(&cfg, 0, sizeof(cfg));
-		cfg.depth = x4->eng.path.depth ? x4->eng.path.depth :
-						 X4STEP_PATH_DEPTH_MIN;
-		cfg.flags = READ_ONCE(x4->path_cfg_flags);
+		x4_req_path_config(&x4->eng, READ_ONCE(x4->path_cfg_flags),
+				   &cfg);
 		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
 	}
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4_path_get_status(&x4->eng, &s);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	memset(&st, 0, sizeof(st));
-	st.state = s.state;
-	st.queued = s.queued;
-	st.depth = s.depth ? s.depth : X4STEP_PATH_DEPTH_MIN;
-	st.override = s.override ? s.override : 100;
-	st.speed = s.speed;
-	st.flags = READ_ONCE(x4->path_cfg_flags);
-	st.tag = s.tag;
-	st.done = s.done;
-	st.starved = s.starved;
+	x4_req_path_status(&s, READ_ONCE(x4->path_cfg_flags), &st);
 	return copy_to_user(uarg, &st, sizeof(st)) ? -EFAULT : 0;
 }

@@ -74,7 +74,7 @@ else
 	for f in $efiles; do
 		o=$m32/$(basename "$f" .c).o
 		if ! gcc -m32 -O2 -fno-inline -ffunction-sections -DX4_DIV_EXTERN \
-			'-Dnoinline=__attribute__((noinline))' -I"$(dirname "$f")" -I"$top/kmod" \
+			'-Dnoinline=__attribute__((noinline))' -I"$(dirname "$f")" -I"$top/kmod" -I"$top/include/uapi" \
 			-c "$f" -o "$o" >"$m32/build.log" 2>&1; then
 			cat "$m32/build.log"
 			echo "${f#"$top"/}: does not compile with gcc -m32"

@@ -30,6 +30,8 @@ std::map<int, std::weak_ptr<port>> registry;
 port::port(int number, options o)
     : number_(number), opt_(std::move(o)), epoch_(std::chrono::steady_clock::now()), events_(events_kept) {
   if (!opt_.vcd.empty()) vcd_ = std::make_unique<vcd_writer>(opt_.vcd);
+  track_.push = track_push;
+  track_.self = this;
   // x4_port_init() with the module's default parameters.
   const x4_timing t{0, 0, X4_DIR_SETUP_NS, 0};
   x4_engine_init(&eng_);
@@ -138,7 +140,7 @@ void port::fire_locked(std::uint64_t t) {
   x4_engine_fire(&eng_, t);
   write_locked(t);
   x4_engine_written(&eng_, t);
-  ev_fired_locked(c);
+  x4_track_fired(&track_, &eng_, c);
 }
 
 // x4_port_drain_locked().
@@ -149,7 +151,7 @@ void port::drain_locked(std::uint64_t until) {
     const std::uint64_t t = now_locked();
     write_locked(t);
     x4_engine_written(&eng_, t);
-    ev_fired_locked(c);
+    x4_track_fired(&track_, &eng_, c);
   }
 }
 
@@ -170,19 +172,20 @@ void port::note_ends_locked() {
   }
 }
 
-// What a poll of f reports now (x4_poll()).
+// What a poll of f reports now (x4_poll(), x4_path_poll()).
 short port::revents_locked(const file &f) const {
   short r = 0;
   if (f.ev_next < ev_seq_) r |= POLLPRI;
+  if (&f == controller_ && (path_slots_.empty() || x4_path_room(&eng_))) r |= POLLOUT | POLLWRNORM;
   if (!x4_engine_busy(&eng_) && !releasing_) r |= POLLIN | POLLRDNORM;
   return r;
 }
 
 // Waiters wake, and each descriptor's eventfd is readable exactly while
-// its poll would report something.
+// its poll would report POLLIN or POLLPRI.
 void port::changed_locked() {
   for (file *f : files_) {
-    const bool want = revents_locked(*f) != 0;
+    const bool want = (revents_locked(*f) & (POLLIN | POLLPRI)) != 0;
     if (want == f->efd_set) continue;
     std::uint64_t v = 1;
     ssize_t n = want ? ::write(f->efd, &v, sizeof v) : ::read(f->efd, &v, sizeof v);
@@ -299,6 +302,8 @@ void port::open(file &f, bool controller) {
   files_.push_back(&f);
   if (controller) {
     controller_ = &f;
+    // Flushes of paths before it are none of its business.
+    path_flushes_seen_ = eng_.path.flushes;
     x4_path_set_override(&eng_, 100);
     claimed_locked();
     ev_push_locked(X4STEP_EV_CONTROLLER, 0, X4STEP_CTL_OPENED, 0, 0);
@@ -313,6 +318,7 @@ void port::close(file &f) {
   if (controller_ == &f) {
     controller_ = nullptr;
     ev_push_locked(X4STEP_EV_CONTROLLER, 0, X4STEP_CTL_CLOSED, 0, 0);
+    path_brake_locked(X4STEP_SRC_CLOSE);
     if (x4_engine_busy(&eng_)) brake_locked(0x0f, X4STEP_SRC_CLOSE, 0);
     if (x4_engine_busy(&eng_)) {
       releasing_ = true;
@@ -343,10 +349,10 @@ void port::claimed_locked() {
 
 // x4_port_quiesce(): stop at once, forget the loaded move, outputs low.
 void port::quiesce_locked() {
-  ev_stop_locked(eng_.busy);
+  x4_track_stop(&track_, eng_.busy);
   x4_engine_stop(&eng_);
   drain_locked(UINT64_MAX);
-  ev_update_locked(-1, 0);
+  update_locked(-1, 0);
   eng_.loaded = false;
   eng_.ctl = 0;
   write_rest_locked();
@@ -373,7 +379,7 @@ int port::run_locked(starter start, const void *arg, unsigned kind) {
   if (ret == X4_OK) {
     last_brake_code_ = 0;
     timer_.notify_all();
-    ev_update_locked(-1, kind);
+    update_locked(-1, kind);
     changed_locked();
   }
   return ret;
@@ -396,17 +402,18 @@ void port::halted_locked() {
   write_locked(now_locked());
   drain_locked(0);
   note_ends_locked();
-  ev_update_locked(-1, 0);
+  update_locked(-1, 0);
   changed_locked();
 }
 
 // x4_port_brake_locked().
 int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
-  const std::uint8_t chans = ev_chans_locked(axes);
+  const std::uint8_t chans = x4_track_chans(&eng_, axes);
+  path_brake_locked(source);
   const int ret = x4_engine_halt(&eng_, axes, false);
   if (ret == X4_OK) {
     brake_time_ns_ = steady_ns_locked();
-    ev_brake_locked(chans, source, code);
+    x4_track_brake(&track_, &eng_, chans, source, code);
   }
   halted_locked();
   return ret;
@@ -414,7 +421,7 @@ int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
 
 // x4_port_stop_locked().
 int port::stop_locked(std::uint8_t axes) {
-  ev_stop_locked(ev_chans_locked(axes));
+  x4_track_stop(&track_, x4_track_chans(&eng_, axes));
   const int ret = x4_engine_halt(&eng_, axes, true);
   halted_locked();
   return ret;

@@ -3,9 +3,11 @@
 // the host tests run) behind the module's request interface, with a clock
 // of its own instead of the hrtimer and a record of the pins instead of
 // the port registers. What the module's glue does around the engine
-// (kmod/x4step_main.c, x4step_port.c, x4step_events.c) is done here in
-// the same order with the same engine calls: the checks, errnos, events
-// and pin writes are the module's. Internal to libx4step.
+// (kmod/x4step_main.c, x4step_port.c, x4step_events.c, x4step_path.c) is
+// done here in the same order with the same engine calls; its decisions
+// (kmod/engine/x4_req.c, x4_track.c) are the very code the module runs:
+// the checks, errnos, events and pin writes are the module's. Internal to
+// libx4step.
 #ifndef X4STEP_SIM_PORT_HPP
 #define X4STEP_SIM_PORT_HPP
 
@@ -23,9 +25,9 @@
 
 extern "C" {
 #include "x4_engine.h"
+#include "x4_req.h"
+#include "x4_track.h"
 }
-
-struct x4step_event;
 
 namespace x4step::sim {
 
@@ -128,16 +130,17 @@ class port {
 
   // events.cpp: the module's x4step_events.c.
   void ev_push_locked(unsigned type, unsigned axes, unsigned how, unsigned value, unsigned flags);
-  std::uint8_t ev_chans_locked(std::uint8_t axes) const;
-  std::uint8_t ev_chan_axes_locked(std::uint8_t chans) const;
-  void ev_brake_locked(std::uint8_t chans, unsigned source, unsigned code);
-  void ev_stop_locked(std::uint8_t chans) { ev_stopped_ |= chans; }
-  void ev_errors_locked();
-  void ev_ref_locked(int c);
-  void ev_home_locked(int c, std::uint8_t was);
-  int ev_chan_of_axis_locked(int i) const;
-  void ev_update_locked(int c, unsigned kind);
-  void ev_fired_locked(int c);
+  static void track_push(x4_track *t, u32 type, u32 axes, u32 how, u32 value, u32 flags);
+  void update_locked(int c, unsigned kind) { x4_track_update(&track_, &eng_, c, kind); }
+
+  // path.cpp: the module's x4step_path.c.
+  int path_resize_locked(std::uint32_t depth);
+  bool path_flushed_locked() const { return eng_.path.flushes != path_flushes_seen_; }
+  int path_go_locked();
+  void path_brake_locked(unsigned source);
+  int path_ctl_locked(const x4step_path_ctl &c);
+  int path_config_locked(const x4step_path_config &c);
+  int path_read_locked(unsigned long cmd, void *arg);
 
   const int number_;
   const options opt_;
@@ -175,14 +178,15 @@ class port {
   std::vector<x4step_event> events_;
   std::uint64_t ev_seq_ = 1;
   std::uint64_t ev_time_ns_ = 0;
-  std::uint8_t ev_busy_ = 0;
-  std::uint8_t ev_err_[X4_AXES] = {};
-  std::uint8_t ev_home_[X4_AXES] = {};
-  bool ev_ref_found_[X4_AXES] = {};
-  std::uint8_t ev_how_[X4_AXES] = {};
-  bool ev_path_ = false;
-  std::uint8_t ev_braked_ = 0;
-  std::uint8_t ev_stopped_ = 0;
+  struct tracker : x4_track {
+    port *self;
+  };
+  tracker track_{};
+
+  // A path's queue (the module's path_* fields of x4_port).
+  std::vector<x4_path_slot> path_slots_;
+  std::uint32_t path_cfg_flags_ = 0;
+  std::uint32_t path_flushes_seen_ = 0;
 
   bool quit_ = false;
   std::thread thread_;  // real time only
