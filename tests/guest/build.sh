@@ -24,7 +24,7 @@ $cxx -pthread -I"$top/include/uapi" -o "$out/ioctl_fuzz" "$top/tests/fuzz/ioctl_
 engine_objs=
 for f in "$top"/kmod/engine/*.c; do
 	o=$out/$(basename "$f" .c).o
-	gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' -c -o "$o" "$f"
+	gcc -O2 -Wall -Wextra -Werror '-Dnoinline=__attribute__((noinline))' -I"$top/include/uapi" -c -o "$o" "$f"
 	engine_objs="$engine_objs $o"
 done
 # shellcheck disable=SC2086
