@@ -229,8 +229,14 @@ int cmd_path(const config &c) {
       last_shown = now;
     }
     if (done) break;
-    pollfd pf{ctl.fd(), static_cast<short>(next < segs.size() && !aborted ? POLLOUT : 0), 0};
-    ::poll(&pf, 1, 20);
+    // Room comes as segments end: refill at least every 20 ms (the queue
+    // holds far more). The library's wait, not a poll of fd(): on a
+    // simulated port it is what runs the clock in virtual time. A held
+    // path waits for a resume from elsewhere.
+    if (s.state == x4step::path_state::held)
+      ::poll(nullptr, 0, 20);
+    else
+      p.wait(std::chrono::milliseconds(20));
   }
   const x4step::axes_status a = ctl.get_axes();
   if (live) std::cout << "\n";

@@ -1,0 +1,51 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0
+# x4ctl --sim path: a path file streams to its end on the simulated port,
+# in virtual time (fast) and in real time (its own time), with progress;
+# a line the port cannot step fails before anything moves.
+#   check-sim-path.sh X4CTL
+set -u
+x4ctl=$1
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failed=0
+check() { # check NAME STATUS: PASS if STATUS is 0
+	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
+}
+unset X4STEP_SIM X4STEP_SIM_VCD
+
+# 600 lines (more than the queue's 256): a 24-gon, 25 times round, 100 steps a side.
+awk 'BEGIN { for (i = 0; i < 600; i++) { a = i * 3.14159265 / 12;
+	printf "%d %d\n", 100 * cos(a), 100 * sin(a) } }' >"$dir/circle.txt"
+start=$(date +%s%N)
+X4STEP_SIM_TIME=virtual timeout 30 "$x4ctl" --sim path --json -s 4000 "$dir/circle.txt" >"$dir/virtual.out" 2>&1
+st=$?
+took=$((($(date +%s%N) - start) / 1000000))
+cat "$dir/virtual.out" | tail -1
+check "virtual time: exit 0" $st
+tail -1 "$dir/virtual.out" | grep -q "\"state\":\"idle\".*\"done\":600,\"total\":600"
+check "virtual time: the last progress record says 600 of 600 done" $?
+[ "$took" -lt 5000 ]
+check "virtual time: 15 s of motion in ${took} ms" $?
+
+# Real time: 8 sides of 1000 steps at 8000 steps/s take more than 1 s.
+printf '1000 0\n0 1000\n-1000 0\n0 -1000\n1000 0\n0 1000\n-1000 0\n0 -1000\n' >"$dir/square.txt"
+start=$(date +%s%N)
+X4STEP_SIM_TIME=real timeout 60 "$x4ctl" --sim path -s 8000 "$dir/square.txt" >"$dir/real.out" 2>&1
+st=$?
+took=$((($(date +%s%N) - start) / 1000000))
+cat "$dir/real.out"
+check "real time: exit 0" $st
+grep -q '^path: done, 8 of 8 segments, at 0 0 0 0$' "$dir/real.out"
+check "real time: done, back at 0" $?
+[ "$took" -ge 1000 ] && [ "$took" -lt 20000 ]
+check "real time: took ${took} ms (at least the motion's 1 s)" $?
+
+# A line faster than the port steps: refused, naming it, nothing runs.
+printf '100 0\n100 0 speed=150000\n' >"$dir/fast.txt"
+X4STEP_SIM_TIME=virtual "$x4ctl" --sim path "$dir/fast.txt" >"$dir/fast.out" 2>&1
+st=$?
+cat "$dir/fast.out"
+[ $st -ne 0 ] && grep -q 'fast.txt:2' "$dir/fast.out" && ! grep -q '^path: done' "$dir/fast.out"
+check "a bad line fails, naming file and line, before anything moves" $?
+exit $failed
