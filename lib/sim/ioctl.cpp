@@ -45,7 +45,8 @@ int port::ioctl(file &f, unsigned long cmd, void *arg) {
   }
   const int ret = ioctl_locked(f, cmd, arg);
   // A program polling the state in virtual time lets time pass.
-  if (cmd == X4STEP_GET_STATUS || cmd == X4STEP_GET_AXES || cmd == X4STEP_GET_PATH) advance_locked(vnow_ + poll_quantum_ns);
+  if (cmd == X4STEP_GET_STATUS || cmd == X4STEP_GET_AXES || cmd == X4STEP_GET_PATH)
+    advance_locked(vnow_ + poll_quantum_ns);
   if (ret < 0) {
     errno = -ret;
     return -1;
@@ -184,13 +185,13 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       const auto e = in<x4step_endless>(arg);
       static_cast<x4step_endless *>(arg)->result = X4_ERR_PARAM_FAIL;
       if (x4_req_bad_endless(&e)) return -EINVAL;
-      return run_result<x4step_endless>(
-          arg, run_locked(
-                   [](x4_engine *eng, const void *a, std::uint64_t now) {
-                     const auto *k = static_cast<const x4step_endless *>(a);
-                     return x4_engine_endless(eng, k->axis, k->direction < 0, k->freq_hz, k->ramp_ms, now);
-                   },
-                   &e, X4STEP_KIND_ENDLESS));
+      return run_result<x4step_endless>(arg, run_locked(
+                                                 [](x4_engine *eng, const void *a, std::uint64_t now) {
+                                                   const auto *k = static_cast<const x4step_endless *>(a);
+                                                   return x4_engine_endless(eng, k->axis, k->direction < 0,
+                                                                            k->freq_hz, k->ramp_ms, now);
+                                                 },
+                                                 &e, X4STEP_KIND_ENDLESS));
     }
     case X4STEP_GOTO: {
       const auto g = in<x4step_goto>(arg);
@@ -203,20 +204,21 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       const auto h = in<x4step_home>(arg);
       static_cast<x4step_home *>(arg)->result = X4_ERR_PARAM_FAIL;
       if (x4_req_bad_home(&h)) return -EINVAL;
-      return run_result<x4step_home>(
-          arg, run_locked(
-                   [](x4_engine *eng, const void *a, std::uint64_t now) {
-                     const auto *k = static_cast<const x4step_home *>(a);
-                     return x4_engine_home(eng, k->axis, static_cast<u8>(k->phases), k->vref1, k->vref2,
-                                           k->sref, now);
-                   },
-                   &h, X4STEP_KIND_HOME));
+      return run_result<x4step_home>(arg, run_locked(
+                                              [](x4_engine *eng, const void *a, std::uint64_t now) {
+                                                const auto *k = static_cast<const x4step_home *>(a);
+                                                return x4_engine_home(eng, k->axis,
+                                                                      static_cast<u8>(k->phases), k->vref1,
+                                                                      k->vref2, k->sref, now);
+                                              },
+                                              &h, X4STEP_KIND_HOME));
     }
     case X4STEP_HALT: {
       const auto h = in<x4step_halt>(arg);
       if (x4_req_bad_halt(&h)) return -EINVAL;
       const auto axes = static_cast<std::uint8_t>(h.axes);
-      return x4_errno(h.how == X4STEP_HALT_STOP ? stop_locked(axes) : brake_locked(axes, X4STEP_SRC_IOCTL, 0));
+      return x4_errno(h.how == X4STEP_HALT_STOP ? stop_locked(axes)
+                                                : brake_locked(axes, X4STEP_SRC_IOCTL, 0));
     }
     case X4STEP_SET_POSITION: {
       const auto up = in<x4step_position>(arg);

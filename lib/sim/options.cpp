@@ -2,7 +2,10 @@
 // libx4step: the simulated port's names and settings (options.hpp).
 #include "options.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
+#include <cstring>
 
 #include "x4step.hpp"
 
@@ -11,7 +14,72 @@ namespace {
 
 [[noreturn]] void refuse(const std::string &what) { throw error(make_error_code(errc::lpt_not_found), what); }
 
+// The module's default key map (kmod/x4step_keys.c): Linux key codes
+// 1..88 are set-1 make codes; the extended keys get the code that follows
+// the MF2 keyboard's E0 prefix.
+struct named_key {
+  const char *name;
+  unsigned code;
+};
+constexpr named_key named_keys[] = {
+    {"esc", 1},   {"backspace", 14}, {"tab", 15},  {"enter", 28},  {"space", 57},
+    {"home", 71}, {"up", 72},        {"pgup", 73}, {"left", 75},   {"right", 77},
+    {"end", 79},  {"down", 80},      {"pgdn", 81}, {"insert", 82}, {"delete", 83},
+};
+// One character of the main keyboard (US layout) and its key's make code.
+constexpr const char *rows[] = {"1234567890-=", "qwertyuiop[]", "asdfghjkl;'`", "\\zxcvbnm,./"};
+constexpr unsigned row_start[] = {2, 16, 30, 43};
+
 }  // namespace
+
+unsigned key_code(const std::string &name) {
+  for (const named_key &k : named_keys)
+    if (name == k.name) return k.code;
+  if (name.size() != 1) return 0;
+  const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(name[0])));
+  for (int r = 0; r < 4; r++)
+    if (const char *at = std::strchr(rows[r], c); at && c)
+      return row_start[r] + static_cast<unsigned>(at - rows[r]);
+  return 0;
+}
+
+std::vector<scripted_key> parse_keys(const std::string &spec) {
+  std::vector<scripted_key> keys;
+  std::size_t at = 0;
+  while (at <= spec.size()) {
+    const std::size_t end = std::min(spec.find(',', at), spec.size());
+    const std::string entry = spec.substr(at, end - at);
+    at = end + 1;
+    const auto bad = [&](const std::string &why) {
+      refuse("X4STEP_SIM_KEYS: '" + entry + "': " + why +
+             "; use TIME:KEY,... with TIME as 250ms or 1.5s (since the port was opened) and KEY a name "
+             "(esc, enter, space, up, a, 1, ...: a press and its release) or a set-1 code 1..255");
+    };
+    const std::size_t colon = entry.find(':');
+    if (colon == std::string::npos) bad("no ':'");
+    const std::string t = entry.substr(0, colon), k = entry.substr(colon + 1);
+    const bool ms = t.size() > 2 && t.compare(t.size() - 2, 2, "ms") == 0;
+    const bool sec = !ms && t.size() > 1 && t.back() == 's';
+    if (!ms && !sec) bad("its time has no unit");
+    const std::string num = t.substr(0, t.size() - (ms ? 2 : 1));
+    char *rest = nullptr;
+    const double v = std::strtod(num.c_str(), &rest);
+    if (num.empty() || *rest || !(v >= 0) || v > 1e6) bad("not a time");
+    const auto t_ns = static_cast<std::uint64_t>(v * (ms ? 1e6 : 1e9) + 0.5);
+    unsigned code = key_code(k);
+    if (code) {
+      keys.push_back({t_ns, code});
+      keys.push_back({t_ns, code + 128});
+      continue;
+    }
+    const unsigned long n = std::strtoul(k.c_str(), &rest, 10);
+    if (k.empty() || *rest || n < 1 || n > 255) bad("no such key");
+    keys.push_back({t_ns, static_cast<unsigned>(n)});
+  }
+  std::stable_sort(keys.begin(), keys.end(),
+                   [](const scripted_key &a, const scripted_key &b) { return a.t_ns < b.t_ns; });
+  return keys;
+}
 
 bool is_sim_name(const std::string &name) { return name == "sim" || name.rfind("sim:", 0) == 0; }
 
@@ -32,6 +100,10 @@ options options_from_env() {
       refuse("X4STEP_SIM_TIME=" + v + ": use virtual (as fast as possible) or real (the default)");
   }
   if (const char *v = std::getenv("X4STEP_SIM_VCD"); v && *v) o.vcd = v;
+  if (const char *k = std::getenv("X4STEP_SIM_KEYS"); k && *k) {
+    o.terminal_keys = false;  // a script is the keyboard
+    if (std::string(k) != "none") o.keys = parse_keys(k);
+  }
   return o;
 }
 

@@ -9,11 +9,13 @@
 #include <sys/eventfd.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <climits>
 #include <cstring>
 #include <map>
 
+#include "terminal.hpp"
 #include "vcd.hpp"
 #include "x4step.hpp"
 
@@ -38,9 +40,17 @@ port::port(int number, options o)
   x4_engine_configure(&eng_, &t, X4_MODE_CLOCK_DIR);
   eng_.budget = X4_WRITE_BUDGET;
   if (opt_.time == time_mode::real) thread_ = std::thread([this] { timer_thread(); });
+  if (opt_.terminal_keys && terminal::available())
+    tty_ = std::make_unique<terminal>(
+        [this] {
+          const lock l(m_);
+          return claimed_ && x4_engine_busy(&eng_);
+        },
+        [this](unsigned code) { key(code); });
 }
 
 port::~port() {
+  tty_.reset();
   {
     const lock l(m_);
     quit_ = true;
@@ -199,13 +209,19 @@ void port::changed_locked() {
 
 // Virtual time: fire the next event if it is due by `limit`, at its due
 // time (the timer is never late); false if none is.
+// A scripted key due first goes first.
 bool port::step_virtual_locked(std::uint64_t limit) {
-  if (!x4_engine_busy(&eng_) || x4_engine_due(&eng_) > limit) return false;
+  if (!x4_engine_busy(&eng_)) return false;
   const std::uint64_t due = x4_engine_due(&eng_);
-  if (due > vnow_) vnow_ = due;
+  const std::uint64_t key = next_key_ns_locked();
+  if (std::min(due, key) > limit) return false;
+  if (std::min(due, key) > vnow_) vnow_ = std::min(due, key);
   const std::uint64_t ends = eng_.ends;
   const std::uint64_t seq = ev_seq_;
-  fire_locked(vnow_);
+  if (key <= due)
+    keys_due_locked(vnow_);
+  else
+    fire_locked(vnow_);
   if (eng_.ends != ends || ev_seq_ != seq || releasing_) tick_done_locked();
   return true;
 }
@@ -215,6 +231,7 @@ void port::advance_locked(std::uint64_t t_ns) {
   while (step_virtual_locked(t_ns)) {
   }
   if (t_ns > vnow_) vnow_ = t_ns;
+  keys_due_locked(vnow_);  // no move runs: they brake nothing
   changed_locked();
 }
 
@@ -228,17 +245,26 @@ void port::let_time_pass() {
   advance_locked(vnow_ + poll_quantum_ns);
 }
 
-// Real time: the hrtimer's job (x4_tick()), by a thread: fire what is due.
+// Real time: the hrtimer's job (x4_tick()), by a thread: fire what is
+// due; and the scripted keys at their times.
 void port::timer_thread() {
   lock l(m_);
   while (!quit_) {
-    if (!x4_engine_busy(&eng_)) {
+    const std::uint64_t key = next_key_ns_locked();
+    const bool busy = x4_engine_busy(&eng_);
+    if (!busy && key == UINT64_MAX) {
       timer_.wait(l);
       continue;
     }
-    const time_point due = epoch_ + std::chrono::nanoseconds(x4_engine_due(&eng_));
+    const std::uint64_t next = busy ? std::min(x4_engine_due(&eng_), key) : key;
+    const time_point due = epoch_ + std::chrono::nanoseconds(next);
     if (std::chrono::steady_clock::now() < due) {
       timer_.wait_until(l, due);
+      continue;
+    }
+    if (key <= now_locked()) {
+      keys_due_locked(now_locked());
+      tick_done_locked();
       continue;
     }
     for (int n = 0; n < 8 && x4_engine_busy(&eng_); n++) {
@@ -279,6 +305,7 @@ int port::poll(file &f, short events, int timeout_ms, short *revents) {
     return -1;
   }
   vnow_ = limit;
+  keys_due_locked(vnow_);
   changed_locked();
   return 0;
 }
@@ -434,9 +461,24 @@ void port::set_inputs(unsigned levels) {
   inputs_ = levels & 0x1f;
 }
 
-// x4_port_brake_key().
 bool port::key(unsigned code) {
   const lock l(m_);
+  const bool hit = key_locked(code);
+  changed_locked();
+  return hit;
+}
+
+std::uint64_t port::next_key_ns_locked() const {
+  return next_key_ < opt_.keys.size() ? opt_.keys[next_key_].t_ns : UINT64_MAX;
+}
+
+void port::keys_due_locked(std::uint64_t t_ns) {
+  while (next_key_ < opt_.keys.size() && opt_.keys[next_key_].t_ns <= t_ns)
+    key_locked(opt_.keys[next_key_++].code);
+}
+
+// x4_port_brake_key().
+bool port::key_locked(unsigned code) {
   bool hit = code == 1;
   for (std::uint32_t i = 0; i < n_brake_codes_ && !hit; i++) hit = brake_codes_[i] == code;
   hit = hit && x4_engine_busy(&eng_);

@@ -32,6 +32,7 @@ extern "C" {
 namespace x4step::sim {
 
 class vcd_writer;
+class terminal;
 
 /// One port write: the data register and the control outputs (pin
 /// levels, X4_CTL_*) after it, at engine time t_ns.
@@ -79,7 +80,8 @@ class port {
   /// Input pin levels (X4GetIn bits); they read LOW until set.
   void set_inputs(unsigned levels);
   /// A key event (set-1 code) as the module's input handler sees it:
-  /// true if it braked a move.
+  /// true if it braked a move. Scripted keys (X4STEP_SIM_KEYS) come at
+  /// their times, typed ones (terminal.hpp) when typed.
   bool key(unsigned code);
   /// Keep every pin write from now on (off: none kept).
   void record(bool on);
@@ -110,6 +112,9 @@ class port {
   void changed_locked();
   short revents_locked(const file &f) const;
   bool step_virtual_locked(std::uint64_t limit);
+  bool key_locked(unsigned code);
+  std::uint64_t next_key_ns_locked() const;
+  void keys_due_locked(std::uint64_t t_ns);
   void advance_locked(std::uint64_t t_ns);
   void timer_thread();
 
@@ -188,8 +193,11 @@ class port {
   std::uint32_t path_cfg_flags_ = 0;
   std::uint32_t path_flushes_seen_ = 0;
 
+  std::size_t next_key_ = 0;  // the next of opt_.keys
+
   bool quit_ = false;
   std::thread thread_;  // real time only
+  std::unique_ptr<terminal> tty_;
 };
 
 }  // namespace x4step::sim

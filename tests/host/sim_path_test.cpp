@@ -44,8 +44,13 @@ class SimPath : public ::testing::Test {
 std::vector<x4step::segment> line(int n) {
   std::vector<x4step::segment> s(n);
   for (int i = 0; i < n; i++)
-    s[i].steps(axis(1), 100).steps(axis(2), 50).length(100).top_speed(5000).accel(20000).tag(i + 1).entry_speed(
-        i ? 5000 : 0);
+    s[i].steps(axis(1), 100)
+        .steps(axis(2), 50)
+        .length(100)
+        .top_speed(5000)
+        .accel(20000)
+        .tag(i + 1)
+        .entry_speed(i ? 5000 : 0);
   return s;
 }
 
@@ -218,7 +223,7 @@ TEST_F(SimPath, BadSegmentsAndRequestsGetTheModulesErrno) {
   ctl.cmd = X4STEP_PATH_HOLD;
   EXPECT_EQ(io->ioctl(X4STEP_PATH_CTL, &ctl), -1);
   EXPECT_EQ(errno, ESRCH);  // no path
-  ctl.value = 50;  // a value for anything but the override
+  ctl.value = 50;           // a value for anything but the override
   EXPECT_EQ(io->ioctl(X4STEP_PATH_CTL, &ctl), -1);
   EXPECT_EQ(errno, EINVAL);
   ctl = {};
@@ -284,7 +289,8 @@ TEST_F(SimPath, CApiStreamsAPathToItsEnd) {
   setenv("X4STEP_SIM", "1", 1);
   ASSERT_EQ(X4Init(LPT1), X4NoErr);
   std::vector<X4Segment> s(400);
-  for (size_t i = 0; i < s.size(); i++) s[i] = X4Segment{{100, -100, 0, 0}, 100, 5000, i ? 5000ul : 0, 20000, i + 1};
+  for (size_t i = 0; i < s.size(); i++)
+    s[i] = X4Segment{{100, -100, 0, 0}, 100, 5000, i ? 5000ul : 0, 20000, i + 1};
   ASSERT_EQ(X4PathAppend(s.data(), static_cast<int>(s.size())), X4NoErr);
   int state = X4PATH_RUN;
   long queued = 1;
