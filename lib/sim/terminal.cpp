@@ -116,6 +116,7 @@ void terminal::raw(bool on) {
   if (on == raw_) return;
   if (on) {
     termios t;
+    if (tcgetpgrp(STDIN_FILENO) != getpgrp()) return;                  // in the background
     if (tcgetattr(STDIN_FILENO, &t) || !(t.c_lflag & ICANON)) return;  // the program reads keys itself
     saved_ = t;
     {
@@ -138,8 +139,12 @@ void terminal::raw(bool on) {
 }
 
 void terminal::run() {
+  // A program that reads keys itself takes the terminal as its move
+  // starts: look only once a move has run for 40 ms.
+  int moving = 0;
   for (;;) {
-    raw(moving_());
+    moving = moving_() ? moving + 1 : 0;
+    raw(moving > 2);
     pollfd p[2] = {{quit_fd_, POLLIN, 0}, {STDIN_FILENO, static_cast<short>(raw_ ? POLLIN : 0), 0}};
     if (::poll(p, 2, 20) < 0) continue;  // 20 ms: how soon a move's start is seen
     if (p[0].revents) break;

@@ -21,8 +21,9 @@ namespace x4step::sim {
 /// Bytes of no key are left out.
 std::vector<unsigned> terminal_keys(std::string_view bytes);
 
-/// While `moving()` says a move runs and stdin is a terminal in canonical
-/// mode (the program is not reading keys itself), reads stdin without
+/// While `moving()` says a move runs (for 40 ms: a program that reads keys
+/// itself has taken the terminal by then) and stdin is the foreground's
+/// terminal in canonical mode (the program is not reading keys), reads stdin without
 /// echo or line buffering and hands each key to `key` as a press and a
 /// release (make code, then + 128); the terminal's mode is restored when
 /// the move ends, when this ends, and at exit.
