@@ -2,7 +2,10 @@
 // libx4step: the simulated port's names and settings (options.hpp).
 #include "options.hpp"
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
 
 #include "x4step.hpp"
 
@@ -32,6 +35,14 @@ options options_from_env() {
       refuse("X4STEP_SIM_TIME=" + v + ": use virtual (as fast as possible) or real (the default)");
   }
   if (const char *v = std::getenv("X4STEP_SIM_VCD"); v && *v) o.vcd = v;
+  if (const char *m = std::getenv("X4STEP_SIM_MACHINE"); m && *m) {
+    std::ifstream in(m);
+    if (!in)
+      refuse(std::string("X4STEP_SIM_MACHINE=") + m + ": cannot read the machine file: " + std::strerror(errno) +
+             ": name a readable file");
+    o.model.read(in, m);
+  }
+  if (const char *s = std::getenv("X4STEP_SIM_INPUTS"); s && *s) o.model.add_script(s);
   return o;
 }
 

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "machine.hpp"
+
 namespace x4step::sim {
 
 enum class time_mode {
@@ -16,6 +18,7 @@ enum class time_mode {
 struct options {
   time_mode time = time_mode::real;
   std::string vcd;  ///< a VCD file of every pin change, "" none
+  machine model;  ///< X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS
 };
 
 /// "sim" or "sim:..." (a name meant for the simulator, good or bad).
@@ -23,8 +26,9 @@ bool is_sim_name(const std::string &name);
 /// The port number of "sim" (0) or "sim:0".."sim:3"; throws an error
 /// naming the good spellings otherwise.
 int port_number(const std::string &name);
-/// X4STEP_SIM_TIME (virtual|real, default real) and X4STEP_SIM_VCD;
-/// throws an error naming the variable and its good values.
+/// X4STEP_SIM_TIME (virtual|real, default real), X4STEP_SIM_VCD,
+/// X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS; throws an error naming the
+/// variable (or the machine file and line) and what to fix.
 options options_from_env();
 /// X4STEP_SIM is set to anything but "" or "0": LPT1..4 are sim:0..3.
 bool env_wants_sim();
