@@ -15,7 +15,7 @@ namespace x4step::sim {
 namespace {
 
 constexpr std::int64_t pos_max = std::int64_t{1} << 62;  // as x4vport
-constexpr int input_pins[5] = {15, 13, 12, 10, 11};        // X4GetIn bits 0..4
+constexpr int input_pins[5] = {15, 13, 12, 10, 11};      // X4GetIn bits 0..4
 
 [[noreturn]] void refuse(const std::string &where, const std::string &what) {
   throw error(make_error_code(errc::lpt_not_found), where + ": " + what);
@@ -23,9 +23,12 @@ constexpr int input_pins[5] = {15, 13, 12, 10, 11};        // X4GetIn bits 0..4
 
 const char *kind_name(machine_switch::kind k) {
   switch (k) {
-    case machine_switch::kind::ref: return "REF";
-    case machine_switch::kind::plus: return "E+";
-    default: return "E-";
+    case machine_switch::kind::ref:
+      return "REF";
+    case machine_switch::kind::plus:
+      return "E+";
+    default:
+      return "E-";
   }
 }
 
@@ -71,7 +74,8 @@ std::uint64_t time_ns(const std::string &w, const std::string &where) {
 void pin_level(const std::string &w, input_change &c, const std::string &where) {
   const auto eq = w.find('=');
   const std::string level = eq == std::string::npos ? "" : w.substr(eq + 1);
-  if (level != "0" && level != "1") refuse(where, "'" + w + "': set an input as PIN=0 or PIN=1, e.g. pin15=1");
+  if (level != "0" && level != "1")
+    refuse(where, "'" + w + "': set an input as PIN=0 or PIN=1, e.g. pin15=1");
   const int b = input_bit(w.substr(0, eq), where);
   c.mask |= 1u << b;
   if (level == "1") c.levels |= 1u << b;
@@ -102,10 +106,13 @@ void machine::read(std::istream &in, const std::string &name) {
       if (w.size() != k + 3 && !(w.size() == k + 5 && w[k + 3] == "hyst"))
         refuse(where, ref ? "write a REF switch as: ref AXIS below|above AT PIN no|nc [hyst STEPS]"
                           : "write a limit switch as: " + key + " AXIS AT PIN no|nc [hyst STEPS]");
-      s.what = ref ? machine_switch::kind::ref : key == "e+" ? machine_switch::kind::plus : machine_switch::kind::minus;
+      s.what = ref           ? machine_switch::kind::ref
+               : key == "e+" ? machine_switch::kind::plus
+                             : machine_switch::kind::minus;
       s.axis = axis_of(w[1], where);
       if (ref && w[2] != "below" && w[2] != "above")
-        refuse(where, "REF side '" + w[2] + "': use below (active at AT and under) or above (at AT and over)");
+        refuse(where,
+               "REF side '" + w[2] + "': use below (active at AT and under) or above (at AT and over)");
       s.above = ref ? w[2] == "above" : s.what == machine_switch::kind::plus;
       s.at = steps(w[k], "position", where);
       s.bit = input_bit(w[k + 1], where);
@@ -121,7 +128,8 @@ void machine::read(std::istream &in, const std::string &name) {
       if (w.size() != 3) refuse(where, "write a start position as: position AXIS STEPS");
       pos_[axis_of(w[1], where)] = steps(w[2], "position", where);
     } else if (key == "input") {
-      if (w.size() < 3) refuse(where, "write scripted inputs as: input T_MS PIN=LEVEL..., e.g. input 250 pin15=1");
+      if (w.size() < 3)
+        refuse(where, "write scripted inputs as: input T_MS PIN=LEVEL..., e.g. input 250 pin15=1");
       input_change c{time_ns(w[1], where), 0, 0};
       for (std::size_t i = 2; i < w.size(); i++) pin_level(w[i], c, where);
       add_change(c, where);
@@ -166,8 +174,8 @@ void machine::add_switch(machine_switch s, const std::string &name) {
       if (p->what == machine_switch::kind::ref) ref = p;
     }
     if (lo && hi && lo->at >= hi->at)
-      refuse(where, ax + ": E- at " + std::to_string(lo->at) + " is not below E+ at " + std::to_string(hi->at) +
-                        there + ": E- must be the lower end of the travel");
+      refuse(where, ax + ": E- at " + std::to_string(lo->at) + " is not below E+ at " +
+                        std::to_string(hi->at) + there + ": E- must be the lower end of the travel");
     if (ref && ((lo && ref->at < lo->at) || (hi && ref->at > hi->at)))
       refuse(where, ax + ": REF at " + std::to_string(ref->at) + " lies outside E-..E+" + there +
                         ": place it between the limit switches");
@@ -186,8 +194,9 @@ void machine::add_change(input_change c, const std::string &where) {
     while (!(both & (1u << b))) b++;
     refuse(where, pin_of(b) + " is driven by a switch: script another input");
   }
-  const auto at = std::upper_bound(script_.begin() + static_cast<std::ptrdiff_t>(script_next_), script_.end(), c,
-                                   [](const input_change &a, const input_change &b) { return a.t_ns < b.t_ns; });
+  const auto at =
+      std::upper_bound(script_.begin() + static_cast<std::ptrdiff_t>(script_next_), script_.end(), c,
+                       [](const input_change &a, const input_change &b) { return a.t_ns < b.t_ns; });
   script_.insert(at, c);
 }
 

@@ -20,13 +20,13 @@ namespace x4step::sim {
 struct machine_switch {
   enum class kind { ref, plus, minus };
   kind what = kind::ref;
-  int axis = 0;            ///< 0..3
-  std::int64_t at = 0;     ///< machine position in steps
-  bool above = false;      ///< active at position >= at, else <= at
-  std::int64_t hyst = 0;   ///< stays active until more than hyst steps back
-  int bit = 0;             ///< the input, X4GetIn bit 0..4
-  bool nc = false;         ///< normally closed: the pin is LOW while active
-  int line = 0;            ///< where it was given, for errors
+  int axis = 0;           ///< 0..3
+  std::int64_t at = 0;    ///< machine position in steps
+  bool above = false;     ///< active at position >= at, else <= at
+  std::int64_t hyst = 0;  ///< stays active until more than hyst steps back
+  int bit = 0;            ///< the input, X4GetIn bit 0..4
+  bool nc = false;        ///< normally closed: the pin is LOW while active
+  int line = 0;           ///< where it was given, for errors
   bool active = false;
 };
 

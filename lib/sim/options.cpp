@@ -38,8 +38,8 @@ options options_from_env() {
   if (const char *m = std::getenv("X4STEP_SIM_MACHINE"); m && *m) {
     std::ifstream in(m);
     if (!in)
-      refuse(std::string("X4STEP_SIM_MACHINE=") + m + ": cannot read the machine file: " + std::strerror(errno) +
-             ": name a readable file");
+      refuse(std::string("X4STEP_SIM_MACHINE=") + m +
+             ": cannot read the machine file: " + std::strerror(errno) + ": name a readable file");
     o.model.read(in, m);
   }
   if (const char *s = std::getenv("X4STEP_SIM_INPUTS"); s && *s) o.model.add_script(s);

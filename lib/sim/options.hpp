@@ -18,7 +18,7 @@ enum class time_mode {
 struct options {
   time_mode time = time_mode::real;
   std::string vcd;  ///< a VCD file of every pin change, "" none
-  machine model;  ///< X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS
+  machine model;    ///< X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS
 };
 
 /// "sim" or "sim:..." (a name meant for the simulator, good or bad).

@@ -403,12 +403,15 @@ TEST_F(Sim, MachineLayoutErrorsSayWhereAndWhatToFix) {
     const char *says;
   } bad[] = {
       {"ref 1 below 0 pin10 no\ne+ 1 500 pin10 nc\n", ":2: pin 10 has a no switch already (line 1)"},
-      {"ref 1 below 0 pin2 no\n", ":1: 'pin2' is not an input pin: the inputs are pins 10, 11, 12, 13 and 15"},
+      {"ref 1 below 0 pin2 no\n",
+       ":1: 'pin2' is not an input pin: the inputs are pins 10, 11, 12, 13 and 15"},
       {"e- 1 -100 pin11 nc\ne+ 1 100 pin11 nc\nref 1 above 200 pin10 no\n",
        ":3: axis 1: REF at 200 lies outside E-..E+ (line 2)"},
-      {"\nref 2 above -500 pin10 no\ne- 2 -400 pin11 nc\n", ":3: axis 2: REF at -500 lies outside E-..E+ (line 2)"},
+      {"\nref 2 above -500 pin10 no\ne- 2 -400 pin11 nc\n",
+       ":3: axis 2: REF at -500 lies outside E-..E+ (line 2)"},
       {"e+ 3 100 pin11 no\ne- 3 100 pin11 no\n", ":2: axis 3: E- at 100 is not below E+ at 100 (line 1)"},
-      {"e+ 1 100 pin11 no\ne+ 1 200 pin12 no\n", ":2: axis 1 has its E+ switch already (line 1): one per axis"},
+      {"e+ 1 100 pin11 no\ne+ 1 200 pin12 no\n",
+       ":2: axis 1 has its E+ switch already (line 1): one per axis"},
       {"ref 5 below 0 pin10 no\n", ":1: axis '5': use 1, 2, 3 or 4"},
       {"ref 1 left 0 pin10 no\n", ":1: REF side 'left': use below"},
       {"e+ 1 100 pin11 open\n", ":1: polarity 'open': use no"},

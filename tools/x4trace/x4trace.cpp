@@ -234,8 +234,8 @@ Trace read_vcd(std::istream &in, const std::string &path) {
   auto flush = [&] {
     uint8_t data = 0, ctl;
     for (int bit = 0; bit < 8; bit++) data |= (level[pin_index(2 + bit)] & 1) << bit;
-    ctl = static_cast<uint8_t>((!level[pin_index(1)]) | (!level[pin_index(14)]) << 1 | level[pin_index(16)] << 2 |
-                               (!level[pin_index(17)]) << 3);
+    ctl = static_cast<uint8_t>((!level[pin_index(1)]) | (!level[pin_index(14)]) << 1 |
+                               level[pin_index(16)] << 2 | (!level[pin_index(17)]) << 3);
     if (data_changed) tr.writes.push_back({t, 0, data});
     if (ctl_changed) tr.writes.push_back({t, 2, ctl});
     data_changed = ctl_changed = false;
@@ -248,7 +248,8 @@ Trace read_vcd(std::istream &in, const std::string &path) {
     if (defs) {
       std::istringstream w(line);
       std::string kw, type, size, id, name;
-      if (w >> kw >> type >> size >> id >> name && kw == "$var" && id.size() == 1 && id[0] > ' ' && id[0] < 127) {
+      if (w >> kw >> type >> size >> id >> name && kw == "$var" && id.size() == 1 && id[0] > ' ' &&
+          id[0] < 127) {
         for (int p = 0; p < kNumPins; p++)
           if (name == kPins[p].name) id_pin[static_cast<unsigned char>(id[0])] = p;
       }
@@ -781,8 +782,7 @@ int pin_edges(const Trace &tr, std::vector<PinEdge> (&out)[kNumPins]) {
     }
     high = rise ? 1 : fall ? 0 : high;
     for (; i < j; i++)
-      if (!ch[i].initial)
-        out[ch[i].pin].push_back({move, high || fall, ch[i].t_ns - start, ch[i].level});
+      if (!ch[i].initial) out[ch[i].pin].push_back({move, high || fall, ch[i].t_ns - start, ch[i].level});
   }
   return move;
 }
@@ -798,19 +798,21 @@ int compare(const std::string &p1, const std::string &p2, int64_t within_ns) {
   auto report = [&](const std::string &msg) {
     if (++bad <= 20) std::cout << "DIFF " << msg << "\n";
   };
-  if (ma != mb) report("moves: " + std::to_string(ma) + " in " + p1 + ", " + std::to_string(mb) + " in " + p2);
+  if (ma != mb)
+    report("moves: " + std::to_string(ma) + " in " + p1 + ", " + std::to_string(mb) + " in " + p2);
   for (int p = 0; p < kNumPins; p++) {
     const std::string pin = "pin " + std::to_string(kPins[p].number);
     if (a[p].size() != b[p].size())
-      report(pin + ": " + std::to_string(a[p].size()) + " edges in " + p1 + ", " + std::to_string(b[p].size()) +
-             " in " + p2);
+      report(pin + ": " + std::to_string(a[p].size()) + " edges in " + p1 + ", " +
+             std::to_string(b[p].size()) + " in " + p2);
     for (size_t i = 0; i < std::min(a[p].size(), b[p].size()); i++) {
       const PinEdge &x = a[p][i], &y = b[p][i];
-      const std::string at = pin + " edge " + std::to_string(i + 1) + " (move " + std::to_string(x.move) + ")";
+      const std::string at =
+          pin + " edge " + std::to_string(i + 1) + " (move " + std::to_string(x.move) + ")";
       edges++;
       if (x.move != y.move || x.level != y.level || x.timed != y.timed) {
-        report(at + ": level " + std::to_string(x.level) + " in move " + std::to_string(x.move) + " vs level " +
-               std::to_string(y.level) + " in move " + std::to_string(y.move));
+        report(at + ": level " + std::to_string(x.level) + " in move " + std::to_string(x.move) +
+               " vs level " + std::to_string(y.level) + " in move " + std::to_string(y.move));
         break;  // the rest of this pin is out of step
       }
       if (!x.timed) continue;
@@ -824,8 +826,8 @@ int compare(const std::string &p1, const std::string &p2, int64_t within_ns) {
       if (d > within_ns) report(at + ": at " + us(x.rel_ns) + " us vs " + us(y.rel_ns) + " us into the move");
     }
   }
-  std::cout << "compare: " << ma << " moves, " << edges << " edges (" << timed << " timed), largest difference "
-            << us(worst) << " us";
+  std::cout << "compare: " << ma << " moves, " << edges << " edges (" << timed
+            << " timed), largest difference " << us(worst) << " us";
   if (worst_pin > 0) std::cout << " (pin " << worst_pin << ", move " << worst_move << ")";
   std::cout << ", allowed " << us(within_ns) << " us: " << (bad ? "DIFFERENT" : "same") << "\n";
   return bad ? 1 : 0;
