@@ -38,7 +38,7 @@ const char *const kUsage =
     "       x4trace vcd TRACE OUT.vcd\n"
     "       x4trace svg TRACE OUT.svg [--bin-ms N]\n"
     "       x4trace moves TRACE\n"
-    "       x4trace compare TRACE1 TRACE2 [--within-ns N]\n"
+    "       x4trace compare TRACE1 TRACE2 [--within-ns N] [--end-ns N]\n"
     "TRACE is QEMU's log of -trace parallel_ioport_write (with -msg timestamp=on),\n"
     "x4vport's trace (\"<t_ns> d|c|s 0xVV\" lines) or a VCD file with x4trace's pin\n"
     "names (the simulated port's X4STEP_SIM_VCD); '-' reads standard input.\n";
@@ -757,10 +757,12 @@ void write_svg(const std::string &path, const std::string &out_path, const Trace
 // Each pin's edges, in order, with the move they fall in: a move begins
 // with a write that raises AKTIV (pin 17) and ends with the one that drops
 // it. Edges of a move are timed from its beginning; edges between moves
-// (outputs, rest patterns) only count and keep their order.
+// (outputs, rest patterns) only count and keep their order; edges before
+// the first move (the port's setup) are not compared.
 struct PinEdge {
-  int move;  // 0: before the first move
+  int move;
   bool timed;
+  bool end;  // in the write that ends the move
   int64_t rel_ns;
   int level;
 };
@@ -769,7 +771,8 @@ int pin_edges(const Trace &tr, std::vector<PinEdge> (&out)[kNumPins]) {
   std::vector<Change> ch;
   for_each_change(tr, [&](const Change &c) { ch.push_back(c); });
   const int aktiv = pin_index(17);
-  int move = 0, high = 0;
+  int move = 0;
+  bool high = false;
   int64_t start = 0;
   for (size_t i = 0; i < ch.size();) {
     size_t j = i;
@@ -780,56 +783,75 @@ int pin_edges(const Trace &tr, std::vector<PinEdge> (&out)[kNumPins]) {
       move++;
       start = ch[i].t_ns;
     }
-    high = rise ? 1 : fall ? 0 : high;
+    high = rise || (high && !fall);
     for (; i < j; i++)
-      if (!ch[i].initial) out[ch[i].pin].push_back({move, high || fall, ch[i].t_ns - start, ch[i].level});
+      if (!ch[i].initial && move > 0)
+        out[ch[i].pin].push_back({move, high || fall, fall, ch[i].t_ns - start, ch[i].level});
   }
   return move;
 }
 
-// The same edges, within `within_ns` after aligning each move's start:
-// 0 if so, else 1 with the differences (the first few per pin).
-int compare(const std::string &p1, const std::string &p2, int64_t within_ns) {
+// The same edges? Counts and order per pin exactly; the times of a move's
+// edges within `within_ns` (those of its last write: `end_ns`) of each
+// other, after aligning the move: TRACE1 (the module) is late by its
+// timer's latency, so its median lateness in the move is taken off, and
+// must itself be at most `within_ns`. 0 if so, else 1 with `DIFF` lines.
+int compare(const std::string &p1, const std::string &p2, int64_t within_ns, int64_t end_ns) {
   std::vector<PinEdge> a[kNumPins], b[kNumPins];
   const int ma = pin_edges(read_trace(p1), a), mb = pin_edges(read_trace(p2), b);
   long edges = 0, timed = 0, bad = 0;
-  int64_t worst = 0;
-  int worst_pin = -1, worst_move = 0;
   auto report = [&](const std::string &msg) {
     if (++bad <= 20) std::cout << "DIFF " << msg << "\n";
   };
   if (ma != mb)
     report("moves: " + std::to_string(ma) + " in " + p1 + ", " + std::to_string(mb) + " in " + p2);
+  // Counts, order, and each move's differences.
+  std::vector<std::vector<int64_t>> diff(static_cast<size_t>(ma) + 1);
+  size_t same[kNumPins];
   for (int p = 0; p < kNumPins; p++) {
     const std::string pin = "pin " + std::to_string(kPins[p].number);
     if (a[p].size() != b[p].size())
       report(pin + ": " + std::to_string(a[p].size()) + " edges in " + p1 + ", " +
              std::to_string(b[p].size()) + " in " + p2);
-    for (size_t i = 0; i < std::min(a[p].size(), b[p].size()); i++) {
-      const PinEdge &x = a[p][i], &y = b[p][i];
-      const std::string at =
-          pin + " edge " + std::to_string(i + 1) + " (move " + std::to_string(x.move) + ")";
-      edges++;
+    for (same[p] = 0; same[p] < std::min(a[p].size(), b[p].size()); same[p]++) {
+      const PinEdge &x = a[p][same[p]], &y = b[p][same[p]];
       if (x.move != y.move || x.level != y.level || x.timed != y.timed) {
-        report(at + ": level " + std::to_string(x.level) + " in move " + std::to_string(x.move) +
-               " vs level " + std::to_string(y.level) + " in move " + std::to_string(y.move));
+        report(pin + " edge " + std::to_string(same[p] + 1) + ": level " + std::to_string(x.level) +
+               " in move " + std::to_string(x.move) + " vs level " + std::to_string(y.level) + " in move " +
+               std::to_string(y.move));
         break;  // the rest of this pin is out of step
       }
-      if (!x.timed) continue;
-      timed++;
-      const int64_t d = std::llabs(x.rel_ns - y.rel_ns);
-      if (d > worst) {
-        worst = d;
-        worst_pin = kPins[p].number;
-        worst_move = x.move;
-      }
-      if (d > within_ns) report(at + ": at " + us(x.rel_ns) + " us vs " + us(y.rel_ns) + " us into the move");
+      edges++;
+      if (x.timed) diff[static_cast<size_t>(x.move)].push_back(x.rel_ns - y.rel_ns);
     }
   }
-  std::cout << "compare: " << ma << " moves, " << edges << " edges (" << timed
-            << " timed), largest difference " << us(worst) << " us";
-  if (worst_pin > 0) std::cout << " (pin " << worst_pin << ", move " << worst_move << ")";
-  std::cout << ", allowed " << us(within_ns) << " us: " << (bad ? "DIFFERENT" : "same") << "\n";
+  std::vector<int64_t> late(diff.size(), 0), worst(diff.size(), 0);
+  for (size_t m = 1; m < diff.size(); m++) {
+    std::vector<int64_t> v = diff[m];
+    if (v.empty()) continue;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    late[m] = v[v.size() / 2];
+    if (std::llabs(late[m]) > within_ns)
+      report("move " + std::to_string(m) + ": " + p1 + " is " + us(late[m]) + " us late in the median");
+  }
+  for (int p = 0; p < kNumPins; p++)
+    for (size_t i = 0; i < same[p]; i++) {
+      const PinEdge &x = a[p][i], &y = b[p][i];
+      if (!x.timed) continue;
+      timed++;
+      const int64_t d = std::llabs(x.rel_ns - y.rel_ns - late[static_cast<size_t>(x.move)]);
+      worst[static_cast<size_t>(x.move)] = std::max(worst[static_cast<size_t>(x.move)], d);
+      if (d > (x.end ? end_ns : within_ns))
+        report("pin " + std::to_string(kPins[p].number) + " edge " + std::to_string(i + 1) + " (move " +
+               std::to_string(x.move) + (x.end ? ", its end" : "") + "): at " + us(x.rel_ns) + " us vs " +
+               us(y.rel_ns) + " us into the move, " + us(late[static_cast<size_t>(x.move)]) +
+               " us late in the median");
+    }
+  std::cout << "per move: median lateness of " << p1 << " / largest difference after it (us):";
+  for (size_t m = 1; m < diff.size(); m++) std::cout << ' ' << us(late[m]) << '/' << us(worst[m]);
+  std::cout << "\ncompare: " << ma << " moves, " << edges << " edges in the same order (" << timed
+            << " timed), allowed " << us(within_ns) << " us (a move's last write " << us(end_ns)
+            << " us): " << (bad ? "DIFFERENT" : "same") << "\n";
   return bad ? 1 : 0;
 }
 
@@ -889,16 +911,22 @@ int main(int argc, char **argv) {
     Trace tr = read_trace(path);
     write_svg(path, args[2], tr, bin_ms);
   } else if (mode == "compare") {
-    if (args.size() != 3 && !(args.size() == 5 && args[3] == "--within-ns"))
-      usage_error("compare takes TRACE1 TRACE2 [--within-ns N]");
-    int64_t within = 1000;
-    if (args.size() == 5) {
+    if (args.size() < 3 || args.size() % 2 == 0)
+      usage_error("compare takes TRACE1 TRACE2 [--within-ns N] [--end-ns N]");
+    int64_t within = 1000, end_ns = -1;
+    for (size_t i = 3; i < args.size(); i += 2) {
       char *end;
-      within = std::strtoll(args[4].c_str(), &end, 10);
-      if (*end || end == args[4].c_str() || within < 0) usage_error("--within-ns needs a number >= 0");
+      const long long v = std::strtoll(args[i + 1].c_str(), &end, 10);
+      if (*end || end == args[i + 1].c_str() || v < 0) usage_error(args[i] + " needs a number >= 0");
+      if (args[i] == "--within-ns")
+        within = v;
+      else if (args[i] == "--end-ns")
+        end_ns = v;
+      else
+        usage_error("unknown option " + args[i]);
     }
     std::cout.flush();
-    return compare(path, args[2], within);
+    return compare(path, args[2], within, end_ns < 0 ? within : end_ns);
   } else if (mode == "moves") {
     if (args.size() != 2) usage_error("moves takes just TRACE");
     print_moves(read_trace(path));
