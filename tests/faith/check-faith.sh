@@ -32,4 +32,4 @@ if ! diff -u "$out/guest.faith" "$out/sim.faith"; then
 	exit 1
 fi
 echo "ok: $(wc -l <"$out/sim.faith") stages report the same coordinates, errors and steps"
-"$x4trace" compare "$out/guest.trace" "$out/sim.vcd" --within-ns "$within" --max-ns 2500 --permille 1
+"$x4trace" compare "$out/guest.trace" "$out/sim.vcd" --within-ns "$within" --max-ns 2500 --late-ns 1500 --permille 1

@@ -38,7 +38,7 @@ const char *const kUsage =
     "       x4trace vcd TRACE OUT.vcd\n"
     "       x4trace svg TRACE OUT.svg [--bin-ms N]\n"
     "       x4trace moves TRACE\n"
-    "       x4trace compare TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--permille N]\n"
+    "       x4trace compare TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N]\n"
     "TRACE is QEMU's log of -trace parallel_ioport_write (with -msg timestamp=on),\n"
     "x4vport's trace (\"<t_ns> d|c|s 0xVV\" lines) or a VCD file with x4trace's pin\n"
     "names (the simulated port's X4STEP_SIM_VCD); '-' reads standard input.\n";
@@ -793,10 +793,11 @@ int pin_edges(const Trace &tr, std::vector<PinEdge> (&out)[kNumPins]) {
 // The same edges? Counts and order per pin exactly; the times of a move's
 // edges the same after aligning the move: TRACE1 (the module) is late by
 // its timer's latency, so its median lateness in the move is taken off
-// (and must itself be at most `within_ns`). Then every edge lies within
+// (it must lie in 0..late_ns: never early). Then every edge lies within
 // `max_ns`, and all but `permille` per mille of them within `within_ns`
 // (a timer interrupt now and then is late). 0 if so, else 1 with `DIFF`.
-int compare(const std::string &p1, const std::string &p2, int64_t within_ns, int64_t max_ns, long permille) {
+int compare(const std::string &p1, const std::string &p2, int64_t within_ns, int64_t max_ns, int64_t late_ns,
+            long permille) {
   std::vector<PinEdge> a[kNumPins], b[kNumPins];
   const int ma = pin_edges(read_trace(p1), a), mb = pin_edges(read_trace(p2), b);
   long edges = 0, timed = 0, bad = 0, over = 0;
@@ -831,7 +832,7 @@ int compare(const std::string &p1, const std::string &p2, int64_t within_ns, int
     if (v.empty()) continue;
     std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
     late[m] = v[v.size() / 2];
-    if (std::llabs(late[m]) > within_ns)
+    if (late[m] < 0 || late[m] > late_ns)
       report("move " + std::to_string(m) + ": " + p1 + " is " + us(late[m]) + " us late in the median");
   }
   for (int p = 0; p < kNumPins; p++)
@@ -916,20 +917,21 @@ int main(int argc, char **argv) {
     write_svg(path, args[2], tr, bin_ms);
   } else if (mode == "compare") {
     if (args.size() < 3 || args.size() % 2 == 0)
-      usage_error("compare takes TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--permille N]");
-    long long opt[3] = {1000, -1, 0};  // within, max (default: within), permille
-    const char *const names[3] = {"--within-ns", "--max-ns", "--permille"};
+      usage_error("compare takes TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N]");
+    long long opt[4] = {1000, -1, -1, 0};  // within, max and late (default: within), permille
+    const char *const names[4] = {"--within-ns", "--max-ns", "--late-ns", "--permille"};
     for (size_t i = 3; i < args.size(); i += 2) {
       char *end;
       const long long v = std::strtoll(args[i + 1].c_str(), &end, 10);
       if (*end || end == args[i + 1].c_str() || v < 0) usage_error(args[i] + " needs a number >= 0");
       int k = 0;
-      while (k < 3 && args[i] != names[k]) k++;
-      if (k == 3) usage_error("unknown option " + args[i]);
+      while (k < 4 && args[i] != names[k]) k++;
+      if (k == 4) usage_error("unknown option " + args[i]);
       opt[k] = v;
     }
     std::cout.flush();
-    return compare(path, args[2], opt[0], opt[1] < 0 ? opt[0] : opt[1], static_cast<long>(opt[2]));
+    return compare(path, args[2], opt[0], opt[1] < 0 ? opt[0] : opt[1], opt[2] < 0 ? opt[0] : opt[2],
+                   static_cast<long>(opt[3]));
   } else if (mode == "moves") {
     if (args.size() != 2) usage_error("moves takes just TRACE");
     print_moves(read_trace(path));
