@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 
 #include "x4step.hpp"
 
@@ -104,6 +106,14 @@ options options_from_env() {
     o.terminal_keys = false;  // a script is the keyboard
     if (std::string(k) != "none") o.keys = parse_keys(k);
   }
+  if (const char *m = std::getenv("X4STEP_SIM_MACHINE"); m && *m) {
+    std::ifstream in(m);
+    if (!in)
+      refuse(std::string("X4STEP_SIM_MACHINE=") + m +
+             ": cannot read the machine file: " + std::strerror(errno) + ": name a readable file");
+    o.model.read(in, m);
+  }
+  if (const char *s = std::getenv("X4STEP_SIM_INPUTS"); s && *s) o.model.add_script(s);
   return o;
 }
 

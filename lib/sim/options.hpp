@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "machine.hpp"
+
 namespace x4step::sim {
 
 enum class time_mode {
@@ -27,6 +29,7 @@ struct options {
   std::string vcd;                 ///< a VCD file of every pin change, "" none
   std::vector<scripted_key> keys;  ///< X4STEP_SIM_KEYS, in time order
   bool terminal_keys = true;       ///< keys from stdin when it is a terminal
+  machine model;                   ///< X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS
 };
 
 /// The set-1 make code of a key name (esc, enter, space, tab, backspace,
@@ -44,9 +47,10 @@ bool is_sim_name(const std::string &name);
 /// The port number of "sim" (0) or "sim:0".."sim:3"; throws an error
 /// naming the good spellings otherwise.
 int port_number(const std::string &name);
-/// X4STEP_SIM_TIME (virtual|real, default real), X4STEP_SIM_VCD and
-/// X4STEP_SIM_KEYS (a script, or "none": not even the terminal's);
-/// throws an error naming the variable and its good values.
+/// X4STEP_SIM_TIME (virtual|real, default real), X4STEP_SIM_VCD,
+/// X4STEP_SIM_KEYS (a script, or "none": not even the terminal's),
+/// X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS; throws an error naming the
+/// variable (or the machine file and line) and what to fix.
 options options_from_env();
 /// X4STEP_SIM is set to anything but "" or "0": LPT1..4 are sim:0..3.
 bool env_wants_sim();

@@ -30,7 +30,11 @@ std::map<int, std::weak_ptr<port>> registry;
 }  // namespace
 
 port::port(int number, options o)
-    : number_(number), opt_(std::move(o)), epoch_(std::chrono::steady_clock::now()), events_(events_kept) {
+    : number_(number),
+      opt_(std::move(o)),
+      epoch_(std::chrono::steady_clock::now()),
+      machine_(opt_.model),
+      events_(events_kept) {
   if (!opt_.vcd.empty()) vcd_ = std::make_unique<vcd_writer>(opt_.vcd);
   track_.push = track_push;
   track_.self = this;
@@ -103,7 +107,7 @@ std::uint64_t port::engine_now() const {
 
 unsigned port::inputs_locked() {
   if (claimed_) {
-    inputs_read_ = inputs_;
+    inputs_read_ = machine_.inputs(now_locked());
     inputs_ns_ = steady_ns_locked();
   }
   return inputs_read_;
@@ -119,6 +123,7 @@ void port::write_locked(std::uint64_t t) {
   data_written_ = data;
   ctl_written_ = ctl;
   written_valid_ = true;
+  machine_.write_data(data);
   if (recording_) writes_.push_back({t, data, ctl});
   if (vcd_) vcd_->write(t, data, ctl);
 }
@@ -458,7 +463,12 @@ int port::stop_locked(std::uint8_t axes) {
 
 void port::set_inputs(unsigned levels) {
   const lock l(m_);
-  inputs_ = levels & 0x1f;
+  machine_.set_inputs(levels);
+}
+
+std::array<std::int64_t, 4> port::machine_positions() const {
+  const lock l(m_);
+  return machine_.positions();
 }
 
 bool port::key(unsigned code) {

@@ -13,6 +13,7 @@
 
 #include <sys/types.h>
 
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -77,8 +78,11 @@ class port {
 
   // The machine side, for tests and scripts.
 
-  /// Input pin levels (X4GetIn bits); they read LOW until set.
+  /// Input pin levels (X4GetIn bits) of the inputs no switch of the
+  /// machine drives; they read LOW until set.
   void set_inputs(unsigned levels);
+  /// The machine's axes, in steps, as its pins moved them.
+  std::array<std::int64_t, 4> machine_positions() const;
   /// A key event (set-1 code) as the module's input handler sees it:
   /// true if it braked a move. Scripted keys (X4STEP_SIM_KEYS) come at
   /// their times, typed ones (terminal.hpp) when typed.
@@ -162,7 +166,7 @@ class port {
   const file *controller_ = nullptr;
   bool releasing_ = false;
   bool claimed_ = false;
-  unsigned inputs_ = 0;  // the input levels the machine sets
+  machine machine_;  // the axes, switches and scripted inputs
   unsigned inputs_read_ = 0;
   std::uint64_t inputs_ns_ = 0;
   bool written_valid_ = false;

@@ -58,6 +58,11 @@ echo "== G-code interpreter: 100 000 lines of CAM output (tests/bench/gcode_benc
 "$build/tests/gcode_bench" || echo "(the G-code bench failed: tools/get-rs274.sh fetches its program)"
 echo
 
+# The simulated port (issue 19): virtual-time speed and the VCD's cost.
+echo "== simulated port: a 4-axis 20 kHz move of 10 s in virtual time, without and with a VCD (tests/bench/sim_bench.cpp)"
+"$build/tests/sim_bench" || failed=1
+echo
+
 # The host tests against one-line mutations of the engine: every one must
 # fail a test (tests/mutation/run.sh, about a minute on 2 cores).
 echo

@@ -35,6 +35,7 @@ $cxx -I"$stage/include" -I"$top/include/uapi" -o "$out/cpp_test" "$top/tests/gue
 $cxx -I"$stage/include" -o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$lib"
 $cxx -I"$stage/include" -o "$out/phase_test" "$top/tests/guest/phase_test.cpp" "$lib"
 $cxx -I"$stage/include" -o "$out/positioning_test" "$top/tests/guest/positioning_test.cpp" "$lib"
+$cxx -I"$stage/include" -o "$out/faith_moves" "$top/tests/faith/faith_moves.cpp" "$lib"
 gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/kmod/x4vctl.c"
 for f in "$top"/tests/guest/manual/*.c; do
 	gcc -std=c99 -static -O2 -Wall -Wextra -Werror -I"$stage/include" \

@@ -30,13 +30,43 @@ class Sim : public ::testing::Test {
     setenv("X4STEP_SIM_TIME", "virtual", 1);
     unsetenv("X4STEP_SIM_VCD");
     unsetenv("X4STEP_SIM");
+    unsetenv("X4STEP_SIM_MACHINE");
+    unsetenv("X4STEP_SIM_INPUTS");
   }
   void TearDown() override {
     unsetenv("X4STEP_SIM_TIME");
     unsetenv("X4STEP_SIM_VCD");
     unsetenv("X4STEP_SIM");
+    unsetenv("X4STEP_SIM_MACHINE");
+    unsetenv("X4STEP_SIM_INPUTS");
+    if (!machine_file_.empty()) ::unlink(machine_file_.c_str());
   }
+  // Writes a machine file and names it in X4STEP_SIM_MACHINE.
+  void Machine(const std::string &text) {
+    machine_file_ = ::testing::TempDir() + "sim_test.machine";
+    std::ofstream(machine_file_) << text;
+    setenv("X4STEP_SIM_MACHINE", machine_file_.c_str(), 1);
+  }
+  std::string machine_file_;
 };
+
+// Axis 1 of a machine: REF on pin 10 (input 4) NO, active at -300 and
+// below; both limits on pin 11 (input 5), NC, in parallel; it stands at 200.
+const char *const kAxis1 =
+    "# axis 1\n"
+    "ref 1 below -300 pin10 no\n"
+    "e- 1 -1000 pin11 nc   # shared input\n"
+    "e+ 1 5000 11 nc\n"
+    "position 1 200\n";
+
+x4step::switches Axis1Switches() {
+  x4step::switches sw;
+  sw.ref[0] = 4;
+  sw.plus[0] = 5;
+  sw.minus[0] = 5;
+  sw.nc = 1u << 4;
+  return sw;
+}
 
 // The pin changes the engine itself makes for a move started at t0, each
 // event fired at its due time: what the module's timer does when on time.
@@ -295,4 +325,130 @@ TEST_F(Sim, RealTimeTakesTheMovesTime) {
   EXPECT_GE(took, 99ms);
   EXPECT_LT(took, 1s);
   EXPECT_EQ(c.steps(axis(1)), 1000);
+}
+
+// ---- the machine model (X4STEP_SIM_MACHINE, X4STEP_SIM_INPUTS) ----
+
+// Homing: phase 1 runs onto REF (active at -300 and below) and stops on
+// the step that reaches it; phase 2 leaves it and stops where it changes
+// (-299), which becomes coordinate 0, synchronized (X4STEP_HOME).
+TEST_F(Sim, HomingFindsRefAndEndsAtZero) {
+  Machine(kAxis1);
+  controller c("sim");
+  auto p = x4step::sim::port::find(0);
+  c.set_switches(Axis1Switches());
+  x4step::monitor m("sim");
+  c.home(axis(1), x4step::homing{}.phase1_speed(-2000).phase2_speed(200).max_travel(5000));
+  ASSERT_TRUE(c.wait());
+  EXPECT_EQ(p->machine_positions()[0], -299);
+  const x4step::axis_status a = c.get_axis(axis(1));
+  EXPECT_EQ(a.position, 0);
+  EXPECT_TRUE(a.synced);
+  EXPECT_EQ(a.error, 0u);
+  bool homed = false;
+  while (auto e = m.read_event(0ms))
+    homed |= e->type == x4step::event_type::move_ended && e->how == static_cast<unsigned>(X4STEP_END_HOMED);
+  EXPECT_TRUE(homed);
+  c.move_to(axis(1), 99);  // the coordinate is the machine's, shifted
+  ASSERT_TRUE(c.wait());
+  EXPECT_EQ(p->machine_positions()[0], -200);
+}
+
+// A limit stops the move before the step after the one that reached it:
+// the machine stands on E+ (5000), the axis reports limit_pos.
+TEST_F(Sim, LimitSwitchStopsOnTheStepThatReachesIt) {
+  Machine(kAxis1);
+  controller c("sim");
+  auto p = x4step::sim::port::find(0);
+  c.set_switches(Axis1Switches());
+  c.set_profile(axis(1), x4step::profile{}.top_speed(4000).accel(40000).decel(40000));
+  c.move_by(axis(1), 10000);
+  ASSERT_TRUE(c.wait());
+  EXPECT_EQ(p->machine_positions()[0], 5000);
+  const x4step::axis_status a = c.get_axis(axis(1));
+  EXPECT_EQ(a.position, 4800);
+  EXPECT_EQ(a.error, x4step::axis_error::limit_pos);
+  EXPECT_EQ(c.get_axes().switches_active, 1u << 4);
+  // Backing off the limit is allowed and releases it.
+  c.move_by(axis(1), -100);
+  ASSERT_TRUE(c.wait());
+  EXPECT_EQ(p->machine_positions()[0], 4900);
+  EXPECT_EQ(c.get_axes().switches_active, 0u);
+}
+
+// Scripted inputs: levels from their time on, read by X4GetIn.
+TEST_F(Sim, ScriptedInputsChangeAtTheirTimes) {
+  Machine("input 10 pin15=1 pin13=1\ninput 30 15=0\n");
+  setenv("X4STEP_SIM_INPUTS", "20:pin12=1,40.5:pin12=0", 1);
+  controller c("sim");
+  auto p = x4step::sim::port::find(0);
+  EXPECT_EQ(c.inputs(), 0u);
+  p->run_until(10000000);
+  EXPECT_EQ(c.inputs(), 0x3u);
+  p->run_until(20000000);
+  EXPECT_EQ(c.inputs(), 0x7u);
+  p->run_until(30000000);
+  EXPECT_EQ(c.inputs(), 0x6u);
+  p->run_until(40499999);
+  EXPECT_EQ(c.inputs(), 0x6u);
+  p->run_until(40500000);
+  EXPECT_EQ(c.inputs(), 0x2u);
+}
+
+// Every layout error names the file or variable, the line or item, and
+// what to fix; nothing is simulated.
+TEST_F(Sim, MachineLayoutErrorsSayWhereAndWhatToFix) {
+  const struct {
+    const char *file;
+    const char *says;
+  } bad[] = {
+      {"ref 1 below 0 pin10 no\ne+ 1 500 pin10 nc\n", ":2: pin 10 has a no switch already (line 1)"},
+      {"ref 1 below 0 pin2 no\n",
+       ":1: 'pin2' is not an input pin: the inputs are pins 10, 11, 12, 13 and 15"},
+      {"e- 1 -100 pin11 nc\ne+ 1 100 pin11 nc\nref 1 above 200 pin10 no\n",
+       ":3: axis 1: REF at 200 lies outside E-..E+ (line 2)"},
+      {"\nref 2 above -500 pin10 no\ne- 2 -400 pin11 nc\n",
+       ":3: axis 2: REF at -500 lies outside E-..E+ (line 2)"},
+      {"e+ 3 100 pin11 no\ne- 3 100 pin11 no\n", ":2: axis 3: E- at 100 is not below E+ at 100 (line 1)"},
+      {"e+ 1 100 pin11 no\ne+ 1 200 pin12 no\n",
+       ":2: axis 1 has its E+ switch already (line 1): one per axis"},
+      {"ref 5 below 0 pin10 no\n", ":1: axis '5': use 1, 2, 3 or 4"},
+      {"ref 1 left 0 pin10 no\n", ":1: REF side 'left': use below"},
+      {"e+ 1 100 pin11 open\n", ":1: polarity 'open': use no"},
+      {"e+ 1 1e3 pin11 no\n", ":1: position '1e3' is not a whole number of steps"},
+      {"e+ 1 100 pin11 no hyst -1\n", ":1: hysteresis -1: use 0 or more steps"},
+      {"e+ 1 100 pin11\n", ":1: write a limit switch as: e+ AXIS AT PIN no|nc [hyst STEPS]"},
+      {"limit 1 100\n", ":1: 'limit' is not a machine line"},
+      {"e+ 1 100 pin11 no\ninput 5 pin11=1\n", ":2: pin 11 is driven by a switch"},
+      {"input 5 pin15=1\ne+ 1 100 pin15 no\n", ":2: pin 15 is set by the input script"},
+      {"input -5 pin15=1\n", ":1: time '-5' is not a time in ms"},
+      {"input 5 pin15=2\n", ":1: 'pin15=2': set an input as PIN=0 or PIN=1"},
+  };
+  for (const auto &b : bad) {
+    Machine(b.file);
+    try {
+      controller c("sim");
+      ADD_FAILURE() << "accepted: " << b.file;
+    } catch (const x4step::error &e) {
+      EXPECT_EQ(e.code(), x4step::errc::lpt_not_found);
+      EXPECT_NE(std::string(e.what()).find(machine_file_ + b.says), std::string::npos)
+          << "wanted \"" << b.says << "\" in: " << e.what();
+    }
+    EXPECT_FALSE(x4step::sim::port::find(0));
+  }
+  setenv("X4STEP_SIM_MACHINE", "/nonexistent/machine", 1);
+  EXPECT_THROW(controller("sim"), x4step::error);
+  unsetenv("X4STEP_SIM_MACHINE");
+  for (const char *spec : {"20pin12=1", "20:pin12", "x:pin12=1", "20:pin9=1"}) {
+    setenv("X4STEP_SIM_INPUTS", spec, 1);
+    try {
+      controller c("sim");
+      ADD_FAILURE() << "accepted: " << spec;
+    } catch (const x4step::error &e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("X4STEP_SIM_INPUTS item 1 '") + spec + "': "),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  EXPECT_FALSE(x4step::sim::port::find(0));
 }

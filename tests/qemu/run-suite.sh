@@ -46,6 +46,7 @@ tests=(
 	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko|"
 	"config|tests/guest/config.sh|$g/config_test||tests/qemu/check-config.sh"
 	"path|tests/guest/path.sh|$g/path_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh"
+	"faith|tests/faith/faith.sh|$g/faith_moves tests/faith/faith.machine|--icount --module @KOUT@/src/tests/kmod/x4vport.ko|tests/faith/check-faith.sh"
 )
 
 # The kernels the module must pass on: label, glob under /boot, exclusion,

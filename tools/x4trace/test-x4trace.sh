@@ -110,6 +110,37 @@ expect vcd-rises test "$(grep -c '^1#$' "$tmp/t.vcd")" = 3
 expect svg-binned grep -q '<polyline' "$tmp/t.svg"
 expect svg-per-step grep -q '<polyline' "$tmp/t0.svg"
 
+# The same writes as x4vport's trace (ns), and back from our VCD.
+awk -F'[@: ]' '/\[SW\] addr 0x0[02]/ {
+	split($2, t, "."); printf "%d%06d000 %s %s\n", t[1], t[2], $7 == "0x00" ? "d" : "c", $9 }' \
+	"$tmp/t.log" >"$tmp/v.trace"
+echo "100000000011 s 0x78" >>"$tmp/v.trace" # status: not a pin we drive
+"$bin" edges "$tmp/v.trace" >"$tmp/v.edges"
+expect x4vport-edges diff -u "$tmp/edges.want" "$tmp/v.edges"
+"$bin" edges "$tmp/t.vcd" >"$tmp/vcd.edges"
+expect vcd-edges diff -u "$tmp/edges.want" "$tmp/vcd.edges"
+
+# compare: the same edges, times within 1 us of the move's start (AKTIV).
+cat >"$tmp/m.trace" <<'EOF2'
+1000 c 0x0c
+1000 d 0x00
+5000 c 0x04
+105000 d 0x01
+205000 d 0x03
+230000 d 0x01
+305000 d 0x03
+330000 d 0x01
+400000 c 0x0c
+EOF2
+sed 's/^5000 c/90000 c/; s/^105000/190000/; s/^205000/290000/; s/^230000/315000/;
+	s/^305000/390000/; s/^330000/415500/; s/^400000/485000/' "$tmp/m.trace" >"$tmp/m-late.trace"
+expect compare-same status_is 0 "$bin" compare "$tmp/m.trace" "$tmp/m-late.trace"
+expect compare-2us status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-late.trace" --within-ns 400
+sed '/^305000/d; /^330000/d' "$tmp/m.trace" >"$tmp/m-drop.trace"
+expect compare-dropped status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-drop.trace"
+sed 's/^305000 d 0x03/305000 d 0x02/' "$tmp/m.trace" >"$tmp/m-dir.trace"
+expect compare-order status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-dir.trace"
+
 # Errors: bad usage is status 2, unreadable input status 1.
 expect usage status_is 2 "$bin"
 expect unreadable status_is 1 "$bin" summary "$tmp/missing.log"

@@ -38,8 +38,10 @@ const char *const kUsage =
     "       x4trace vcd TRACE OUT.vcd\n"
     "       x4trace svg TRACE OUT.svg [--bin-ms N]\n"
     "       x4trace moves TRACE\n"
-    "TRACE is QEMU's log of -trace parallel_ioport_write (with -msg timestamp=on);\n"
-    "'-' reads standard input.\n";
+    "       x4trace compare TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N]\n"
+    "TRACE is QEMU's log of -trace parallel_ioport_write (with -msg timestamp=on),\n"
+    "x4vport's trace (\"<t_ns> d|c|s 0xVV\" lines) or a VCD file with x4trace's pin\n"
+    "names (the simulated port's X4STEP_SIM_VCD); '-' reads standard input.\n";
 
 [[noreturn]] void fail(const std::string &msg, int status = 1) {
   std::cerr << "x4trace: " << msg << "\n";
@@ -96,6 +98,22 @@ bool parse_hex(const char *&p, unsigned *out) {
   return true;
 }
 
+// x4vport's trace line "<t_ns> <d|c|s> 0xVV" (tests/kmod/x4vport.c), guest
+// time in ns: data and control as QEMU's addresses 0 and 2, status ignored.
+bool parse_x4vport(const std::string &line, int64_t *t_ns, unsigned *addr, unsigned *val) {
+  unsigned long long t;
+  char reg;
+  int end = 0;
+  if (std::sscanf(line.c_str(), "%llu %c 0x%x%n", &t, &reg, val, &end) != 3 || end != (int)line.size() ||
+      *val > 0xff || (reg != 'd' && reg != 'c' && reg != 's'))
+    return false;
+  *t_ns = static_cast<int64_t>(t);
+  *addr = reg == 'd' ? 0 : reg == 'c' ? 2 : 1;
+  return true;
+}
+
+Trace read_vcd(std::istream &in, const std::string &path);
+
 Trace read_trace(const std::string &path) {
   std::ifstream file;
   std::istream *in = &std::cin;
@@ -104,6 +122,7 @@ Trace read_trace(const std::string &path) {
     if (!file) fail("cannot read " + path + ": " + std::strerror(errno));
     in = &file;
   }
+  if (in->peek() == '$') return read_vcd(*in, path);
   static const char kEvent[] = "parallel_ioport_write ";
   Trace tr;
   bool have_t0 = false;
@@ -111,6 +130,17 @@ Trace read_trace(const std::string &path) {
   std::string line;
   while (std::getline(*in, line)) {
     tr.lines++;
+    int64_t vt;
+    unsigned vaddr, vval;
+    if (parse_x4vport(line, &vt, &vaddr, &vval)) {
+      if (vaddr == 1) continue;
+      if (!have_t0) {
+        tr.t0_abs_ns = vt;
+        have_t0 = true;
+      }
+      tr.writes.push_back({vt - tr.t0_abs_ns, static_cast<uint8_t>(vaddr), static_cast<uint8_t>(vval)});
+      continue;
+    }
     size_t ev = line.find(kEvent);
     if (ev == std::string::npos) continue;
     // Optional "PID@SEC.FRAC:" prefix.
@@ -190,6 +220,56 @@ void pin_levels(uint8_t reg, uint8_t val, int levels[kNumPins]) {
     levels[pin_index(16)] = (val & 4) != 0;
     levels[pin_index(17)] = !(val & 8);
   }
+}
+
+// A VCD file with x4trace's pin names (ours, or the simulated port's) as
+// register writes: at each time, a data write if a data pin changed and a
+// control write if a control pin did. Unknown levels ('x') are no write.
+Trace read_vcd(std::istream &in, const std::string &path) {
+  Trace tr;
+  std::vector<int> id_pin(128, -1);  // VCD id (one character) -> kPins index
+  int level[kNumPins] = {};
+  bool data_changed = false, ctl_changed = false;
+  int64_t t = 0;
+  auto flush = [&] {
+    uint8_t data = 0, ctl;
+    for (int bit = 0; bit < 8; bit++) data |= (level[pin_index(2 + bit)] & 1) << bit;
+    ctl = static_cast<uint8_t>((!level[pin_index(1)]) | (!level[pin_index(14)]) << 1 |
+                               level[pin_index(16)] << 2 | (!level[pin_index(17)]) << 3);
+    if (data_changed) tr.writes.push_back({t, 0, data});
+    if (ctl_changed) tr.writes.push_back({t, 2, ctl});
+    data_changed = ctl_changed = false;
+  };
+  std::string line;
+  bool defs = true;
+  while (std::getline(in, line)) {
+    tr.lines++;
+    if (line.empty()) continue;
+    if (defs) {
+      std::istringstream w(line);
+      std::string kw, type, size, id, name;
+      if (w >> kw >> type >> size >> id >> name && kw == "$var" && id.size() == 1 && id[0] > ' ' &&
+          id[0] < 127) {
+        for (int p = 0; p < kNumPins; p++)
+          if (name == kPins[p].name) id_pin[static_cast<unsigned char>(id[0])] = p;
+      }
+      if (line.rfind("$enddefinitions", 0) == 0) defs = false;
+      continue;
+    }
+    if (line[0] == '#') {
+      flush();
+      t = std::strtoll(line.c_str() + 1, nullptr, 10);
+    } else if ((line[0] == '0' || line[0] == '1') && line.size() == 2) {
+      const int p = id_pin[static_cast<unsigned char>(line[1]) & 127];
+      if (p < 0) continue;
+      level[p] = line[0] == '1';
+      (kPins[p].number >= 2 && kPins[p].number <= 9 ? data_changed : ctl_changed) = true;
+    }
+  }
+  flush();
+  if (in.bad()) fail("error reading " + path);
+  if (defs) fail(path + ": not a VCD file (no $enddefinitions)");
+  return tr;
 }
 
 struct Change {
@@ -672,6 +752,114 @@ void write_svg(const std::string &path, const std::string &out_path, const Trace
   if (!out) fail("error writing " + out_path);
 }
 
+// ---------------------------------------------------------------- compare
+
+// Each pin's edges, in order, with the move they fall in: a move begins
+// with a write that raises AKTIV (pin 17) and ends with the one that drops
+// it. Edges of a move are timed from its beginning; edges between moves
+// (outputs, rest patterns) only count and keep their order; edges before
+// the first move (the port's setup) are not compared.
+struct PinEdge {
+  int move;
+  bool timed;
+  int64_t rel_ns;
+  int level;
+};
+
+int pin_edges(const Trace &tr, std::vector<PinEdge> (&out)[kNumPins]) {
+  std::vector<Change> ch;
+  for_each_change(tr, [&](const Change &c) { ch.push_back(c); });
+  const int aktiv = pin_index(17);
+  int move = 0;
+  bool high = false;
+  int64_t start = 0;
+  for (size_t i = 0; i < ch.size();) {
+    size_t j = i;
+    bool rise = false, fall = false;
+    for (; j < ch.size() && ch[j].seq == ch[i].seq; j++)
+      if (ch[j].pin == aktiv && !ch[j].initial) (ch[j].level ? rise : fall) = true;
+    if (rise) {
+      move++;
+      start = ch[i].t_ns;
+    }
+    high = rise || (high && !fall);
+    for (; i < j; i++)
+      if (!ch[i].initial && move > 0)
+        out[ch[i].pin].push_back({move, high || fall, ch[i].t_ns - start, ch[i].level});
+  }
+  return move;
+}
+
+// The same edges? Counts and order per pin exactly; the times of a move's
+// edges the same after aligning the move: TRACE1 (the module) is late by
+// its timer's latency, so its median lateness in the move is taken off
+// (it must lie in 0..late_ns: never early). Then every edge lies within
+// `max_ns`, and all but `permille` per mille of them within `within_ns`
+// (a timer interrupt now and then is late). 0 if so, else 1 with `DIFF`.
+int compare(const std::string &p1, const std::string &p2, int64_t within_ns, int64_t max_ns, int64_t late_ns,
+            long permille) {
+  std::vector<PinEdge> a[kNumPins], b[kNumPins];
+  const int ma = pin_edges(read_trace(p1), a), mb = pin_edges(read_trace(p2), b);
+  long edges = 0, timed = 0, bad = 0, over = 0;
+  auto report = [&](const std::string &msg) {
+    if (++bad <= 20) std::cout << "DIFF " << msg << "\n";
+  };
+  if (ma != mb)
+    report("moves: " + std::to_string(ma) + " in " + p1 + ", " + std::to_string(mb) + " in " + p2);
+  // Counts, order, and each move's differences.
+  std::vector<std::vector<int64_t>> diff(static_cast<size_t>(ma) + 1);
+  size_t same[kNumPins];
+  for (int p = 0; p < kNumPins; p++) {
+    const std::string pin = "pin " + std::to_string(kPins[p].number);
+    if (a[p].size() != b[p].size())
+      report(pin + ": " + std::to_string(a[p].size()) + " edges in " + p1 + ", " +
+             std::to_string(b[p].size()) + " in " + p2);
+    for (same[p] = 0; same[p] < std::min(a[p].size(), b[p].size()); same[p]++) {
+      const PinEdge &x = a[p][same[p]], &y = b[p][same[p]];
+      if (x.move != y.move || x.level != y.level || x.timed != y.timed) {
+        report(pin + " edge " + std::to_string(same[p] + 1) + ": level " + std::to_string(x.level) +
+               " in move " + std::to_string(x.move) + " vs level " + std::to_string(y.level) + " in move " +
+               std::to_string(y.move));
+        break;  // the rest of this pin is out of step
+      }
+      edges++;
+      if (x.timed) diff[static_cast<size_t>(x.move)].push_back(x.rel_ns - y.rel_ns);
+    }
+  }
+  std::vector<int64_t> late(diff.size(), 0), worst(diff.size(), 0);
+  for (size_t m = 1; m < diff.size(); m++) {
+    std::vector<int64_t> v = diff[m];
+    if (v.empty()) continue;
+    std::nth_element(v.begin(), v.begin() + static_cast<long>(v.size() / 2), v.end());
+    late[m] = v[v.size() / 2];
+    if (late[m] < 0 || late[m] > late_ns)
+      report("move " + std::to_string(m) + ": " + p1 + " is " + us(late[m]) + " us late in the median");
+  }
+  for (int p = 0; p < kNumPins; p++)
+    for (size_t i = 0; i < same[p]; i++) {
+      const PinEdge &x = a[p][i], &y = b[p][i];
+      if (!x.timed) continue;
+      timed++;
+      const int64_t d = std::llabs(x.rel_ns - y.rel_ns - late[static_cast<size_t>(x.move)]);
+      worst[static_cast<size_t>(x.move)] = std::max(worst[static_cast<size_t>(x.move)], d);
+      over += d > within_ns;
+      if (d > max_ns)
+        report("pin " + std::to_string(kPins[p].number) + " edge " + std::to_string(i + 1) + " (move " +
+               std::to_string(x.move) + "): at " + us(x.rel_ns) + " us vs " + us(y.rel_ns) +
+               " us into the move, " + us(late[static_cast<size_t>(x.move)]) + " us late in the median");
+    }
+  if (over * 1000 > timed * permille)
+    report(std::to_string(over) + " of " + std::to_string(timed) + " timed edges are more than " +
+           us(within_ns) + " us off: more than " + std::to_string(permille) + " per mille");
+  std::cout << "per move: median lateness of " << p1 << " / largest difference after it (us):";
+  for (size_t m = 1; m < diff.size(); m++) std::cout << ' ' << us(late[m]) << '/' << us(worst[m]);
+  std::cout << "\ncompare: " << ma << " moves, " << edges << " edges in the same order, " << timed
+            << " timed: " << over << " more than " << us(within_ns) << " us off (allowed " << permille
+            << " per mille), none over " << us(max_ns) << " us allowed: " << (bad ? "DIFFERENT" : "same")
+            << "\n";
+  return bad ? 1 : 0;
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -727,6 +915,23 @@ int main(int argc, char **argv) {
     }
     Trace tr = read_trace(path);
     write_svg(path, args[2], tr, bin_ms);
+  } else if (mode == "compare") {
+    if (args.size() < 3 || args.size() % 2 == 0)
+      usage_error("compare takes TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N]");
+    long long opt[4] = {1000, -1, -1, 0};  // within, max and late (default: within), permille
+    const char *const names[4] = {"--within-ns", "--max-ns", "--late-ns", "--permille"};
+    for (size_t i = 3; i < args.size(); i += 2) {
+      char *end;
+      const long long v = std::strtoll(args[i + 1].c_str(), &end, 10);
+      if (*end || end == args[i + 1].c_str() || v < 0) usage_error(args[i] + " needs a number >= 0");
+      int k = 0;
+      while (k < 4 && args[i] != names[k]) k++;
+      if (k == 4) usage_error("unknown option " + args[i]);
+      opt[k] = v;
+    }
+    std::cout.flush();
+    return compare(path, args[2], opt[0], opt[1] < 0 ? opt[0] : opt[1], opt[2] < 0 ? opt[0] : opt[2],
+                   static_cast<long>(opt[3]));
   } else if (mode == "moves") {
     if (args.size() != 2) usage_error("moves takes just TRACE");
     print_moves(read_trace(path));
