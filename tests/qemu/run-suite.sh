@@ -59,7 +59,7 @@ kernel_kinds=(
 # The debug kernel (tests/debugkernel) only when asked, as it is built
 # locally; first, as it is the slowest.
 [ -n "${X4_DEBUGKERNEL:-}" ] && kernel_kinds=(
-	"debug|vmlinuz-*-x4debug||timing speed:its timer is ~16 us late (Debian's ~0.6 us), too late for the microsecond checks and the speed ceiling (measured on Debian's kernels; paths at 100 kHz run here in the path test)"
+	"debug|vmlinuz-*-x4debug||timing speed faith:its timer is ~16 us late (Debian's ~0.6 us), too late for the microsecond checks (timing, faith) and the speed ceiling (measured on Debian's kernels; paths at 100 kHz run here in the path test)"
 	"${kernel_kinds[@]}")
 
 want_k=() want_t=() verbose=0 jobs=${X4_QEMU_JOBS:-$(nproc)}
