@@ -25,6 +25,8 @@ cat "$dir/virtual.out" | tail -1
 check "virtual time: exit 0" $st
 tail -1 "$dir/virtual.out" | grep -q "\"state\":\"idle\".*\"done\":600,\"total\":600"
 check "virtual time: the last progress record says 600 of 600 done" $?
+grep '"state":"running"' "$dir/virtual.out" | head -1 | grep -qE '"speed":[0-9.]+[,}]'
+check "virtual time: a running record's speed is a number (steps/s)" $?
 [ "$took" -lt 5000 ]
 check "virtual time: 15 s of motion in ${took} ms" $?
 

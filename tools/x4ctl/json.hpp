@@ -8,6 +8,10 @@
 #ifndef X4CTL_JSON_HPP
 #define X4CTL_JSON_HPP
 
+#include <cmath>
+#include <iomanip>
+#include <locale>
+#include <sstream>
 #include <string>
 #include <type_traits>
 
@@ -26,6 +30,15 @@ class json_object {
   template <typename T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool>, int> = 0>
   json_object &add(const std::string &key, T v) {
     return raw(key, std::to_string(v));
+  }
+  /// A number (a double would otherwise convert to the bool overload);
+  /// JSON has no infinity or NaN: null.
+  json_object &add(const std::string &key, double v) {
+    if (!std::isfinite(v)) return raw(key, "null");
+    std::ostringstream o;
+    o.imbue(std::locale::classic());
+    o << std::setprecision(10) << v;
+    return raw(key, o.str());
   }
   json_object &add(const std::string &key, const std::string &v) { return raw(key, x4tools::json_string(v)); }
   json_object &add(const std::string &key, const char *v) { return add(key, std::string(v)); }
