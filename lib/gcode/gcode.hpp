@@ -121,6 +121,9 @@ class sink {
   virtual void message(std::string_view) {}
   /// M2 or M30 (or the closing %): nothing is read after it.
   virtual void program_end(bool /*m30*/) {}
+  /// The line whose commands follow (before the first of them): a sink
+  /// that refuses a command later (a planner's soft limit) names it.
+  virtual void source_line(const std::string & /*file*/, int /*line*/) {}
 };
 
 struct options {
@@ -130,6 +133,8 @@ struct options {
   units initial_units = units::mm;
   /// Honour block delete: skip lines that start with '/'.
   bool block_delete = false;
+  /// Where the machine stands at the start, machine coordinates and units.
+  pose start{};
 };
 
 /// One tool: length offsets (G43 H) in machine units.
@@ -167,7 +172,7 @@ class interpreter {
   bool execute_line(std::string_view line, const std::string &name, int line_no);
 
   /// The current position, machine coordinates, machine units.
-  const pose &position() const noexcept;
+  pose position() const;
   units program_units() const noexcept;
 
  private:
