@@ -25,7 +25,6 @@ std::string where(const std::string &file, int line) {
 struct entry {
   std::string value;
   int line = 0;
-  bool used = false;
 };
 
 struct section {
@@ -116,9 +115,7 @@ class reader {
 
   const std::string *text(const std::string &key) {
     if (!has(key)) return nullptr;
-    entry &e = s_->keys.at(key);
-    e.used = true;
-    return &e.value;
+    return &s_->keys.at(key).value;
   }
   std::string required_text(const std::string &key, const std::string &what) {
     const std::string *t = text(key);
@@ -153,11 +150,16 @@ class reader {
     return static_cast<long>(*v);
   }
 
-  // After everything was taken: a key nobody took is one x4step does not know.
+  // Unknown keys first: a misspelt key is the mistake to name, not the
+  // required key it then lacks. known: "A, B and C".
   void refuse_unknown(const std::string &known) const {
     if (!s_) return;
+    std::string list = known;
+    for (size_t p; (p = list.find(" and ")) != std::string::npos;) list.replace(p, 5, ", ");
+    const std::string keys = ", " + list + ", ";
     for (const auto &[key, e] : s_->keys)
-      if (!e.used) fail(key, "unknown key: [" + name_ + "] takes " + known);
+      if (keys.find(", " + key + ", ") == std::string::npos)
+        fail(key, "unknown key: [" + name_ + "] takes " + known);
   }
 
  private:
@@ -183,6 +185,8 @@ pin pin_of(reader &r, const std::string &key) {
 
 void read_x4step(ini &f, machine &m) {
   reader r(f, "X4STEP", f.find("X4STEP"));
+  r.refuse_unknown(
+      "PORT, OUTPUT_MODE, ARC_TOLERANCE, JUNCTION_DEVIATION, SPINDLE_PIN, FLOOD_PIN and MIST_PIN");
   if (r.section_line() == 0)
     throw error(f.file(), 0, "[X4STEP]",
                 "no [X4STEP] section: it needs ARC_TOLERANCE and JUNCTION_DEVIATION");
@@ -220,13 +224,12 @@ void read_x4step(ini &f, machine &m) {
         r.fail(later, "pin " + std::to_string(int(pins[j].second)) + " is the " + other +
                           " already: give each its own");
       }
-  r.refuse_unknown(
-      "PORT, OUTPUT_MODE, ARC_TOLERANCE, JUNCTION_DEVIATION, SPINDLE_PIN, FLOOD_PIN and MIST_PIN");
 }
 
 // [TRAJ]: the axis letters in joint order.
 std::string read_traj(ini &f, machine &m) {
   reader r(f, "TRAJ", f.find("TRAJ"));
+  r.refuse_unknown("COORDINATES, LINEAR_UNITS, ANGULAR_UNITS and MAX_LINEAR_VELOCITY");
   if (r.section_line() == 0)
     throw error(f.file(), 0, "[TRAJ]", "no [TRAJ] section: it needs COORDINATES and LINEAR_UNITS");
   const std::string coords = upper(r.required_text("COORDINATES", "the axis letters, e.g. XYZ"));
@@ -248,7 +251,6 @@ std::string read_traj(ini &f, machine &m) {
       r.fail("ANGULAR_UNITS", "'" + *a + "': rotary axes are in degrees (degree)");
   if (r.has("MAX_LINEAR_VELOCITY"))
     m.max_linear_velocity = r.positive("MAX_LINEAR_VELOCITY", "the most along the path, units/s");
-  r.refuse_unknown("COORDINATES, LINEAR_UNITS, ANGULAR_UNITS and MAX_LINEAR_VELOCITY");
   return letters;
 }
 
@@ -258,12 +260,12 @@ void read_axis(ini &f, char letter, axis &a, int coord_line, const std::string &
   if (r.section_line() == 0)
     throw error(file, coord_line, "[TRAJ] COORDINATES",
                 std::string("axis ") + letter + " has no [" + name + "] section: give its limits and speeds");
+  r.refuse_unknown("MIN_LIMIT, MAX_LIMIT, MAX_VELOCITY and MAX_ACCELERATION");
   a.min_limit = r.required("MIN_LIMIT", "the soft limit at the negative end, machine units");
   a.max_limit = r.required("MAX_LIMIT", "the soft limit at the positive end, machine units");
   if (a.min_limit >= a.max_limit) r.fail("MAX_LIMIT", "must be above MIN_LIMIT");
   a.max_velocity = r.positive("MAX_VELOCITY", "the axis' top speed, units/s");
   a.max_acceleration = r.positive("MAX_ACCELERATION", "the axis' acceleration, units/s^2");
-  r.refuse_unknown("MIN_LIMIT, MAX_LIMIT, MAX_VELOCITY and MAX_ACCELERATION");
 }
 
 void read_homing(reader &r, axis &a) {
@@ -304,6 +306,8 @@ void read_joint(ini &f, int n, char letter, axis &a, int coord_line, const std::
     throw error(file, coord_line, "[TRAJ] COORDINATES",
                 std::string("axis ") + letter + " is joint " + std::to_string(n) + ": it needs a [" + name +
                     "] section with MOTOR and SCALE");
+  r.refuse_unknown(
+      "MOTOR, SCALE, HOME_SEARCH_VEL, HOME_LATCH_VEL, HOME_INPUT, HOME_OFFSET, HOME and HOME_SEQUENCE");
   if (!r.has("MOTOR"))
     r.fail("MOTOR", "missing: give the motor (1..4) that drives axis " + std::string(1, letter));
   a.motor = static_cast<int>(*r.whole("MOTOR", 1, 4)) - 1;
@@ -326,8 +330,6 @@ void read_joint(ini &f, int n, char letter, axis &a, int coord_line, const std::
   if (std::fabs(a.min_limit) * s > coord_max || std::fabs(a.max_limit) * s > coord_max)
     r.fail("SCALE", "the soft limits are beyond a motor's 32-bit step coordinate");
   read_homing(r, a);
-  r.refuse_unknown(
-      "MOTOR, SCALE, HOME_SEARCH_VEL, HOME_LATCH_VEL, HOME_INPUT, HOME_OFFSET, HOME and HOME_SEQUENCE");
 }
 
 std::string directory_of(const std::string &path) {
@@ -355,14 +357,14 @@ machine read(std::istream &in, const std::string &name) {
           "unknown section: a machine file has EMC, EMCIO, X4STEP, TRAJ, AXIS_<letter> and JOINT_<n>");
   }
   reader emc(f, "EMC", f.find("EMC"));
-  if (const std::string *n = emc.text("MACHINE")) m.name = *n;
   emc.refuse_unknown("MACHINE");
+  if (const std::string *n = emc.text("MACHINE")) m.name = *n;
   reader io(f, "EMCIO", f.find("EMCIO"));
+  io.refuse_unknown("TOOL_TABLE");
   if (const std::string *t = io.text("TOOL_TABLE")) {
     if (t->empty()) io.fail("TOOL_TABLE", "empty: give the tool table's file");
     m.tool_table = (*t)[0] == '/' ? *t : directory_of(name) + *t;
   }
-  io.refuse_unknown("TOOL_TABLE");
 
   read_x4step(f, m);
   const std::string letters = read_traj(f, m);

@@ -243,19 +243,35 @@ void planner::message(std::string_view text) { out_.message(text); }
 void planner::source_line(const std::string &file, int line) {
   file_ = file;
   line_ = line;
+  sum_.lines = line;
 }
 
-plan_summary plan_program(const machine &m, std::istream &in, const std::string &name, planner_output &out,
-                          const gcode::pose &start) {
-  planner p(m, out, start);
+namespace {
+
+// The interpreter in the machine's units, with its tool table, from start.
+void interpret(const machine &m, std::istream &in, const std::string &name, gcode::sink &out,
+               const gcode::pose &start) {
   gcode::options o;
   o.machine_units = m.units;
   o.initial_units = m.units;
   o.start = start;
-  gcode::interpreter interp(p, o);
+  gcode::interpreter interp(out, o);
   if (!m.tool_table.empty()) interp.set_tool_table(gcode::read_tool_table(m.tool_table, m.units, m.units));
   interp.run(in, name);
+}
+
+}  // namespace
+
+plan_summary plan_program(const machine &m, std::istream &in, const std::string &name, planner_output &out,
+                          const gcode::pose &start) {
+  planner p(m, out, start);
+  interpret(m, in, name, p, start);
   return p.summary();
+}
+
+void check_program(const machine &m, std::istream &in, const std::string &name) {
+  gcode::sink none;
+  interpret(m, in, name, none, {});
 }
 
 }  // namespace x4step::machine

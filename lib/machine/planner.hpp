@@ -74,6 +74,7 @@ class planner_output {
 
 /// Totals of everything planned so far.
 struct plan_summary {
+  int lines = 0;  ///< the last line that did something (M2, %)
   long segments = 0;
   double length = 0;         ///< along the path, machine units
   double seconds = 0;        ///< at the segments' top speeds, plus dwells (no ramps)
@@ -132,6 +133,10 @@ class planner : public gcode::sink {
 /// by the planner (a soft limit, a move the kernel cannot take).
 plan_summary plan_program(const machine &m, std::istream &in, const std::string &name, planner_output &out,
                           const gcode::pose &start = {});
+
+/// The interpreter alone, in the machine's units: every error but the
+/// planner's (which need the start position), without planning.
+void check_program(const machine &m, std::istream &in, const std::string &name);
 
 }  // namespace x4step::machine
 

@@ -123,6 +123,9 @@ TEST(Machine, RefusesUnknownNames) {
                  "^m.ini:20: \\[JOINT_0\\] STEPGEN_MAXACCEL: unknown key");
   EXPECT_REFUSED(replaced(3, "JUNCTION_DEVIATION = 0.02\nARC_TOLLERANCE = 1"),
                  "^m.ini:4: \\[X4STEP\\] ARC_TOLLERANCE: unknown key");
+  // A misspelt required key is named as unknown, not as the one missing.
+  EXPECT_REFUSED(replaced(3, "JUNCTION_DEVIATON = 0.02"),
+                 "^m.ini:3: \\[X4STEP\\] JUNCTION_DEVIATON: unknown key");
   EXPECT_REFUSED(replaced(6, "LINEAR_UNITS = mm\nCYCLE_TIME = 0.01"),
                  "^m.ini:7: \\[TRAJ\\] CYCLE_TIME: unknown key");
   EXPECT_REFUSED("[EMC]\nVERSION = 1.1\n" + std::string(base), "^m.ini:2: \\[EMC\\] VERSION: unknown key");

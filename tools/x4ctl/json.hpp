@@ -8,6 +8,8 @@
 #ifndef X4CTL_JSON_HPP
 #define X4CTL_JSON_HPP
 
+#include <cmath>
+#include <cstdio>
 #include <string>
 #include <type_traits>
 
@@ -26,6 +28,12 @@ class json_object {
   template <typename T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool>, int> = 0>
   json_object &add(const std::string &key, T v) {
     return raw(key, std::to_string(v));
+  }
+  /// A real number (without this overload a double would become a bool).
+  json_object &add(const std::string &key, double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", std::isfinite(v) ? v : 0.0);
+    return raw(key, buf);
   }
   json_object &add(const std::string &key, const std::string &v) { return raw(key, x4tools::json_string(v)); }
   json_object &add(const std::string &key, const char *v) { return add(key, std::string(v)); }
