@@ -21,11 +21,11 @@
  * (program position + G5x offset + G92 offset + tool length offset) in the
  * machine's length unit (options::machine_units); rotary axes A B C are
  * in degrees. The offsets and the G28/G30 positions live in memory, from
- * zero at construction, for the interpreter's life (no .var file yet).
+ * zero at construction, for the interpreter's life (no .var file yet);
+ * the position starts at options::start.
  *
  * Not installed (yet): built as a static library inside the tree, linked
- * by the tests and the bench, later by x4ctl; its interface may change
- * while the machine file and the planner are added.
+ * by the tests, the bench and, through the planner (lib/machine), x4ctl.
  */
 #ifndef X4STEP_GCODE_HPP
 #define X4STEP_GCODE_HPP
