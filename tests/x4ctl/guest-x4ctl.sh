@@ -712,10 +712,18 @@ if [ -r "$vmod" ]; then
 		MOTOR = 3
 		SCALE = 100
 	EOF
-	printf 'G21 G90\nG0 X10 Y5\nG1 X12.345 Y-3.21 Z1.5 F1200\nG2 X2.345 Y-3.21 I-5 J0\nG1 X3.333 Y-1.117 Z0.5\nM2\n' \
-		>"$tmp/part.ngc"
+	# 200 moves of 0.3 steps in between: rounded move by move, none would step.
+	{
+		printf 'G21 G90\nG0 X10 Y5\nG1 X12.345 Y-3.21 Z1.5 F1200\nG2 X2.345 Y-3.21 I-5 J0\nG91 G1\n'
+		i=0
+		while [ "$i" -lt 200 ]; do
+			echo 'X0.003 Y0.003'
+			i=$((i + 1))
+		done
+		printf 'G90 G1 X3.333 Y-1.117 Z0.5\nM2\n'
+	} >"$tmp/part.ngc"
 	a1=$(at 1) a2=$(at 2) a3=$(at 3) c1=$(coordinate 1) c2=$(coordinate 2) c3=$(coordinate 3)
-	check gcode-check 0 'part.ngc: OK: 6 lines, ' '' m gcode -m "$tmp/mill.ini" --check "$tmp/part.ngc"
+	check gcode-check 0 'part.ngc: OK: 207 lines, ' '' m gcode -m "$tmp/mill.ini" --check "$tmp/part.ngc"
 	same gcode-check-moves-nothing "$(at 1) $(at 2) $(at 3)" "$a1 $a2 $a3"
 	check gcode-run 0 '^gcode: done, at X3.33 Y-1.12 Z0.5 (mm)$' '' x4ctl gcode -m "$tmp/mill.ini" "$tmp/part.ngc"
 	# X 3.333 * 100 = 333; Y -1.117 * -100 = 111.7 -> 112; Z 50.
