@@ -21,11 +21,11 @@
  * (program position + G5x offset + G92 offset + tool length offset) in the
  * machine's length unit (options::machine_units); rotary axes A B C are
  * in degrees. The offsets and the G28/G30 positions live in memory, from
- * zero at construction, for the interpreter's life (no .var file yet).
+ * zero at construction, for the interpreter's life (no .var file yet);
+ * the position starts at options::start.
  *
  * Not installed (yet): built as a static library inside the tree, linked
- * by the tests and the bench, later by x4ctl; its interface may change
- * while the machine file and the planner are added.
+ * by the tests, the bench and, through the planner (lib/machine), x4ctl.
  */
 #ifndef X4STEP_GCODE_HPP
 #define X4STEP_GCODE_HPP
@@ -121,6 +121,9 @@ class sink {
   virtual void message(std::string_view) {}
   /// M2 or M30 (or the closing %): nothing is read after it.
   virtual void program_end(bool /*m30*/) {}
+  /// The line whose commands follow (before the first of them): a sink
+  /// that refuses a command later (a planner's soft limit) names it.
+  virtual void source_line(const std::string & /*file*/, int /*line*/) {}
 };
 
 struct options {
@@ -130,6 +133,8 @@ struct options {
   units initial_units = units::mm;
   /// Honour block delete: skip lines that start with '/'.
   bool block_delete = false;
+  /// Where the machine stands at the start, machine coordinates and units.
+  pose start{};
 };
 
 /// One tool: length offsets (G43 H) in machine units.
@@ -167,7 +172,7 @@ class interpreter {
   bool execute_line(std::string_view line, const std::string &name, int line_no);
 
   /// The current position, machine coordinates, machine units.
-  const pose &position() const noexcept;
+  pose position() const;
   units program_units() const noexcept;
 
  private:

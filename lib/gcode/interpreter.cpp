@@ -298,6 +298,7 @@ struct interpreter::impl : modal_state {
     prog_units = o.initial_units;
     k = prog_units == units::inch ? mm_per_inch : 1.0;
     out_scale = o.machine_units == units::inch ? mm_per_inch : 1.0;
+    for (int a = 0; a < n_axes; ++a) pos[size_t(a)] = o.start[size_t(a)] * (a < 3 ? out_scale : 1.0);
     events.reserve(16);
   }
 
@@ -935,6 +936,7 @@ struct interpreter::impl : modal_state {
       events.clear();
       return;
     }
+    if (!events.empty()) out->source_line(file, line_no);
     for (const event &e : events) {
       switch (e.k) {
         case event::traverse:
@@ -1071,7 +1073,7 @@ bool interpreter::execute_line(std::string_view line, const std::string &name, i
   return p_->line(line);
 }
 
-const pose &interpreter::position() const noexcept { return p_->pos; }
+pose interpreter::position() const { return p_->to_out(p_->pos); }
 units interpreter::program_units() const noexcept { return p_->prog_units; }
 
 std::map<int, tool> read_tool_table(const std::string &path, units in, units machine) {

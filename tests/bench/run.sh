@@ -52,10 +52,20 @@ for chord in 4 20; do
 	echo
 done
 
-# The G-code interpreter (issue 20): lines per second from a 100 000-line
-# file of a real CAM program (LinuxCNC's plasmatest.ngc) repeated.
-echo "== G-code interpreter: 100 000 lines of CAM output (tests/bench/gcode_bench.cpp)"
-"$build/tests/gcode_bench" || echo "(the G-code bench failed: tools/get-rs274.sh fetches its program)"
+# The G-code interpreter and planner (issue 20): lines per second from a
+# 100 000-line file of a real CAM program (LinuxCNC's plasmatest.ngc)
+# repeated, then `x4ctl gcode --check` of that file (goal: under a second)
+# and its peak memory (the program is streamed, never held whole).
+echo "== G-code interpreter and planner: 100 000 lines of CAM output (tests/bench/gcode_bench.cpp)"
+if "$build/tests/gcode_bench" /var/cache/x4step/linuxcnc/root/usr/share/linuxcnc/ncfiles/plasmatest.ngc \
+	100000 "$tmp/cam"; then
+	/usr/bin/time -f '%e s %M' "$build/tools/x4ctl/x4ctl" gcode --machine "$tmp/cam.ini" --check "$tmp/cam.ngc" \
+		>"$tmp/check.out" 2>"$tmp/check.time" || cat "$tmp/check.time"
+	read -r secs _ kb <"$tmp/check.time" || true
+	echo "x4ctl gcode --check: ${secs:-?} s (goal < 1 s), peak memory ${kb:-?} kB: $(head -n1 "$tmp/check.out")"
+else
+	echo "(the G-code bench failed: tools/get-rs274.sh fetches its program)"
+fi
 echo
 
 # The simulated port (issue 19): virtual-time speed and the VCD's cost.

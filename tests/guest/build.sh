@@ -32,7 +32,9 @@ $cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod/engine" -o "$out/tim
 	"$top/tests/guest/timing_bench.cpp" "$top/tests/host/engine_ref.cpp" $engine_objs
 $cxx -I"$top/include/uapi" -o "$out/speed_bench" "$top/tests/guest/speed_bench.cpp"
 $cxx -I"$stage/include" -I"$top/include/uapi" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$lib"
-$cxx -I"$stage/include" -o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$lib"
+# x4ctl gcode: the interpreter and the planner are in the tree, not installed.
+$cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp \
+	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"
 $cxx -I"$stage/include" -o "$out/phase_test" "$top/tests/guest/phase_test.cpp" "$lib"
 $cxx -I"$stage/include" -o "$out/positioning_test" "$top/tests/guest/positioning_test.cpp" "$lib"
 $cxx -I"$stage/include" -o "$out/faith_moves" "$top/tests/faith/faith_moves.cpp" "$lib"

@@ -675,6 +675,68 @@ if [ -r "$vmod" ]; then
 	check path-too-fast 1 '' "fast.path:1: its leader axis would step at 45000 steps/s; the port's step timing allows" \
 		sh -c "x4ctl -p $vlpt timing --pulse 20000 --space 20000 >/dev/null && x4ctl -p $vlpt path $tmp/fast.path"
 	m timing --pulse 0 --space 0 >/dev/null
+
+	# x4ctl gcode (issue 20): a machine in mm (Y reversed) on this port; the
+	# program is planned from where the motors stand, and they end at
+	# round(programmed end x SCALE) exactly, after lines and arcs.
+	cat >"$tmp/mill.ini" <<-EOF
+		[X4STEP]
+		PORT = LPT$vlpt
+		ARC_TOLERANCE = 0.01
+		JUNCTION_DEVIATION = 0.02
+		[TRAJ]
+		COORDINATES = XYZ
+		LINEAR_UNITS = mm
+		[AXIS_X]
+		MIN_LIMIT = -1000
+		MAX_LIMIT = 1000
+		MAX_VELOCITY = 50
+		MAX_ACCELERATION = 500
+		[AXIS_Y]
+		MIN_LIMIT = -1000
+		MAX_LIMIT = 1000
+		MAX_VELOCITY = 50
+		MAX_ACCELERATION = 500
+		[AXIS_Z]
+		MIN_LIMIT = -1000
+		MAX_LIMIT = 1000
+		MAX_VELOCITY = 20
+		MAX_ACCELERATION = 200
+		[JOINT_0]
+		MOTOR = 1
+		SCALE = 100
+		[JOINT_1]
+		MOTOR = 2
+		SCALE = -100
+		[JOINT_2]
+		MOTOR = 3
+		SCALE = 100
+	EOF
+	# 200 moves of 0.3 steps in between: rounded move by move, none would step.
+	{
+		printf 'G21 G90\nG0 X10 Y5\nG1 X12.345 Y-3.21 Z1.5 F1200\nG2 X2.345 Y-3.21 I-5 J0\nG91 G1\n'
+		i=0
+		while [ "$i" -lt 200 ]; do
+			echo 'X0.003 Y0.003'
+			i=$((i + 1))
+		done
+		printf 'G90 G1 X3.333 Y-1.117 Z0.5\nM2\n'
+	} >"$tmp/part.ngc"
+	a1=$(at 1) a2=$(at 2) a3=$(at 3) c1=$(coordinate 1) c2=$(coordinate 2) c3=$(coordinate 3)
+	check gcode-check 0 'part.ngc: OK: 207 lines, ' '' m gcode -m "$tmp/mill.ini" --check "$tmp/part.ngc"
+	same gcode-check-moves-nothing "$(at 1) $(at 2) $(at 3)" "$a1 $a2 $a3"
+	check gcode-run 0 '^gcode: done, at X3.33 Y-1.12 Z0.5 (mm)$' '' x4ctl gcode -m "$tmp/mill.ini" "$tmp/part.ngc"
+	# X 3.333 * 100 = 333; Y -1.117 * -100 = 111.7 -> 112; Z 50.
+	same gcode-edges "$(at 1) $(at 2) $(at 3)" "$((a1 + 333 - c1)) $((a2 + 112 - c2)) $((a3 + 50 - c3))"
+	printf 'G91 G1 X0.5 F600\nM2\n' >"$tmp/nudge.ngc"
+	x4ctl gcode --json -m "$tmp/mill.ini" "$tmp/nudge.ngc" >"$tmp/gcode.json"
+	has gcode-json "$tmp/gcode.json" '^{"schema":1,"result":"done","position":{"X":3.83,'
+	sed 's/^/X4JSON /' "$tmp/gcode.json"
+	same gcode-json-edges "$(at 1)" "$((a1 + 383 - c1))"
+	printf 'G0 X10\nG0 X2000\nM2\n' >"$tmp/far.ngc"
+	check gcode-soft-limit 2 '' 'far.ngc:2:1: X 2000 is beyond the soft limit \[AXIS_X\] MAX_LIMIT 1000' \
+		x4ctl gcode -m "$tmp/mill.ini" "$tmp/far.ngc"
+	same gcode-soft-limit-moves-nothing "$(at 1)" "$((a1 + 383 - c1))"
 fi
 
 settle 50

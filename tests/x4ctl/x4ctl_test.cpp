@@ -688,6 +688,113 @@ TEST(Main, RunCheckNeedsNoDevice) {
   EXPECT_TRUE(contains(r.err, "x4ctl: run: cannot read /nonexistent.x4")) << r.err;
 }
 
+// ---- x4ctl gcode --check: a program on a machine, checked without a port ---------------
+
+const char *const pocket =
+    "%\n"
+    "(a small pocket with arcs)\n"
+    "G21 G90 G17 G94 G64 P0.02\n"
+    "G0 Z-0.5\n"
+    "G0 X20 Y20\n"
+    "M3 S1000\n"
+    "G1 Z-1 F100\n"
+    "G1 X60 F300\n"
+    "G3 X70 Y30 I0 J10\n"
+    "G1 Y60\n"
+    "G2 X60 Y70 I-10 J0\n"
+    "G1 X20\n"
+    "G1 Y20\n"
+    "G0 Z-0.5\n"
+    "M5\n"
+    "M2\n"
+    "%\n";
+
+const std::string mill = X4_SOURCE_DIR "/machines/smc1500-mill.ini";
+
+TEST(Gcode, CheckSummarizesWithoutAPort) {
+  const temp_file prog(pocket);
+  captured r = run({"-d", "/nonexistent", "gcode", "--machine", mill, "--check", prog.path()});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  // 0.01 mm chords: 2 acos(1 - 0.01 / 10) per chord, 36 for a quarter circle.
+  EXPECT_TRUE(
+      contains(r.out, prog.path() + ": OK: 16 lines, 79 segments, 252.6 mm along the path, about 0:48"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "extents (mm): X 0..70 Y 0..70 Z -1..-0.5\n")) << r.out;
+  r = run({"gcode", "-m", mill, "-c", "--json", prog.path()});
+  EXPECT_EQ(r.status, 0) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"lines\":16,\"segments\":79,\"length\":252.59")) << r.out;
+  EXPECT_TRUE(contains(r.out, "\"extents\":{\"X\":[0,70],\"Y\":[0,70],\"Z\":[-1,-0.5]}}\n")) << r.out;
+  // The machine from $X4STEP_MACHINE when --machine is not given.
+  ::setenv("X4STEP_MACHINE", mill.c_str(), 1);
+  r = run({"gcode", "--check", prog.path()});
+  ::unsetenv("X4STEP_MACHINE");
+  EXPECT_EQ(r.status, 0) << r.err;
+}
+
+TEST(Gcode, CheckRefusesWithFileAndLine) {
+  std::string text = pocket;
+  text.replace(text.find("G0 X20 Y20"), 10, "G0 X20 Y-20");
+  const temp_file beyond(text);
+  captured r = run({"-d", "/nonexistent", "gcode", "-m", mill, "--check", beyond.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(r.err,
+            "x4ctl: gcode: " + beyond.path() + ":5:1: Y -20 is beyond the soft limit [AXIS_Y] MIN_LIMIT 0\n");
+  r = run({"gcode", "-m", mill, "--check", "--json", beyond.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(
+      contains(r.out, "{\"schema\":1,\"error\":{\"message\":\"gcode: " + beyond.path() + ":5:1: Y -20"))
+      << r.out;
+  // An arc bulging past X 200 between ends inside.
+  const temp_file bulge("G0 X195 Y60\nG2 X195 Y40 I0 J-10 F100\nM2\n");
+  r = run({"gcode", "-m", mill, "--check", bulge.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, bulge.path() + ":2:1: X 20")) << r.err;
+  // The interpreter's refusals.
+  const temp_file unknown("G0 X1\nG5 X2\nM2\n");
+  r = run({"gcode", "-m", mill, "--check", unknown.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "x4ctl: gcode: " + unknown.path() + ":2:")) << r.err;
+  // Without --check too, before the port is opened (it is not there).
+  r = run({"-d", "/nonexistent", "gcode", "-m", mill, unknown.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "x4ctl: gcode: " + unknown.path() + ":2:")) << r.err;
+  const temp_file unended("G0 X1\n");
+  r = run({"gcode", "-m", mill, "--check", unended.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, unended.path() + ":2:1: file ended without M2, M30 or '%'")) << r.err;
+  // An axis the machine does not have.
+  const temp_file a_axis("G0 A10\nM2\n");
+  r = run({"gcode", "-m", mill, "--check", a_axis.path()});
+  EXPECT_EQ(r.err,
+            "x4ctl: gcode: " + a_axis.path() + ":1:1: the machine has no A axis ([TRAJ] COORDINATES)\n");
+}
+
+TEST(Gcode, CheckRefusesABadMachineOrUsage) {
+  const temp_file prog(pocket);
+  const temp_file bad_machine("[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATON = 0.02\n");
+  captured r = run({"gcode", "-m", bad_machine.path(), "--check", prog.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "x4ctl: gcode: " + bad_machine.path() +
+                       ":3: [X4STEP] JUNCTION_DEVIATON: unknown key: [X4STEP] takes PORT, OUTPUT_MODE, "
+                       "ARC_TOLERANCE, JUNCTION_DEVIATION, SPINDLE_PIN, FLOOD_PIN and MIST_PIN\n");
+  r = run({"gcode", "-m", "/nonexistent.ini", "--check", prog.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err, "x4ctl: gcode: /nonexistent.ini: cannot read the machine file\n");
+  r = run({"gcode", "-m", mill, "--check", "/nonexistent.ngc"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(contains(r.err, "x4ctl: gcode: cannot read /nonexistent.ngc")) << r.err;
+  r = run({"gcode", "-m", mill, "--check"});
+  EXPECT_EQ(r.status, 2);
+  r = run({"gcode", "-m", mill, "--override", "0", prog.path()});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.err, "override")) << r.err;
+  r = run({"gcode", "--help"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(contains(r.out, "Usage: x4ctl gcode [OPTIONS] FILE")) << r.out;
+}
+
 // ---- the command language --------------------------------------------------------------
 
 std::string parse_error(const std::string &text) {
@@ -2063,6 +2170,10 @@ TEST(Term, DecodeKeys) {
   EXPECT_EQ(decode_key("\x1bx", false).used, 1u);
   EXPECT_EQ(decode_key("\x03", false).k, key::interrupt);
   EXPECT_EQ(decode_key("q", false).k, key::other);
+  EXPECT_EQ(decode_key(" ", false).k, key::space);
+  EXPECT_EQ(decode_key("+", false).k, key::plus);
+  EXPECT_EQ(decode_key("=", false).k, key::plus);
+  EXPECT_EQ(decode_key("-", false).k, key::minus);
 }
 
 TEST(Term, StripKeysFromTypedLines) {

@@ -69,7 +69,8 @@ enum opt_id {
   opt_speed,
   opt_accel,
   opt_deviation,
-  opt_override
+  opt_override,
+  opt_machine
 };
 
 struct option_spec {
@@ -190,7 +191,7 @@ const command_entry commands[] = {
     {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
     {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::list, "list"},
-    {subcommand::path, "path"},       {subcommand::help, "help"},
+    {subcommand::path, "path"},       {subcommand::gcode, "gcode"},     {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -461,6 +462,12 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("check", 'c', false, opt_check);
       add("json", 'j', false, opt_json);
       break;
+    case subcommand::gcode:
+      add("machine", 'm', true, opt_machine);
+      add("override", 'o', true, opt_override);
+      add("check", 'c', false, opt_check);
+      add("json", 'j', false, opt_json);
+      break;
     default:
       break;
   }
@@ -593,6 +600,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       case opt_override:
         c.override_percent = static_cast<unsigned>(parse_range(o.value, "override", 1, 200, " %", prefix));
         break;
+      case opt_machine:
+        if (o.value.empty()) throw usage_error(prefix + "--machine needs a file");
+        c.machine = o.value;
+        break;
       case opt_ref:
         c.ref = parse_input(o.value, prefix);
         break;
@@ -692,6 +703,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
     case subcommand::path:
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) c.file = ops[0];
+      break;
+    case subcommand::gcode:  // read twice (checked, then run): a file, not standard input
+      need_operands(r, 1, 1, prefix);
+      c.file = ops[0];
       break;
     case subcommand::mode:
       need_operands(r, 0, 1, prefix);
@@ -875,6 +890,8 @@ std::string help_text(subcommand c) {
              "  timing               show or set the step signal timing (pulse, space, ...)\n"
              "  mode [MODE]          show or set the output mode: clock-dir, or smc-phase and\n"
              "                       smc-hold for SMC800/SMC1500 boards\n"
+             "  path [FILE]          run a continuous path of straight segments in steps\n"
+             "  gcode FILE           run a G-code part program on a machine (machine file)\n"
              "\n"
              "Positioning: coordinates, independent axes, homing, limit switches:\n"
              "  profile AXIS         show or set the ramp of an axis' own moves\n"
@@ -1254,6 +1271,36 @@ std::string help_text(subcommand c) {
              "Exit status: 0 the path ran to its end; 1 it was aborted or the port\n"
              "refused; 2 bad usage or a bad line.\n"
              "Example: printf '4000 0\\n0 4000\\n-4000 0\\n0 -4000\\n' | x4ctl path -s 2000\n";
+    case subcommand::gcode:
+      return "Usage: x4ctl gcode [OPTIONS] FILE\n"
+             "\n"
+             "Run a G-code part program (RS274/NGC as CAM post-processors for LinuxCNC\n"
+             "and GRBL write it) on a machine described by a machine file (axes, steps\n"
+             "per unit, speeds, soft limits, port: machines/README.md). The whole program\n"
+             "is checked first, from where the machine stands: a bad line, or a point\n"
+             "beyond a soft limit, is named as FILE:LINE:COLUMN and nothing moves. Then\n"
+             "it runs on the module's path queue, with its progress: percent of the path\n"
+             "length, line, feed, elapsed and remaining time.\n"
+             "Keys on a terminal: space holds and resumes, ESC aborts (hold, then flush),\n"
+             "+ and - change the feed override by 10 %. Ctrl-C aborts too; 'x4ctl stop'\n"
+             "stops at once. M0, M1 and M6 wait for space (or ESC) with the path at\n"
+             "rest: such a program needs a terminal. Outputs the machine file names for\n"
+             "spindle and coolant follow M3/M4/M5 and M7/M8/M9, and are switched off\n"
+             "at the end. The machine file's PORT is the port unless -d is given.\n"
+             "\n"
+             "Options:\n"
+             "  -m, --machine=FILE   the machine file (default: $X4STEP_MACHINE, else\n"
+             "                       /etc/x4step/machine.ini)\n"
+             "  -c, --check          check the program and stop there: a summary (lines,\n"
+             "                       segments, path length, estimated time, extents), as\n"
+             "                       if the machine stood at machine zero; nothing moves\n"
+             "  -o, --override=PCT   feed override, 1..200 percent (100)\n"
+             "  -j, --json           the summary, progress and result as JSON lines\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 the program ran to its end (or --check found it good); 1 it\n"
+             "was aborted or the port refused; 2 bad usage, a bad machine file or program.\n"
+             "Example: x4ctl gcode --machine machines/smc1500-mill.ini --check part.ngc\n";
     case subcommand::list:
       return "Usage: x4ctl list [OPTIONS]\n"
              "\n"

@@ -55,6 +55,7 @@ enum class subcommand {
   watch,
   list,
   path,
+  gcode,
   help
 };
 
@@ -115,7 +116,8 @@ struct config {
   bool halt_stop = false;               ///< halt: stop at once rather than brake
 
   path_defaults path;               ///< path (c.file: the path, "-" stdin; c.check: only check)
-  unsigned override_percent = 100;  ///< path: feed override
+  unsigned override_percent = 100;  ///< path, gcode: feed override
+  std::string machine;              ///< gcode --machine; empty: $X4STEP_MACHINE, else /etc/x4step/machine.ini
 };
 
 /// Parses and checks the whole command line (values too, without a device).

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "cli.hpp"
+#include "gcode_cmd.hpp"
 #include "holder.hpp"
 #include "json.hpp"
 #include "lang.hpp"
@@ -588,6 +589,8 @@ int dispatch(const config &c) {
       return cmd_list(c);
     case subcommand::path:
       return cmd_path(c);
+    case subcommand::gcode:
+      return cmd_gcode(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

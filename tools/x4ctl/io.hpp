@@ -95,6 +95,9 @@ enum class key {
   esc,
   left,
   right,
+  space,
+  plus,           ///< '+' (or '=', its key unshifted)
+  minus,          ///< '-'
   other,          ///< any other key
   brake_request,  ///< SIGTERM, SIGHUP, SIGUSR1 (`x4ctl brake`, `x4ctl halt`)
   interrupt,      ///< Ctrl-C: brakes; a second one stops

@@ -15,6 +15,7 @@
 
 #include "commands.hpp"
 #include "json.hpp"
+#include "path_stream.hpp"
 #include "show.hpp"
 #include "term.hpp"
 
@@ -200,53 +201,22 @@ int cmd_path(const config &c) {
                     ": its leader axis would step at " + std::to_string(long(rate)) +
                     " steps/s; the port's step timing allows " + std::to_string(fmax) + ": lower its speed");
   }
-  x4step::path p(ctl);
-  p.set_override(c.override_percent);
-  const std::uint64_t base = p.status().done;
-  const bool live = !c.json && isatty(STDOUT_FILENO);
-  size_t next = 0;
-  bool aborted = false;
-  auto last_shown = std::chrono::steady_clock::now() - std::chrono::seconds(1);
-  x4step::path_status s;
-  for (;;) {
-    if (next < segs.size() && !aborted) next += p.try_append(segs.data() + next, segs.size() - next);
-    const key k = take_signal();
-    if (k == key::stop_request) {
-      ctl.stop();
-      aborted = true;
-    } else if (k != key::none && !aborted) {
-      p.abort();  // Ctrl-C, x4ctl brake: hold, then flush
-      aborted = true;
-    }
-    s = p.status();
-    const bool done = s.state == x4step::path_state::idle && !s.queued && (aborted || next == segs.size());
-    const auto now = std::chrono::steady_clock::now();
-    if (done || now - last_shown >= std::chrono::milliseconds(c.json ? 200 : 100)) {
-      if (live)
-        std::cout << "\r" << progress(s, s.done - base, segs.size(), false) << "\033[K" << std::flush;
-      else if (c.json)
-        std::cout << progress(s, s.done - base, segs.size(), true) << "\n" << std::flush;
-      last_shown = now;
-    }
-    if (done) break;
-    // Room comes as segments end: refill at least every 20 ms (the queue
-    // holds far more). The library's wait, not a poll of fd(): on a
-    // simulated port it is what runs the clock in virtual time. A held
-    // path waits for a resume from elsewhere.
-    if (s.state == x4step::path_state::held)
-      ::poll(nullptr, 0, 20);
-    else
-      p.wait(std::chrono::milliseconds(20));
-  }
+  path_stream ps(ctl, c.override_percent, c.json, false,
+                 [&](const x4step::path_status &s, std::uint64_t done, bool json) {
+                   return progress(s, done, segs.size(), json);
+                 });
+  for (const auto &s : segs)
+    if (!ps.push(s)) break;
+  ps.drain();
+  ps.finish();
   const x4step::axes_status a = ctl.get_axes();
-  if (live) std::cout << "\n";
   if (!c.json) {
-    std::cout << "path: " << (aborted ? "aborted" : "done") << ", " << s.done - base << " of " << segs.size()
+    std::cout << "path: " << (ps.aborted() ? "aborted" : "done") << ", " << ps.done() << " of " << segs.size()
               << " segments, at";
     for (x4step::axis ax : x4step::axis_set::all()) std::cout << " " << a[ax].position;
     std::cout << "\n";
   }
-  return aborted ? 1 : 0;
+  return ps.aborted() ? 1 : 0;
 }
 
 }  // namespace x4ctl

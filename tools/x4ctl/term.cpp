@@ -112,6 +112,9 @@ decoded decode_key(std::string_view b, bool complete) {
   if (b.empty()) return {};
   const unsigned char c = static_cast<unsigned char>(b[0]);
   if (c == 0x03) return {key::interrupt, 1};  // Ctrl-C in raw mode
+  if (c == ' ') return {key::space, 1};
+  if (c == '+' || c == '=') return {key::plus, 1};
+  if (c == '-') return {key::minus, 1};
   if (c != 0x1b) return {key::other, 1};
   if (b.size() == 1) return complete ? decoded{key::esc, 1} : decoded{};
   if (b[1] != '[' && b[1] != 'O') return {key::esc, 1};  // ESC, then another key

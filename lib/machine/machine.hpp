@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/**
+ * @file machine.hpp
+ * @brief The machine file (issue 20): what a machine is, in real units —
+ *        which motor drives which axis, steps per unit, speeds, soft limits,
+ *        homing, output pins, the port. Every key: doc/machine-file.md.
+ *
+ * INI text, LinuxCNC's section and key names where LinuxCNC has one ([TRAJ]
+ * LINEAR_UNITS, [AXIS_X] MAX_VELOCITY, [JOINT_0] SCALE, HOME_SEARCH_VEL,
+ * ...), so a LinuxCNC user carries the numbers over; x4step's own settings
+ * in [X4STEP]. A file is read whole and checked whole: any bad value,
+ * unknown section or key, missing key or contradiction is refused with
+ * "file:line: [SECTION] KEY: what to fix", and no machine is made.
+ */
+#ifndef X4STEP_MACHINE_HPP
+#define X4STEP_MACHINE_HPP
+
+#include <array>
+#include <iosfwd>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "gcode.hpp"
+
+namespace x4step::machine {
+
+/// A refused machine file: what() is "file:line: [SECTION] KEY: message".
+class error : public std::runtime_error {
+ public:
+  error(const std::string &file, int line, const std::string &key, const std::string &message);
+  int line() const noexcept { return line_; }
+  /// "[SECTION] KEY" (or "[SECTION]" for a section, "" for the file).
+  const std::string &key() const noexcept { return key_; }
+
+ private:
+  int line_;
+  std::string key_;
+};
+
+/// Homing of one axis (LinuxCNC's HOME_* keys; off when HOME_SEARCH_VEL is 0).
+struct homing {
+  bool enabled = false;
+  int input = 0;          ///< the REF switch: input 1..5 (X4GetIn bit 0..4)
+  double search_vel = 0;  ///< units/s, its sign the direction toward the switch
+  double latch_vel = 0;   ///< units/s, signed: the same sign latches moving on, else backing off
+  double offset = 0;      ///< the switch's position, machine units
+  double home = 0;        ///< where the axis goes after homing, machine units
+  int sequence = 0;       ///< order: lower first, equal together
+};
+
+/// One axis letter of the machine.
+struct axis {
+  int motor = 0;                        ///< 0..3: motor 1..4 (the port's clock/direction pair)
+  double scale = 0;                     ///< steps per unit (mm, inch or degree); negative reverses
+  double min_limit = 0, max_limit = 0;  ///< soft limits, machine units
+  double max_velocity = 0;              ///< units/s
+  double max_acceleration = 0;          ///< units/s^2
+  homing home;
+};
+
+/// An output pin the machine uses (signal 1 on pin 1, signal 2 on pin 14).
+enum class pin { none = 0, pin1 = 1, pin14 = 14 };
+
+/// The port's output mode ([X4STEP] OUTPUT_MODE, as `x4ctl mode`).
+enum class output_mode { step_dir, smc_phase, smc_hold };
+
+struct machine {
+  std::string name;           ///< [EMC] MACHINE
+  std::string port = "LPT1";  ///< LPT1..LPT4
+  output_mode mode = output_mode::step_dir;
+  gcode::units units = gcode::units::mm;
+  /// By axis letter, gcode::X .. gcode::C; empty: the machine has no such axis.
+  std::array<std::optional<axis>, gcode::n_axes> axes;
+  double max_linear_velocity = 0;  ///< units/s along the path; 0: only the axes' limits
+  double arc_tolerance = 0;        ///< most a chord may leave the arc, machine units
+  double junction_deviation = 0;   ///< GRBL's, machine units
+  pin spindle = pin::none, flood = pin::none, mist = pin::none;
+  std::string tool_table;  ///< [EMCIO] TOOL_TABLE, relative to the file's directory made absolute
+};
+
+/// Reads and checks a machine file; `name` is the file name errors give.
+machine read(std::istream &in, const std::string &name);
+/// The same, opening the file (error at line 0 if it cannot be read).
+machine read_file(const std::string &path);
+
+}  // namespace x4step::machine
+
+#endif

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: LGPL-2.1-or-later
+/**
+ * @file planner.hpp
+ * @brief The planner (issue 20): the interpreter's motions, in machine
+ *        units, become path segments in steps (x4step_path.hpp).
+ *
+ * - Exact: every segment's end is the absolute programmed point (a move's
+ *   end, or a point on an arc) rounded to steps once, so nothing
+ *   accumulates: after any program each motor stands at
+ *   round(programmed end x SCALE), however many segments it took.
+ * - Rapids at the axes' MAX_VELOCITY; feeds at F, clamped so that no axis
+ *   exceeds its MAX_VELOCITY; the acceleration along each segment the
+ *   most that keeps every axis within its MAX_ACCELERATION. [TRAJ]
+ *   MAX_LINEAR_VELOCITY caps both.
+ * - Arcs and helices: equal chords, as few as keep every chord within
+ *   ARC_TOLERANCE of the arc.
+ * - Corners: the entry speed of each segment is GRBL's junction speed
+ *   (planner.c: the acceleration along the corner's bisector limited by
+ *   every axis, and the junction deviation), at most the slower of the
+ *   two segments' speeds; the kernel's look-ahead does the rest. G64 P
+ *   sets the deviation; G61.1 (exact stop), dwells, pauses, tool changes
+ *   and output changes stop the path.
+ * - Soft limits: every segment's end (rapids, feeds, every chord point of
+ *   an arc) is checked before it is given on: a point beyond a limit is a
+ *   gcode::error naming the program's file and line. A program is
+ *   therefore planned whole once (plan_program into an output that only
+ *   counts) before the first step, then again into the path queue.
+ *
+ * Lengths, speeds and accelerations given to the kernel are in path units
+ * of 1/10000 mm (an inch is 254000 of them; a degree 10000 on a mm
+ * machine, 254000 on an inch machine).
+ */
+#ifndef X4STEP_PLANNER_HPP
+#define X4STEP_PLANNER_HPP
+
+#include <array>
+#include <iosfwd>
+#include <string>
+#include <string_view>
+
+#include "gcode.hpp"
+#include "machine.hpp"
+#include "x4step_path.hpp"
+
+namespace x4step::machine {
+
+/// Path units per machine unit (length unit; degrees count the same).
+double path_units_per_unit(gcode::units u) noexcept;
+
+/// What the planner knows of a segment beyond the segment itself.
+struct segment_info {
+  int line = 0;        ///< the program's line (also the segment's tag)
+  bool rapid = false;  ///< G0 (or G28/G30/G53's traverse)
+  double length = 0;   ///< along the path, machine units (degrees for rotary-only moves)
+  double speed = 0;    ///< its top speed, units/s
+  double feed = 0;     ///< the feed asked for, units/s (rapids: the same as speed)
+  gcode::pose end{};   ///< where it ends, machine units, as programmed
+};
+
+/// Where planned segments and the program's other commands go, in order.
+class planner_output {
+ public:
+  virtual ~planner_output() = default;
+  virtual void segment(const x4step::segment &, const segment_info &) = 0;
+  /// The commands below come after the path stood still (the next
+  /// segment starts from rest).
+  virtual void dwell(double /*seconds*/) {}
+  /// M0 / M1 (optional), M6 (tool >= 0): wait for the operator.
+  virtual void pause(bool /*optional*/, int /*tool*/) {}
+  virtual void spindle(bool /*on*/) {}
+  virtual void coolant(bool /*mist*/, bool /*flood*/) {}
+  virtual void message(std::string_view) {}
+};
+
+/// Totals of everything planned so far.
+struct plan_summary {
+  int lines = 0;  ///< the last line that did something (M2, %)
+  long segments = 0;
+  double length = 0;         ///< along the path, machine units
+  double seconds = 0;        ///< at the segments' top speeds, plus dwells (no ramps)
+  gcode::pose min{}, max{};  ///< extents of the planned points, machine units
+  bool moved = false;        ///< min/max hold something
+  /// Each motor's step position after it (motor 1..4 at 0..3).
+  std::array<long, x4step::axes> steps{};
+};
+
+class planner : public gcode::sink {
+ public:
+  /// The machine must outlive the planner. start: where it stands now.
+  planner(const machine &m, planner_output &out, const gcode::pose &start = {});
+
+  void straight_traverse(const gcode::straight &s) override;
+  void straight_feed(const gcode::straight &s) override;
+  void arc_feed(const gcode::arc &a) override;
+  void dwell(double seconds) override;
+  void set_path_mode(gcode::path_mode m, double p_tolerance, double q_tolerance) override;
+  void spindle(gcode::spindle_dir d, double rpm) override;
+  void coolant(bool mist, bool flood) override;
+  void change_tool(int tool) override;
+  void pause(bool optional) override;
+  void message(std::string_view text) override;
+  void source_line(const std::string &file, int line) override;
+
+  const plan_summary &summary() const noexcept { return sum_; }
+
+ private:
+  struct speed {
+    bool rapid;
+    double feed_per_s;  // units/s; 0: see seconds
+    double seconds;     // inverse time: the segment lasts this long
+  };
+  void line_to(const gcode::pose &end, const speed &sp);
+  void check_limits(const gcode::pose &p) const;
+  [[noreturn]] void fail(const std::string &what) const;
+
+  const machine &m_;
+  planner_output &out_;
+  double ppu_;  // path units per machine unit
+  gcode::pose pos_;
+  std::array<double, x4step::axes> prev_dir_{};  // the last segment's move per motor, machine units
+  std::uint32_t prev_top_ = 0;                   // its top speed, path units/s
+  bool stop_next_ = true;                        // the next segment starts from rest
+  bool exact_stop_ = false;                      // G61.1
+  double deviation_;
+  std::string file_;
+  int line_ = 0;
+  plan_summary sum_;
+};
+
+/// Reads a whole program and plans it into out: the machine's units and
+/// tool table, the program starting where the machine stands (start).
+/// Throws gcode::error on the first line refused, by the interpreter or
+/// by the planner (a soft limit, a move the kernel cannot take).
+plan_summary plan_program(const machine &m, std::istream &in, const std::string &name, planner_output &out,
+                          const gcode::pose &start = {});
+
+/// The interpreter alone, in the machine's units: every error but the
+/// planner's (which need the start position), without planning.
+void check_program(const machine &m, std::istream &in, const std::string &name);
+
+}  // namespace x4step::machine
+
+#endif

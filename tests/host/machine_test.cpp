@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: GPL-2.0
+// The machine file (lib/machine): the shipped examples read, and every
+// kind of mistake is refused with file:line, the key and what to fix.
+#include "machine.hpp"
+
+#include <gtest/gtest.h>
+
+#include <regex>
+#include <sstream>
+
+namespace m = x4step::machine;
+namespace g = x4step::gcode;
+
+namespace {
+
+// A small valid machine; line numbers matter to the tests below.
+const char *const base =
+    "[X4STEP]\n"                   // 1
+    "ARC_TOLERANCE = 0.01\n"       // 2
+    "JUNCTION_DEVIATION = 0.02\n"  // 3
+    "[TRAJ]\n"                     // 4
+    "COORDINATES = XZ\n"           // 5
+    "LINEAR_UNITS = mm\n"          // 6
+    "[AXIS_X]\n"                   // 7
+    "MIN_LIMIT = -10\n"            // 8
+    "MAX_LIMIT = 100\n"            // 9
+    "MAX_VELOCITY = 20\n"          // 10
+    "MAX_ACCELERATION = 200\n"     // 11
+    "[AXIS_Z]\n"                   // 12
+    "MIN_LIMIT = -50\n"            // 13
+    "MAX_LIMIT = 0\n"              // 14
+    "MAX_VELOCITY = 10\n"          // 15
+    "MAX_ACCELERATION = 100\n"     // 16
+    "[JOINT_0]\n"                  // 17
+    "MOTOR = 1\n"                  // 18
+    "SCALE = 800\n"                // 19
+    "[JOINT_1]\n"                  // 20
+    "MOTOR = 3\n"                  // 21
+    "SCALE = -400\n";              // 22
+
+m::machine read(const std::string &text) {
+  std::istringstream in(text);
+  return m::read(in, "m.ini");
+}
+
+// The text with line n (1-based) replaced by `with` ("" drops it).
+std::string replaced(int n, const std::string &with) {
+  std::istringstream in(base);
+  std::string out, l;
+  for (int i = 1; std::getline(in, l); i++)
+    if (i != n)
+      out += l + "\n";
+    else if (!with.empty())
+      out += with + "\n";
+  return out;
+}
+
+// The error a text gets; fails the test if it is accepted.
+std::string refusal(const std::string &text) {
+  try {
+    read(text);
+  } catch (const m::error &e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted:\n" << text;
+  return "";
+}
+
+#define EXPECT_REFUSED(text, pattern) \
+  EXPECT_TRUE(std::regex_search(refusal(text), std::regex(pattern))) << refusal(text)
+
+}  // namespace
+
+TEST(Machine, ReadsTheBase) {
+  const m::machine mc = read(base);
+  EXPECT_EQ(mc.units, g::units::mm);
+  EXPECT_EQ(mc.port, "LPT1");
+  ASSERT_TRUE(mc.axes[g::X] && mc.axes[g::Z]);
+  EXPECT_FALSE(mc.axes[g::Y]);
+  EXPECT_EQ(mc.axes[g::X]->motor, 0);
+  EXPECT_EQ(mc.axes[g::Z]->motor, 2);
+  EXPECT_DOUBLE_EQ(mc.axes[g::Z]->scale, -400);
+  EXPECT_DOUBLE_EQ(mc.axes[g::X]->max_limit, 100);
+  EXPECT_DOUBLE_EQ(mc.arc_tolerance, 0.01);
+  EXPECT_FALSE(mc.axes[g::X]->home.enabled);
+}
+
+TEST(Machine, ReadsTheShippedExamples) {
+  const m::machine mill = m::read_file(X4_SOURCE_DIR "/machines/smc1500-mill.ini");
+  EXPECT_EQ(mill.mode, m::output_mode::smc_phase);
+  EXPECT_EQ(mill.spindle, m::pin::pin1);
+  ASSERT_TRUE(mill.axes[g::Z]);
+  EXPECT_TRUE(mill.axes[g::Z]->home.enabled);
+  EXPECT_EQ(mill.axes[g::Z]->home.input, 1);
+  EXPECT_DOUBLE_EQ(mill.axes[g::Z]->home.latch_vel, -0.5);
+  const m::machine four = m::read_file(X4_SOURCE_DIR "/machines/x4step-4axis.ini");
+  EXPECT_EQ(four.units, g::units::inch);
+  ASSERT_TRUE(four.axes[g::A]);
+  EXPECT_EQ(four.axes[g::A]->motor, 3);
+  EXPECT_DOUBLE_EQ(four.axes[g::Y]->scale, -8000);
+  EXPECT_EQ(four.tool_table, X4_SOURCE_DIR "/machines/x4step-4axis.tbl");
+  EXPECT_EQ(four.flood, m::pin::pin14);
+}
+
+TEST(Machine, RefusesSyntax) {
+  EXPECT_REFUSED(replaced(2, "ARC_TOLERANCE 0.01"),
+                 "^m.ini:2: \\[X4STEP\\]: 'ARC_TOLERANCE 0.01': write KEY = VALUE");
+  EXPECT_REFUSED(replaced(4, "[TRAJ"), "^m.ini:4: '\\[TRAJ' is no section header");
+  EXPECT_REFUSED("A = 1\n" + std::string(base), "^m.ini:1: A: a key before any \\[SECTION\\]");
+  EXPECT_REFUSED(replaced(3, "ARC_TOLERANCE = 0.02"),
+                 "^m.ini:3: \\[X4STEP\\] ARC_TOLERANCE: given twice \\(first at line 2\\)");
+  EXPECT_REFUSED(std::string(base) + "[TRAJ]\n",
+                 "^m.ini:23: \\[TRAJ\\]: section given twice \\(first at line 4\\)");
+  EXPECT_REFUSED(replaced(2, "= 3"), "^m.ini:2: \\[X4STEP\\]: '= 3' has no key");
+}
+
+TEST(Machine, RefusesUnknownNames) {
+  EXPECT_REFUSED(std::string(base) + "[DISPLAY]\nPOSITION_OFFSET = RELATIVE\n",
+                 "^m.ini:23: \\[DISPLAY\\]: unknown section");
+  EXPECT_REFUSED(replaced(10, "MAX_VELOCITY = 20\nBACKLASH = 0.1"),
+                 "^m.ini:11: \\[AXIS_X\\] BACKLASH: unknown key: \\[AXIS_X\\] takes MIN_LIMIT");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nSTEPGEN_MAXACCEL = 10"),
+                 "^m.ini:20: \\[JOINT_0\\] STEPGEN_MAXACCEL: unknown key");
+  EXPECT_REFUSED(replaced(3, "JUNCTION_DEVIATION = 0.02\nARC_TOLLERANCE = 1"),
+                 "^m.ini:4: \\[X4STEP\\] ARC_TOLLERANCE: unknown key");
+  // A misspelt required key is named as unknown, not as the one missing.
+  EXPECT_REFUSED(replaced(3, "JUNCTION_DEVIATON = 0.02"),
+                 "^m.ini:3: \\[X4STEP\\] JUNCTION_DEVIATON: unknown key");
+  EXPECT_REFUSED(replaced(6, "LINEAR_UNITS = mm\nCYCLE_TIME = 0.01"),
+                 "^m.ini:7: \\[TRAJ\\] CYCLE_TIME: unknown key");
+  EXPECT_REFUSED("[EMC]\nVERSION = 1.1\n" + std::string(base), "^m.ini:2: \\[EMC\\] VERSION: unknown key");
+  EXPECT_REFUSED("[EMCIO]\nTOOL_CHANGE_POSITION = 0 0 0\n" + std::string(base),
+                 "^m.ini:2: \\[EMCIO\\] TOOL_CHANGE_POSITION: unknown key");
+}
+
+TEST(Machine, RefusesBadValues) {
+  EXPECT_REFUSED(replaced(2, "ARC_TOLERANCE = fine"),
+                 "^m.ini:2: \\[X4STEP\\] ARC_TOLERANCE: 'fine' is no number");
+  EXPECT_REFUSED(replaced(2, "ARC_TOLERANCE = 0"),
+                 "^m.ini:2: \\[X4STEP\\] ARC_TOLERANCE: '0': must be above 0");
+  EXPECT_REFUSED(replaced(3, "JUNCTION_DEVIATION = -1"),
+                 "^m.ini:3: \\[X4STEP\\] JUNCTION_DEVIATION: must be 0");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nPORT = LPT5"), "^m.ini:2: \\[X4STEP\\] PORT: 'LPT5': use LPT1");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nOUTPUT_MODE = pwm"),
+                 "^m.ini:2: \\[X4STEP\\] OUTPUT_MODE: 'pwm': use step-dir");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nSPINDLE_PIN = 16"),
+                 "^m.ini:2: \\[X4STEP\\] SPINDLE_PIN: '16': use 1 \\(signal 1\\), 14");
+  EXPECT_REFUSED(replaced(5, "COORDINATES = XQ"), "^m.ini:5: \\[TRAJ\\] COORDINATES: 'Q' is no axis");
+  EXPECT_REFUSED(replaced(5, "COORDINATES = XYZAB"),
+                 "^m.ini:5: \\[TRAJ\\] COORDINATES: 'XYZAB': a port drives at most 4 motors");
+  EXPECT_REFUSED(replaced(5, "COORDINATES = "), "^m.ini:5: \\[TRAJ\\] COORDINATES: no axis");
+  EXPECT_REFUSED(replaced(6, "LINEAR_UNITS = furlong"),
+                 "^m.ini:6: \\[TRAJ\\] LINEAR_UNITS: 'FURLONG': use mm or inch");
+  EXPECT_REFUSED(replaced(6, "LINEAR_UNITS = mm\nANGULAR_UNITS = radian"),
+                 "^m.ini:7: \\[TRAJ\\] ANGULAR_UNITS: 'radian'");
+  EXPECT_REFUSED(replaced(6, "LINEAR_UNITS = mm\nMAX_LINEAR_VELOCITY = -3"),
+                 "^m.ini:7: \\[TRAJ\\] MAX_LINEAR_VELOCITY: '-3': must be above 0");
+  EXPECT_REFUSED(replaced(10, "MAX_VELOCITY = 0"),
+                 "^m.ini:10: \\[AXIS_X\\] MAX_VELOCITY: '0': must be above 0");
+  EXPECT_REFUSED(replaced(11, "MAX_ACCELERATION = 1e999"),
+                 "^m.ini:11: \\[AXIS_X\\] MAX_ACCELERATION: '1e999' is no number");
+  EXPECT_REFUSED(replaced(18, "MOTOR = 5"), "^m.ini:18: \\[JOINT_0\\] MOTOR: '5': use a whole number 1..4");
+  EXPECT_REFUSED(replaced(18, "MOTOR = 1.5"),
+                 "^m.ini:18: \\[JOINT_0\\] MOTOR: '1.5': use a whole number 1..4");
+  EXPECT_REFUSED(replaced(19, "SCALE = 0"), "^m.ini:19: \\[JOINT_0\\] SCALE: must not be 0");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 1\nHOME_INPUT = 6"),
+                 "^m.ini:22: \\[JOINT_0\\] HOME_INPUT: '6': use a whole number 1..5");
+  EXPECT_REFUSED(
+      replaced(19,
+               "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 1\nHOME_INPUT = 1\nHOME_SEQUENCE = -1"),
+      "^m.ini:23: \\[JOINT_0\\] HOME_SEQUENCE: '-1': use a whole number 0..9");
+}
+
+TEST(Machine, RefusesMissingSectionsAndKeys) {
+  EXPECT_REFUSED(replaced(2, ""), "^m.ini:1: \\[X4STEP\\] ARC_TOLERANCE: missing: give");
+  EXPECT_REFUSED(replaced(3, ""), "^m.ini:1: \\[X4STEP\\] JUNCTION_DEVIATION: missing");
+  EXPECT_REFUSED(replaced(6, ""), "^m.ini:4: \\[TRAJ\\] LINEAR_UNITS: missing: give mm or inch");
+  EXPECT_REFUSED(replaced(5, ""), "^m.ini:4: \\[TRAJ\\] COORDINATES: missing");
+  EXPECT_REFUSED(replaced(8, ""), "^m.ini:7: \\[AXIS_X\\] MIN_LIMIT: missing");
+  EXPECT_REFUSED(replaced(9, ""), "^m.ini:7: \\[AXIS_X\\] MAX_LIMIT: missing");
+  EXPECT_REFUSED(replaced(15, ""), "^m.ini:12: \\[AXIS_Z\\] MAX_VELOCITY: missing");
+  EXPECT_REFUSED(replaced(16, ""), "^m.ini:12: \\[AXIS_Z\\] MAX_ACCELERATION: missing");
+  EXPECT_REFUSED(replaced(18, ""),
+                 "^m.ini:17: \\[JOINT_0\\] MOTOR: missing: give the motor \\(1..4\\) that drives axis X");
+  EXPECT_REFUSED(replaced(22, ""), "^m.ini:20: \\[JOINT_1\\] SCALE: missing");
+  EXPECT_REFUSED(replaced(5, "COORDINATES = XYZ"),
+                 "^m.ini:5: \\[TRAJ\\] COORDINATES: axis Y has no \\[AXIS_Y\\] section");
+  // Without [JOINT_1]: Z is joint 1.
+  std::string no_joint1 = replaced(20, "");
+  no_joint1 = no_joint1.substr(0, no_joint1.find("MOTOR = 3"));
+  EXPECT_REFUSED(no_joint1,
+                 "^m.ini:5: \\[TRAJ\\] COORDINATES: axis Z is joint 1: it needs a \\[JOINT_1\\] section");
+  const std::string b = base;
+  EXPECT_REFUSED(b.substr(b.find("[TRAJ]")), "^m.ini: \\[X4STEP\\]: no \\[X4STEP\\] section");
+  EXPECT_REFUSED(b.substr(0, b.find("[TRAJ]")), "^m.ini: \\[TRAJ\\]: no \\[TRAJ\\] section");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_INPUT = 1"),
+                 "^m.ini:17: \\[JOINT_0\\] HOME_LATCH_VEL: missing");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 1"),
+                 "^m.ini:17: \\[JOINT_0\\] HOME_INPUT: missing: give the home switch's input");
+  EXPECT_THROW(m::read_file("/nonexistent/machine.ini"), m::error);
+}
+
+TEST(Machine, RefusesContradictions) {
+  EXPECT_REFUSED(replaced(9, "MAX_LIMIT = -10"), "^m.ini:9: \\[AXIS_X\\] MAX_LIMIT: must be above MIN_LIMIT");
+  EXPECT_REFUSED(replaced(21, "MOTOR = 1"),
+                 "^m.ini:21: \\[JOINT_1\\] MOTOR: motor 1 drives another axis already \\(line 18\\)");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nSPINDLE_PIN = 14\nFLOOD_PIN = 14"),
+                 "^m.ini:3: \\[X4STEP\\] FLOOD_PIN: pin 14 is the SPINDLE_PIN already");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nMIST_PIN = 1\nSPINDLE_PIN = 1"),
+                 "^m.ini:3: \\[X4STEP\\] SPINDLE_PIN: pin 1 is the MIST_PIN already");
+  std::string smc = replaced(1, "[X4STEP]\nOUTPUT_MODE = smc-phase");
+  smc.replace(smc.find("MOTOR = 3"), 9, "MOTOR = 4");
+  EXPECT_REFUSED(
+      smc, "^m.ini:22: \\[JOINT_1\\] MOTOR: the SMC phase drive \\(OUTPUT_MODE\\) has motors 1..3 only");
+  EXPECT_REFUSED(replaced(19, "SCALE = 8000"),
+                 "^m.ini:19: \\[JOINT_0\\] SCALE: the axis' MAX_VELOCITY would be 160000 steps/s");
+  EXPECT_REFUSED(replaced(11, "MAX_ACCELERATION = 2000"),
+                 "^m.ini:19: \\[JOINT_0\\] SCALE: the axis' MAX_ACCELERATION would be 1600000");
+  EXPECT_REFUSED(replaced(9, "MAX_LIMIT = 3000000"),
+                 "^m.ini:19: \\[JOINT_0\\] SCALE: the soft limits are beyond");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_INPUT = 1"),
+                 "^m.ini:20: \\[JOINT_0\\] HOME_INPUT: no homing without HOME_SEARCH_VEL");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 0\nHOME_INPUT = 1"),
+                 "^m.ini:21: \\[JOINT_0\\] HOME_LATCH_VEL: must not be 0");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -30\nHOME_LATCH_VEL = 1\nHOME_INPUT = 1"),
+                 "^m.ini:20: \\[JOINT_0\\] HOME_SEARCH_VEL: faster than the axis' MAX_VELOCITY");
+  EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 0.001\nHOME_INPUT = 1"),
+                 "^m.ini:21: \\[JOINT_0\\] HOME_LATCH_VEL: below 1 step/s");
+  EXPECT_REFUSED(
+      replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 1\nHOME_INPUT = 1\nHOME = 200"),
+      "^m.ini:23: \\[JOINT_0\\] HOME: outside the axis' soft limits");
+  EXPECT_REFUSED(
+      replaced(19,
+               "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 1\nHOME_INPUT = 1\nHOME_OFFSET = -11"),
+      "^m.ini:23: \\[JOINT_0\\] HOME_OFFSET: outside the axis' soft limits");
+  EXPECT_REFUSED(std::string(base) + "[AXIS_Y]\nMIN_LIMIT = 0\n",
+                 "^m.ini:23: \\[AXIS_Y\\]: axis Y is not in \\[TRAJ\\] COORDINATES \\(XZ\\)");
+  EXPECT_REFUSED(std::string(base) + "[JOINT_2]\nMOTOR = 2\n",
+                 "^m.ini:23: \\[JOINT_2\\]: the machine has joints 0..1");
+  EXPECT_REFUSED(replaced(5, "COORDINATES = XX"), "^m.ini:5: \\[TRAJ\\] COORDINATES: axis X given twice");
+}

@@ -1,0 +1,285 @@
+// SPDX-License-Identifier: GPL-2.0
+// The planner (lib/machine/planner.hpp): chords within the arc tolerance,
+// ends rounded once (no accumulation), GRBL's junction speeds, speed and
+// acceleration limits per axis, units, and soft limits with file:line.
+#include "planner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <vector>
+
+namespace m = x4step::machine;
+namespace g = x4step::gcode;
+using x4step::axis;
+
+namespace {
+
+constexpr double ppu = 10000;  // path units per mm
+
+// X Y Z on motors 1 2 3; X 0..200, Y 0..100, Z -50..0.
+std::string machine_text(double x_scale = 1000, double y_scale = 1000, double y_accel = 100) {
+  std::ostringstream o;
+  o << "[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATION = 0.02\n"
+    << "[TRAJ]\nCOORDINATES = XYZ\nLINEAR_UNITS = mm\n"
+    << "[AXIS_X]\nMIN_LIMIT = 0\nMAX_LIMIT = 200\nMAX_VELOCITY = 100\nMAX_ACCELERATION = 100\n"
+    << "[AXIS_Y]\nMIN_LIMIT = 0\nMAX_LIMIT = 100\nMAX_VELOCITY = 50\nMAX_ACCELERATION = " << y_accel << "\n"
+    << "[AXIS_Z]\nMIN_LIMIT = -50\nMAX_LIMIT = 0\nMAX_VELOCITY = 10\nMAX_ACCELERATION = 50\n"
+    << "[JOINT_0]\nMOTOR = 1\nSCALE = " << x_scale << "\n"
+    << "[JOINT_1]\nMOTOR = 2\nSCALE = " << y_scale << "\n"
+    << "[JOINT_2]\nMOTOR = 3\nSCALE = -400\n";
+  return o.str();
+}
+
+m::machine machine_of(const std::string &text) {
+  std::istringstream in(text);
+  return m::read(in, "test.ini");
+}
+
+struct recorded {
+  x4step::segment seg;
+  m::segment_info info;
+};
+
+struct recorder : m::planner_output {
+  std::vector<recorded> segs;
+  int stops = 0;
+  void segment(const x4step::segment &s, const m::segment_info &i) override { segs.push_back({s, i}); }
+  void dwell(double) override { stops++; }
+};
+
+struct plan {
+  recorder out;
+  m::plan_summary sum;
+};
+
+plan run(const m::machine &mc, const std::string &program, const g::pose &start = {}) {
+  plan p;
+  std::istringstream in(program);
+  p.sum = m::plan_program(mc, in, "prog.ngc", p.out, start);
+  return p;
+}
+
+std::array<long, 4> steps_sum(const recorder &r) {
+  std::array<long, 4> s{};
+  for (const auto &x : r.segs)
+    for (int a = 0; a < 4; a++) s[size_t(a)] += x.seg.steps(axis(a + 1));
+  return s;
+}
+
+// The distance of point p from the segment a-b (2-D).
+double distance_to_chord(double px, double py, double ax, double ay, double bx, double by) {
+  const double dx = bx - ax, dy = by - ay, l2 = dx * dx + dy * dy;
+  double t = l2 > 0 ? ((px - ax) * dx + (py - ay) * dy) / l2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(px - ax - t * dx, py - ay - t * dy);
+}
+
+// The farthest the arc around (cx, cy) of radius r strays from the chords
+// through the points (x, y), sampled finely along the arc between them.
+double chord_error(const std::vector<std::pair<double, double>> &pts, double cx, double cy, double r) {
+  double worst = 0;
+  for (size_t i = 1; i < pts.size(); i++) {
+    const double a0 = std::atan2(pts[i - 1].second - cy, pts[i - 1].first - cx);
+    double a1 = std::atan2(pts[i].second - cy, pts[i].first - cx);
+    if (a1 > a0) a1 -= 2 * M_PI;  // clockwise
+    for (int k = 0; k <= 50; k++) {
+      const double a = a0 + (a1 - a0) * k / 50;
+      worst = std::max(worst, distance_to_chord(cx + r * std::cos(a), cy + r * std::sin(a), pts[i - 1].first,
+                                                pts[i - 1].second, pts[i].first, pts[i].second));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(Planner, ArcChordsStayWithinTheTolerance) {
+  const m::machine mc = machine_of(machine_text());
+  // A full clockwise circle of radius 30 around (100, 50).
+  const plan p = run(mc, "G0 X130 Y50\nG2 X130 Y50 I-30 J0 F600\nM2\n");
+  std::vector<std::pair<double, double>> programmed{{130, 50}}, executed{{130, 50}};
+  std::array<long, 4> at{130000, 50000, 0, 0};
+  for (size_t i = 1; i < p.out.segs.size(); i++) {
+    const auto &s = p.out.segs[i];
+    EXPECT_EQ(s.info.line, 2);
+    EXPECT_EQ(s.seg.tag(), 2u);
+    programmed.push_back({s.info.end[0], s.info.end[1]});
+    at[0] += s.seg.steps(axis::x);
+    at[1] += s.seg.steps(axis::y);
+    executed.push_back({at[0] / 1000.0, at[1] / 1000.0});
+  }
+  // As few chords as keep within 0.01 mm: 2 acos(1 - 0.01 / 30) per chord.
+  const double most = 2 * std::acos(1 - 0.01 / 30);
+  EXPECT_EQ(long(programmed.size() - 1), long(std::ceil(2 * M_PI / most)));
+  EXPECT_LE(chord_error(programmed, 100, 50, 30), 0.01 + 1e-9);
+  EXPECT_GT(chord_error(programmed, 100, 50, 30), 0.009);  // not needlessly fine
+  // What the motors do: within the tolerance and one step (0.001 mm).
+  EXPECT_LE(chord_error(executed, 100, 50, 30), 0.011);
+  EXPECT_EQ(at[0], 130000);
+  EXPECT_EQ(at[1], 50000);
+}
+
+TEST(Planner, HelixMovesTheNormalAxisLinearly) {
+  const m::machine mc = machine_of(machine_text());
+  const plan p = run(mc, "G0 X110 Y50\nG17 G3 X90 Y50 Z-10 I-10 J0 F300\nM2\n");
+  ASSERT_GT(p.out.segs.size(), 3u);
+  const size_t n = p.out.segs.size() - 1;
+  for (size_t i = 1; i <= n; i++) EXPECT_NEAR(p.out.segs[i].info.end[2], -10.0 * double(i) / double(n), 1e-9);
+  EXPECT_EQ(p.sum.steps[2], 4000);  // Z -10 mm at SCALE -400
+  EXPECT_GT(p.sum.max[1], 59.99);   // counter-clockwise from (110, 50): over the top
+}
+
+TEST(Planner, EndsAreRoundedOnceNeverAccumulated) {
+  // 320 steps/mm: 0.0003 mm is 0.096 steps. Rounded move by move, every
+  // move would be 0 steps; rounded once from the absolute point, the
+  // 10 000 moves end at round(3.0 * 320) = 960 and round(1.7 * 333) = 566.
+  const m::machine mc = machine_of(machine_text(320, 333));
+  std::string moves;
+  for (int i = 0; i < 10000; i++) moves += "X0.0003 Y0.00017\n";
+  const plan q = run(mc, "G0 X10 Y10\nG91 G1 F100\n" + moves + "M2\n");
+  EXPECT_EQ(q.sum.steps[0], std::lround(13.0 * 320));
+  EXPECT_EQ(q.sum.steps[1], std::lround(11.7 * 333));
+  EXPECT_EQ(steps_sum(q.out), q.sum.steps);
+  // Then 1000 small full circles and a line: still exact.
+  std::string circles;
+  for (int i = 0; i < 1000; i++) circles += "G2 X20 Y10 I-0.0071 J0.0033\n";
+  const plan p =
+      run(mc, "G0 X10 Y10\nG91 G1 F100\n" + moves + "G90 G1 X20 Y10\n" + circles + "G1 X20.7 Y3.3\nM2\n");
+  EXPECT_EQ(steps_sum(p.out)[0], std::lround(20.7 * 320));
+  EXPECT_EQ(steps_sum(p.out)[1], std::lround(3.3 * 333));
+  EXPECT_EQ(p.sum.steps, steps_sum(p.out));
+  EXPECT_GT(p.out.segs.size(), 4000u);
+  EXPECT_LT(q.out.segs.size(), 10000u);  // moves below a step make no segment of their own
+}
+
+TEST(Planner, StartsWhereTheMachineStands) {
+  const m::machine mc = machine_of(machine_text());
+  const plan p = run(mc, "G1 X50.0004 F600\nM2\n", g::pose{50, 20, -1, 0, 0, 0});
+  ASSERT_EQ(p.out.segs.size(), 0u);  // 0.4 steps: nothing to do
+  EXPECT_EQ(p.sum.steps[0], 50000);
+  EXPECT_EQ(p.sum.steps[1], 20000);
+  EXPECT_EQ(p.sum.steps[2], 400);
+}
+
+TEST(Planner, JunctionSpeedIsGrblsForTheAngle) {
+  // 90 degrees, X and Y at 100 mm/s^2, junction deviation 0.02 mm. By
+  // hand, as GRBL's planner.c: cos(theta) = -(in . out) = 0; sin(theta/2)
+  // = sqrt(0.5 (1 - 0)) = 0.707107; the junction vector (-1, 1)/sqrt 2
+  // limits the acceleration to 100 / 0.707107 = 141.421 mm/s^2;
+  // v^2 = 141.421 * 0.02 * 0.707107 / (1 - 0.707107) = 6.828427,
+  // v = 2.613126 mm/s = 26131 path units/s.
+  const m::machine mc = machine_of(machine_text());
+  plan p = run(mc, "G1 X10 F3000\nY10\nM2\n");
+  ASSERT_EQ(p.out.segs.size(), 2u);
+  EXPECT_EQ(p.out.segs[0].seg.entry_speed(), 0u);  // from rest
+  EXPECT_NEAR(p.out.segs[1].seg.entry_speed(), 26131, 1);
+  EXPECT_EQ(p.out.segs[1].info.line, 2);
+  // Y at 50 mm/s^2: the junction's acceleration 50 / 0.707107 = 70.711,
+  // v^2 = 70.711 * 0.02 * 2.414214 = 3.414214, v = 1.847759 mm/s.
+  p = run(machine_of(machine_text(1000, 1000, 50)), "G1 X10 F3000\nY10\nM2\n");
+  EXPECT_NEAR(p.out.segs[1].seg.entry_speed(), 18477, 1);
+  // 45 degrees off straight: cos(theta) = -cos(45) = -0.707107;
+  // sin(theta/2) = sqrt(0.5 * 1.707107) = 0.923880; the junction vector
+  // (0.7071 - 1, 0.7071) normalized = (-0.382683, 0.923880): X allows
+  // 100 / 0.382683, Y 100 / 0.923880 = 108.239 mm/s^2;
+  // v^2 = 108.239 * 0.02 * 0.923880 / 0.076120 = 26.27414, v = 5.125831 mm/s.
+  p = run(mc, "G1 X10 F3000\nX20 Y10\nM2\n");
+  EXPECT_NEAR(p.out.segs[1].seg.entry_speed(), 51258, 1);
+  // Straight on: only the segments' speeds limit it (50 mm/s).
+  p = run(mc, "G1 X10 F3000\nX20\nM2\n");
+  EXPECT_EQ(p.out.segs[1].seg.entry_speed(), 500000u);
+  // A reversal stops, as do G61.1 and a dwell.
+  EXPECT_EQ(run(mc, "G1 X10 F3000\nX5\nM2\n").out.segs[1].seg.entry_speed(), 0u);
+  EXPECT_EQ(run(mc, "G61.1 G1 X10 F3000\nY10\nM2\n").out.segs[1].seg.entry_speed(), 0u);
+  EXPECT_EQ(run(mc, "G1 X10 F3000\nG4 P0.1\nY10\nM2\n").out.segs[1].seg.entry_speed(), 0u);
+  // G64 P0.5 as the deviation: v^2 = 141.421 * 0.5 * 2.414214, v = 13.065630 mm/s.
+  EXPECT_NEAR(run(mc, "G64 P0.5 G1 X10 F3000\nY10\nM2\n").out.segs[1].seg.entry_speed(), 130656, 1);
+}
+
+TEST(Planner, SpeedsAndAccelerationsStayWithinEveryAxis) {
+  const m::machine mc = machine_of(machine_text());
+  // Rapids at the axes' limits: X alone at 100 mm/s, 100 mm/s^2.
+  plan p = run(mc, "G0 X10\nM2\n");
+  EXPECT_EQ(p.out.segs[0].seg.top_speed(), 100 * ppu);
+  EXPECT_EQ(p.out.segs[0].seg.accel(), 100 * ppu);
+  EXPECT_EQ(p.out.segs[0].seg.length(), 10 * ppu);
+  // Diagonal: Y (50 mm/s) limits, 50 / cos 45 = 70.7107 mm/s.
+  p = run(mc, "G0 X10 Y10\nM2\n");
+  EXPECT_EQ(p.out.segs[0].seg.top_speed(), std::uint32_t(std::floor(50 * std::sqrt(2.0) * ppu)));
+  EXPECT_EQ(p.out.segs[0].seg.accel(), std::uint32_t(std::floor(100 * std::sqrt(2.0) * ppu)));
+  // A feed below the limits is taken as it is (1200 mm/min = 20 mm/s)...
+  p = run(mc, "G1 X10 Y10 F1200\nM2\n");
+  EXPECT_EQ(p.out.segs[0].seg.top_speed(), 20 * ppu);
+  // ...one above them clamped; Z alone: 10 mm/s.
+  p = run(mc, "G1 Z-5 F100000\nM2\n");
+  EXPECT_EQ(p.out.segs[0].seg.top_speed(), 10 * ppu);
+  EXPECT_EQ(p.out.segs[0].seg.steps(axis::z), 2000);  // SCALE -400: reversed
+  // Inverse time: G93 F6 is a move of 1/6 min = 10 s; 10 mm: 1 mm/s.
+  p = run(mc, "G93 G1 X10 F6\nG94\nM2\n");
+  EXPECT_EQ(p.out.segs[0].seg.top_speed(), 1 * ppu);
+  EXPECT_NEAR(p.sum.seconds, 10, 1e-9);
+}
+
+TEST(Planner, ConvertsProgramUnitsToTheMachines) {
+  // A mm machine: G20 X1 is 25.4 mm.
+  plan p = run(machine_of(machine_text()), "G20 G1 X1 Y0.5 F60\nM2\n");
+  EXPECT_EQ(p.sum.steps[0], 25400);
+  EXPECT_EQ(p.sum.steps[1], 12700);
+  EXPECT_EQ(p.out.segs[0].seg.top_speed(), std::uint32_t(std::floor(25.4 * ppu)));  // 60 in/min
+  // An inch machine: G21 X25.4 is 1 inch; it starts in inches (no G20/G21).
+  std::string t = machine_text(800, 800);
+  t.replace(t.find("LINEAR_UNITS = mm"), 17, "LINEAR_UNITS = inch");
+  const m::machine inch = machine_of(t);
+  p = run(inch, "G21 G1 X25.4 F254\nG20 X2\nM2\n");
+  EXPECT_EQ(p.out.segs[0].seg.steps(axis::x), 800);
+  EXPECT_EQ(p.out.segs[0].seg.length(), 254000u);  // 1 inch in path units
+  EXPECT_EQ(p.sum.steps[0], 1600);
+}
+
+TEST(Planner, SoftLimitsNameTheLine) {
+  const m::machine mc = machine_of(machine_text());
+  auto refusal = [&](const std::string &prog, size_t *segments = nullptr) {
+    recorder out;
+    std::istringstream in(prog);
+    try {
+      m::plan_program(mc, in, "prog.ngc", out);
+    } catch (const g::error &e) {
+      if (segments) *segments = out.segs.size();
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal("G1 X10 F100\nX20\nG0 X250\nM2\n"),
+            "prog.ngc:3:1: X 250 is beyond the soft limit [AXIS_X] MAX_LIMIT 200");
+  EXPECT_EQ(refusal("G0 Z1\nM2\n"), "prog.ngc:1:1: Z 1 is beyond the soft limit [AXIS_Z] MAX_LIMIT 0");
+  EXPECT_EQ(refusal("G0 X10 Y10\nG0 Y-0.5\nM2\n"),
+            "prog.ngc:2:1: Y -0.5 is beyond the soft limit [AXIS_Y] MIN_LIMIT 0");
+  // An arc whose ends are inside but whose bulge is not: around (195, 50),
+  // radius 10, it would reach X 205. Refused before its first chord.
+  size_t before = 0;
+  const std::string arc = refusal("G0 X195 Y60\nG2 X195 Y40 I0 J-10 F100\nM2\n", &before);
+  EXPECT_EQ(arc.substr(0, 18), "prog.ngc:2:1: X 20") << arc;
+  EXPECT_NE(arc.find(" is beyond the soft limit [AXIS_X] MAX_LIMIT 200"), std::string::npos) << arc;
+  EXPECT_EQ(before, 1u);  // the rapid only
+  // The other way round it stays inside.
+  EXPECT_EQ(refusal("G0 X195 Y60\nG3 X195 Y40 I0 J-10 F100\nM2\n"), "accepted");
+  // Inch programs are checked in the machine's units: 8 in = 203.2 mm.
+  EXPECT_EQ(refusal("G20\nG0 X8\nM2\n"),
+            "prog.ngc:2:1: X 203.2 is beyond the soft limit [AXIS_X] MAX_LIMIT 200");
+  // An axis the machine does not have.
+  std::string t = machine_text();
+  t = t.substr(0, t.find("[AXIS_Z]")) +
+      "[JOINT_0]\nMOTOR = 1\nSCALE = 1000\n[JOINT_1]\nMOTOR = 2\nSCALE = 1000\n";
+  t.replace(t.find("COORDINATES = XYZ"), 17, "COORDINATES = XY");
+  const m::machine xy = machine_of(t);
+  recorder out;
+  std::istringstream in("G0 X1\nG0 Z-1\nM2\n");
+  try {
+    m::plan_program(xy, in, "prog.ngc", out);
+    ADD_FAILURE() << "a Z move on an XY machine was accepted";
+  } catch (const g::error &e) {
+    EXPECT_STREQ(e.what(), "prog.ngc:2:1: the machine has no Z axis ([TRAJ] COORDINATES)");
+  }
+}

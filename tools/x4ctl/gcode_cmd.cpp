@@ -1,0 +1,332 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl gcode: the program is planned twice: once whole, into a counter,
+// so that a bad line or a soft limit stops it before the first step; then
+// into the path queue while it runs.
+#include "gcode_cmd.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "commands.hpp"
+#include "json.hpp"
+#include "path_stream.hpp"
+#include "planner.hpp"
+#include "show.hpp"
+
+namespace x4ctl {
+
+namespace m = x4step::machine;
+namespace g = x4step::gcode;
+
+namespace {
+
+const char *const axis_letters = "XYZABC";
+
+std::string units_name(const m::machine &mc) { return mc.units == g::units::inch ? "inch" : "mm"; }
+
+std::string machine_path(const config &c) {
+  if (!c.machine.empty()) return c.machine;
+  const char *env = std::getenv("X4STEP_MACHINE");
+  return env && *env ? env : "/etc/x4step/machine.ini";
+}
+
+m::machine load_machine(const config &c) {
+  try {
+    return m::read_file(machine_path(c));
+  } catch (const m::error &e) {
+    throw usage_error(std::string("gcode: ") + e.what());
+  }
+}
+
+// Plans the whole program into out; a refused line is a usage error.
+m::plan_summary plan(const m::machine &mc, const config &c, const g::pose &start, m::planner_output &out) {
+  std::ifstream f(c.file);
+  if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+  try {
+    return m::plan_program(mc, f, c.file, out, start);
+  } catch (const g::error &e) {
+    throw usage_error(std::string("gcode: ") + e.what());
+  }
+}
+
+// The program's text alone, before the port is opened.
+void check_text(const m::machine &mc, const config &c) {
+  std::ifstream f(c.file);
+  if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+  try {
+    m::check_program(mc, f, c.file);
+  } catch (const g::error &e) {
+    throw usage_error(std::string("gcode: ") + e.what());
+  }
+}
+
+// The check pass: counts what the run will need.
+struct counter : m::planner_output {
+  long pauses = 0;  // M0, M1, M6: an operator at a terminal
+  void segment(const x4step::segment &, const m::segment_info &) override {}
+  void pause(bool, int) override { pauses++; }
+};
+
+std::string clock_text(double seconds) {
+  const long s = std::lround(std::max(0.0, seconds));
+  std::ostringstream o;
+  if (s >= 3600)
+    o << s / 3600 << ":" << std::setw(2) << std::setfill('0') << (s / 60) % 60;
+  else
+    o << s / 60;
+  o << ":" << std::setw(2) << std::setfill('0') << s % 60;
+  return o.str();
+}
+
+std::string number(double v) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(std::fabs(v) < 100 ? 3 : 1) << v;
+  std::string s = o.str();
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s == "-0" ? "0" : s;
+}
+
+void print_summary(const m::machine &mc, const config &c, const m::plan_summary &s, const counter &n) {
+  if (c.json) {
+    // Extents as [min, max] per axis.
+    std::string extents = "{";
+    for (size_t a = 0; a < g::n_axes; a++) {
+      if (!mc.axes[a] || !s.moved) continue;
+      char buf[80];
+      std::snprintf(buf, sizeof buf, "\"%c\":[%.10g,%.10g]", axis_letters[a], s.min[a], s.max[a]);
+      extents += (extents.size() > 1 ? "," : "") + std::string(buf);
+    }
+    extents += "}";
+    std::cout << json_document()
+                     .add("file", c.file)
+                     .add("machine", machine_path(c))
+                     .add("units", units_name(mc))
+                     .add("lines", s.lines)
+                     .add("segments", s.segments)
+                     .add("length", s.length)
+                     .add("seconds", s.seconds)
+                     .add("pauses", n.pauses)
+                     .raw("extents", extents)
+                     .str()
+              << "\n";
+    return;
+  }
+  std::cout << c.file << ": OK: " << s.lines << " lines, " << s.segments << " segments, " << number(s.length)
+            << " " << units_name(mc) << " along the path, about " << clock_text(s.seconds)
+            << " at the top speeds (ramps not counted)";
+  if (n.pauses) std::cout << ", " << n.pauses << " pauses for the operator";
+  std::cout << "\n";
+  if (!s.moved) return;
+  std::cout << "extents (" << units_name(mc) << "):";
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a])
+      std::cout << " " << axis_letters[a] << " " << number(s.min[a]) << ".." << number(s.max[a]);
+  std::cout << "\n";
+}
+
+x4step::output_mode mode_of(m::output_mode o) {
+  switch (o) {
+    case m::output_mode::smc_phase:
+      return x4step::output_mode::smc_phase;
+    case m::output_mode::smc_hold:
+      return x4step::output_mode::smc_phase_hold;
+    case m::output_mode::step_dir:
+      break;
+  }
+  return x4step::output_mode::clock_dir;
+}
+
+// The progress of a run: what is done, from the segments the kernel completed.
+class progress_meter {
+ public:
+  progress_meter(const m::machine &mc, const m::plan_summary &total)
+      : units_(units_name(mc)), ppu_(m::path_units_per_unit(mc.units)), total_(total) {}
+
+  void queued(const m::segment_info &i) {
+    queued_len_ += i.length;
+    queued_secs_ += i.length / i.speed;
+    pending_.push_back({queued_len_, queued_secs_});
+  }
+
+  std::string record(const x4step::path_status &s, std::uint64_t done, bool json) {
+    while (taken_ < done && !pending_.empty()) {
+      done_ = pending_.front();
+      pending_.pop_front();
+      taken_++;
+    }
+    const double percent = total_.length > 0 ? 100 * done_.length / total_.length : 100;
+    const double feed = double(s.speed) / ppu_ * 60;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const double remaining = (total_.seconds - done_.seconds) * 100 / std::max(1u, s.override_percent);
+    std::ostringstream state;
+    state << s.state;
+    if (json)
+      return json_document()
+          .add("state", state.str())
+          .add("line", s.tag)
+          .add("percent", percent)
+          .add("feed", feed)
+          .add("override", s.override_percent)
+          .add("elapsed", elapsed)
+          .add("remaining", remaining)
+          .str();
+    std::ostringstream o;
+    o << "gcode: " << state.str() << " " << std::fixed << std::setprecision(1) << percent << "%, line "
+      << s.tag << ", F" << std::lround(feed) << " " << units_ << "/min, " << s.override_percent << "%, "
+      << clock_text(elapsed) << " elapsed, about " << clock_text(remaining) << " left";
+    return o.str();
+  }
+
+ private:
+  struct mark {
+    double length = 0, seconds = 0;  // at the end of a segment, from the start
+  };
+  std::string units_;
+  double ppu_;
+  m::plan_summary total_;
+  std::deque<mark> pending_;  // queued, not yet done: at most the queue's depth
+  mark done_;
+  double queued_len_ = 0, queued_secs_ = 0;
+  std::uint64_t taken_ = 0;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+struct run_aborted {};
+
+// The run pass: segments into the queue; dwells, pauses and outputs with the path at rest.
+class runner : public m::planner_output {
+ public:
+  runner(const m::machine &mc, x4step::controller &ctl, path_stream &ps, progress_meter &meter, bool json)
+      : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json) {}
+
+  void segment(const x4step::segment &s, const m::segment_info &i) override {
+    meter_.queued(i);
+    if (!ps_.push(s)) throw run_aborted{};
+  }
+  void dwell(double seconds) override {
+    rest();
+    if (!ps_.wait_for(std::chrono::milliseconds(std::lround(seconds * 1000)))) throw run_aborted{};
+  }
+  void pause(bool optional, int tool) override {
+    rest();
+    say(tool >= 0 ? "M6: change to tool " + std::to_string(tool) + ", then press space (ESC aborts)"
+                  : std::string(optional ? "M1" : "M0") + ": paused; space goes on, ESC aborts");
+    if (!ps_.wait_for_operator()) throw run_aborted{};
+  }
+  void spindle(bool on) override { set(mc_.spindle, on); }
+  void coolant(bool mist, bool flood) override {
+    set(mc_.mist, mist);
+    set(mc_.flood, flood);
+  }
+  void message(std::string_view text) override { say("MSG: " + std::string(text)); }
+
+  /// Switches off every output the program switched on.
+  void outputs_off() {
+    for (m::pin p : {mc_.spindle, mc_.mist, mc_.flood}) set_pin(p, false);
+  }
+
+ private:
+  void rest() {
+    if (!ps_.drain()) throw run_aborted{};
+  }
+  void set(m::pin p, bool on) {
+    if (p == m::pin::none) return;
+    rest();
+    set_pin(p, on);
+  }
+  void set_pin(m::pin p, bool on) {
+    if (p != m::pin::none) ctl_.set_output(p == m::pin::pin1 ? x4step::signal::one : x4step::signal::two, on);
+  }
+  void say(const std::string &text) { ps_.say(json_ ? json_document().add("message", text).str() : text); }
+
+  const m::machine &mc_;
+  x4step::controller &ctl_;
+  path_stream &ps_;
+  progress_meter &meter_;
+  bool json_;
+};
+
+}  // namespace
+
+int cmd_gcode(const config &c) {
+  const m::machine mc = load_machine(c);
+  counter n;
+  if (c.check) {
+    print_summary(mc, c, plan(mc, c, g::pose{}, n), n);
+    return 0;
+  }
+  check_text(mc, c);
+  config port_config = c;
+  port_config.lpt = mc.port[3] - '0';
+  x4step::controller ctl = open_controller(device_of(port_config));
+  // Planned from where the machine stands.
+  g::pose start{};
+  const x4step::axes_status at = ctl.get_axes();
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a]) start[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
+  const m::plan_summary total = plan(mc, c, start, n);
+  const bool keyboard = ::isatty(STDIN_FILENO);
+  if (n.pauses && !keyboard)
+    throw usage_error("gcode: " + c.file + ": " + std::to_string(n.pauses) +
+                      " pauses for the operator (M0, M1, M6): run it from a terminal");
+  // Only a program found good changes the port's settings.
+  const x4step::output_mode mode = mode_of(mc.mode);
+  // The axes' top speeds within what the port's step timing allows in that mode.
+  const int fmax = max_freq_hz(ctl.get_step_timing(), mode, x4step::vel_max);
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a] && std::fabs(mc.axes[a]->scale) * mc.axes[a]->max_velocity > fmax)
+      throw failure(std::string("[AXIS_") + axis_letters[a] + "] MAX_VELOCITY needs " +
+                    std::to_string(std::lround(std::fabs(mc.axes[a]->scale) * mc.axes[a]->max_velocity)) +
+                    " steps/s; the port's step timing allows " + std::to_string(fmax) + ": lower it");
+  if (ctl.get_config().mode() != mode) ctl.set_config(ctl.get_config().mode(mode));
+  if (!c.json) print_summary(mc, c, total, n);
+
+  progress_meter meter(mc, total);
+  bool aborted = false;
+  std::array<long, x4step::axes> end{};
+  {
+    path_stream ps(ctl, c.override_percent, c.json, keyboard,
+                   [&](const x4step::path_status &s, std::uint64_t done, bool json) {
+                     return meter.record(s, done, json);
+                   });
+    runner r(mc, ctl, ps, meter, c.json);
+    try {
+      plan(mc, c, start, r);
+      ps.drain();
+    } catch (const run_aborted &) {
+      ps.drain();
+    }
+    r.outputs_off();
+    aborted = ps.aborted();
+    ps.finish();
+    const x4step::axes_status a = ctl.get_axes();
+    for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
+  }
+  std::ostringstream where;
+  json_object pos;
+  for (size_t a = 0; a < g::n_axes; a++) {
+    if (!mc.axes[a]) continue;
+    const double v = double(end[size_t(mc.axes[a]->motor)]) / mc.axes[a]->scale;
+    where << " " << axis_letters[a] << number(v);
+    pos.add(std::string(1, axis_letters[a]), v);
+  }
+  if (c.json)
+    std::cout << json_document().add("result", aborted ? "aborted" : "done").add("position", pos).str()
+              << "\n";
+  else
+    std::cout << "gcode: " << (aborted ? "aborted" : "done") << ", at" << where.str() << " ("
+              << units_name(mc) << ")\n";
+  return aborted ? 1 : 0;
+}
+
+}  // namespace x4ctl

@@ -1,0 +1,174 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: streaming segments into the path queue, with keys and progress.
+#include "path_stream.hpp"
+
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <iostream>
+
+namespace x4ctl {
+
+namespace {
+
+using steady = std::chrono::steady_clock;
+
+bool at_rest(const x4step::path_status &s) { return s.state == x4step::path_state::idle && !s.queued; }
+
+}  // namespace
+
+path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, bool json, bool keyboard,
+                         progress_fn progress)
+    : ctl_(ctl),
+      path_(ctl),
+      json_(json),
+      live_(!json && ::isatty(STDOUT_FILENO)),
+      con_(keyboard),
+      progress_(std::move(progress)),
+      override_(override_percent) {
+  path_.set_override(override_);
+  status_ = path_.status();
+  base_ = status_.done;
+  last_shown_ = steady::now() - std::chrono::seconds(1);
+  con_.keys_on();
+}
+
+path_stream::~path_stream() {
+  con_.keys_off();
+  if (drawn_) std::cout << "\n" << std::flush;
+}
+
+void path_stream::take(key k) {
+  try {
+    switch (k) {
+      case key::stop_request:  // x4ctl stop: at once
+        ctl_.stop();
+        aborted_ = true;
+        break;
+      case key::esc:
+      case key::interrupt:
+      case key::brake_request:
+        if (!aborted_) path_.abort();  // hold along the path, then flush
+        aborted_ = true;
+        break;
+      case key::space:
+        if (aborted_) break;
+        if (status_.state == x4step::path_state::running)
+          path_.hold();
+        else if (status_.state != x4step::path_state::idle)
+          path_.resume();
+        break;
+      case key::plus:
+      case key::minus:
+        override_ = k == key::plus ? std::min(override_ + 10, 200u) : std::max(override_, 20u) - 10;
+        path_.set_override(override_);
+        break;
+      default:
+        break;
+    }
+  } catch (const x4step::error &e) {
+    // The path ended (or was flushed) between the status read and the key:
+    // nothing left to hold or resume.
+    if (e.code() != x4step::make_error_code(x4step::errc::not_active)) throw;
+  }
+}
+
+void path_stream::serve(int poll_ms) {
+  take(con_.read_key(std::chrono::milliseconds(0)));
+  status_ = path_.status();
+  show(false);
+  if (poll_ms <= 0) return;
+  // Room comes as segments end, the end when the path stops: the library's
+  // wait, not a poll of fd(), as on a simulated port that wait is what runs
+  // the clock in virtual time. A held or idle path has nothing to wait for
+  // (its wait would return at once): sleep, for a key or a dwell.
+  const bool moving =
+      status_.state == x4step::path_state::running || status_.state == x4step::path_state::holding;
+  if (moving && !aborted_)
+    path_.wait(std::chrono::milliseconds(poll_ms));
+  else
+    ::poll(nullptr, 0, poll_ms);
+}
+
+bool path_stream::push(const x4step::segment &s) {
+  while (!aborted_) {
+    try {
+      if (path_.try_append(&s, 1)) {
+        serve(0);
+        return !aborted_;
+      }
+    } catch (const x4step::error &e) {
+      // Flushed under us: a brake key, a limit switch, an emergency stop.
+      if (e.code() != x4step::make_error_code(x4step::errc::not_active)) throw;
+      aborted_ = true;
+      break;
+    }
+    serve(20);
+  }
+  return false;
+}
+
+std::size_t path_stream::push_some(const x4step::segment *s, std::size_t n) {
+  const std::size_t queued = aborted_ ? 0 : path_.try_append(s, n);
+  serve(0);
+  return queued;
+}
+
+bool path_stream::drain() {
+  for (;;) {
+    serve(20);
+    if (at_rest(status_)) break;
+  }
+  return !aborted_;
+}
+
+bool path_stream::wait_for(std::chrono::milliseconds t) {
+  const auto until = steady::now() + t;
+  while (!aborted_ && steady::now() < until) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - steady::now()).count();
+    serve(static_cast<int>(std::clamp<long long>(left, 1, 20)));
+  }
+  return !aborted_;
+}
+
+bool path_stream::wait_for_operator() {
+  while (!aborted_) {
+    const key k = con_.read_key(std::chrono::milliseconds(100));
+    if (k == key::space) return true;
+    if (k == key::esc || k == key::interrupt || k == key::brake_request || k == key::stop_request)
+      aborted_ = true;
+  }
+  return false;
+}
+
+void path_stream::show(bool now) {
+  const auto t = steady::now();
+  if (!now && t - last_shown_ < std::chrono::milliseconds(json_ ? 200 : 100)) return;
+  last_shown_ = t;
+  if (live_) {
+    std::cout << "\r" << progress_(status_, done(), false) << "\033[K" << std::flush;
+    drawn_ = true;
+  } else if (json_) {
+    std::cout << progress_(status_, done(), true) << "\n" << std::flush;
+  }
+}
+
+void path_stream::show_now() {
+  status_ = path_.status();
+  show(true);
+}
+
+void path_stream::finish() {
+  show_now();
+  if (drawn_) std::cout << "\n" << std::flush;
+  drawn_ = false;
+}
+
+void path_stream::say(const std::string &text) {
+  if (drawn_) std::cout << "\r\033[K";
+  std::cout << text << "\n" << std::flush;
+  drawn_ = false;
+}
+
+}  // namespace x4ctl

@@ -1,0 +1,75 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl: streaming segments into a port's path queue while serving the
+// user (keys, signals) and redrawing the progress; shared by `x4ctl path`
+// and `x4ctl gcode`.
+#ifndef X4CTL_PATH_STREAM_HPP
+#define X4CTL_PATH_STREAM_HPP
+
+#include <chrono>
+#include <functional>
+#include <string>
+
+#include "term.hpp"
+#include "x4step_path.hpp"
+
+namespace x4ctl {
+
+class path_stream {
+ public:
+  /// One progress record for the status (done: segments completed since
+  /// the stream began): a line to redraw on a terminal, or a JSON object.
+  using progress_fn = std::function<std::string(const x4step::path_status &, std::uint64_t done, bool json)>;
+
+  /// keyboard: read keys from a terminal on stdin: space holds and
+  /// resumes, ESC aborts (hold, then flush), + and - change the override
+  /// by 10 %. Always: Ctrl-C, SIGTERM, `x4ctl brake` abort; `x4ctl stop` stops.
+  path_stream(x4step::controller &ctl, unsigned override_percent, bool json, bool keyboard,
+              progress_fn progress);
+  ~path_stream();
+  path_stream(const path_stream &) = delete;
+  path_stream &operator=(const path_stream &) = delete;
+
+  /// Queues s, waiting for room; false once the path was aborted (then
+  /// nothing more is queued).
+  bool push(const x4step::segment &s);
+  /// Queues what fits of [s, s + n) now; how many.
+  std::size_t push_some(const x4step::segment *s, std::size_t n);
+  /// Waits until the path stands at its end (a hold is waited out); false: aborted.
+  bool drain();
+  /// Waits for the time given, serving keys; false: aborted.
+  bool wait_for(std::chrono::milliseconds t);
+  /// Waits for space (go on) or ESC (abort) with the path at rest; false: aborted.
+  bool wait_for_operator();
+  /// Shows the progress now.
+  void show_now();
+  /// Shows the last progress and ends its line: what is printed next stays below it.
+  void finish();
+  /// Prints a line of text between progress redraws (a message, a pause).
+  void say(const std::string &text);
+
+  bool aborted() const noexcept { return aborted_; }
+  const x4step::path_status &status() const noexcept { return status_; }
+  std::uint64_t done() const noexcept { return status_.done - base_; }
+  unsigned override_percent() const noexcept { return override_; }
+
+ private:
+  void serve(int poll_ms);
+  void take(key k);
+  void show(bool now);
+
+  x4step::controller &ctl_;
+  x4step::path path_;
+  bool json_, live_;
+  std_console con_;
+  progress_fn progress_;
+  unsigned override_;
+  bool aborted_ = false;
+  bool drawn_ = false;  // a live line is on the screen
+  std::uint64_t base_ = 0;
+  x4step::path_status status_;
+  std::chrono::steady_clock::time_point last_shown_;
+};
+
+}  // namespace x4ctl
+
+#endif  // X4CTL_PATH_STREAM_HPP
