@@ -7,7 +7,8 @@
 # one test fail (KILLED); one that all tests pass is SURVIVED, and one that
 # cannot be applied (its text is not on exactly one line) or does not build
 # is INVALID. Prints one line per mutation and a score line; exits non-zero
-# if any mutation survived or was invalid.
+# if any mutation survived or was invalid. The mutations are tried side by
+# side, one worker per CPU (X4_MUTATION_JOBS).
 #
 # The working tree is never touched: the engine's files are copied to
 # $BUILD/mutation (default build/mutation), kept there between runs, and
@@ -47,7 +48,10 @@ cflags="-std=c11 -O1 -Dnoinline=__attribute__((noinline)) -I$top/include/uapi"
 cxxflags="-std=c++17 -O1 $(pkg-config --cflags gtest_main 2>/dev/null)"
 ldlibs=$(pkg-config --libs gtest_main gtest 2>/dev/null || echo "-lgtest_main -lgtest -pthread")
 
-mkdir -p "$work/src" "$work/mut" "$work/obj/engine" "$work/obj/mut" "$work/obj/tests" "$work/bin" "$work/log"
+# The baseline's directories; each mutation worker has its own $mut (the
+# mutated sources), $omut (their objects), $bin (tests) and $wlog (logs).
+mut=$work/mut omut=$work/obj/mut bin=$work/bin wlog=$work/log
+mkdir -p "$work/src" "$work/obj/engine" "$work/obj/tests" "$bin" "$wlog"
 
 # Copy a file only if its content changed, so that objects stay valid.
 sync() { # SRC DST
@@ -55,7 +59,6 @@ sync() { # SRC DST
 }
 
 # The pristine copy of the engine's files and of the tests; nothing else.
-rm -f "$work/mut"/*
 keep="$files engine_test.cpp positioning_test.cpp lateness_test.cpp engine_ref.cpp engine_ref.h"
 for f in "$work/src"/*; do
 	case " $keep " in *" $(basename "$f") "*) ;; *) rm -f "$f" ;; esac
@@ -102,7 +105,7 @@ for p in $pids; do wait "$p" || fail_build "$work/log/"; done
 # Link the three tests against the engine objects given.
 link() { # ENGINE_OBJS...
 	for t in engine_test positioning_test lateness_test path_test; do
-		$CXX -o "$work/bin/$t" "$work/obj/tests/$t.o" "$work/obj/tests/engine_ref.o" "$@" $ldlibs || return 1
+		$CXX -o "$bin/$t" "$work/obj/tests/$t.o" "$work/obj/tests/engine_ref.o" "$@" $ldlibs || return 1
 	done
 }
 
@@ -116,11 +119,11 @@ failed_re='s/^\[  FAILED  \] \([A-Za-z0-9_/]*\.[A-Za-z0-9_./]*\) .*/\1/p'
 run_tests() { # FILTER
 	local t rc
 	for t in $tests; do
-		(ulimit -v 4000000; timeout 120 "$work/bin/$t" --gtest_brief=1 ${1:+"--gtest_filter=$1"} \
-			>"$work/log/$t.out" 2>&1) 2>/dev/null
+		(ulimit -v 4000000; timeout 120 "$bin/$t" --gtest_brief=1 ${1:+"--gtest_filter=$1"} \
+			>"$wlog/$t.out" 2>&1) 2>/dev/null
 		rc=$?
 		if [ $rc -ne 0 ]; then
-			failed=$(sed -n "$failed_re" "$work/log/$t.out" | head -n 1)
+			failed=$(sed -n "$failed_re" "$wlog/$t.out" | head -n 1)
 			case $rc in
 			124) failed="$t: timeout" ;;
 			0 | 1) failed="$t: ${failed:-exit $rc}" ;;
@@ -140,7 +143,7 @@ for c in $csrcs; do engine_objs="$engine_objs $work/obj/engine/${c%.c}.o"; done
 link $engine_objs >"$work/log/link.build" 2>&1 || fail_build "$work/log/link.build"
 exclude=""
 for t in $tests; do
-	(ulimit -v 4000000; timeout 300 "$work/bin/$t" --gtest_brief=1 >"$work/log/$t.baseline" 2>&1) 2>/dev/null
+	(ulimit -v 4000000; timeout 300 "$bin/$t" --gtest_brief=1 >"$work/log/$t.baseline" 2>&1) 2>/dev/null
 	rc=$?
 	names=$(sed -n "$failed_re" "$work/log/$t.baseline" | sort -u)
 	if [ $rc -gt 1 ] || { [ $rc -eq 1 ] && [ -z "$names" ]; }; then
@@ -163,22 +166,19 @@ locate() { # TEXT
 	printf '%s\n' "$hits" | cut -d: -f1,2
 }
 
-total=0 killed=0 survived=0 invalid=0
-while IFS= read -r entry || [ -n "$entry" ]; do
-	case $entry in '' | '#'*) continue ;; esac
+# Try one mutation; print its one result line.
+mutate() { # ENTRY
+	local entry=$1 orig repl what where file line name objs built c f
 	orig=$(printf '%s' "$entry" | cut -f1)
 	repl=$(printf '%s' "$entry" | cut -f2)
 	what=$(printf '%s' "$entry" | cut -f3)
-	total=$((total + 1))
 	if [ "$(printf '%s' "$entry" | awk -F'\t' '{print NF}')" -ne 3 ]; then
 		echo "INVALID  $entry: not original<TAB>replacement<TAB>description"
-		invalid=$((invalid + 1))
-		continue
+		return
 	fi
 	if ! where=$(locate "$orig"); then
 		echo "INVALID  $what: \"$orig\" $where"
-		invalid=$((invalid + 1))
-		continue
+		return
 	fi
 	file=${where%:*}
 	line=${where##*:}
@@ -191,52 +191,83 @@ while IFS= read -r entry || [ -n "$entry" ]; do
 			$0 = substr($0, 1, i - 1) ENVIRON["REPL"] substr($0, i + length(o))
 		}
 		{ print }
-		END { exit bad }' "$work/src/$name" >"$work/mut/$name"; then
+		END { exit bad }' "$work/src/$name" >"$mut/$name"; then
 		echo "INVALID  $what: \"$orig\" is on $name:$line more than once"
-		invalid=$((invalid + 1))
-		continue
+		return
 	fi
 	objs=""
 	built=true
-	: >"$work/log/mutant.build"
+	: >"$wlog/mutant.build"
 	case $name in
 	*.c)
 		for c in $csrcs; do
 			if [ "$c" = "$name" ]; then
-				cp "$work/src"/*.h "$work/mut/" 2>/dev/null
-				$CC $cflags -I"$work/mut" -c "$work/mut/$c" -o "$work/obj/mut/${c%.c}.o" \
-					>>"$work/log/mutant.build" 2>&1 || built=false
-				objs="$objs $work/obj/mut/${c%.c}.o"
+				cp "$work/src"/*.h "$mut/" 2>/dev/null
+				$CC $cflags -I"$mut" -c "$mut/$c" -o "$omut/${c%.c}.o" \
+					>>"$wlog/mutant.build" 2>&1 || built=false
+				objs="$objs $omut/${c%.c}.o"
 			else
 				objs="$objs $work/obj/engine/${c%.c}.o"
 			fi
 		done
 		;;
 	*.h) # every engine file sees the mutated header
-		for f in "$work/src"/*; do [ -e "$work/mut/$(basename "$f")" ] || cp "$f" "$work/mut/"; done
+		for f in "$work/src"/*; do [ -e "$mut/$(basename "$f")" ] || cp "$f" "$mut/"; done
 		for c in $csrcs; do
-			$CC $cflags -I"$work/mut" -c "$work/mut/$c" -o "$work/obj/mut/${c%.c}.o" \
-				>>"$work/log/mutant.build" 2>&1 || built=false
-			objs="$objs $work/obj/mut/${c%.c}.o"
+			$CC $cflags -I"$mut" -c "$mut/$c" -o "$omut/${c%.c}.o" \
+				>>"$wlog/mutant.build" 2>&1 || built=false
+			objs="$objs $omut/${c%.c}.o"
 		done
 		;;
 	esac
 	# shellcheck disable=SC2086
-	$built && link $objs >>"$work/log/mutant.build" 2>&1 || built=false
-	rm -f "$work/mut"/*
+	$built && link $objs >>"$wlog/mutant.build" 2>&1 || built=false
+	rm -f "$mut"/*
 	if ! $built; then
-		echo "INVALID  $what ($name:$line): does not build: $(grep -m 1 'error' "$work/log/mutant.build")"
-		invalid=$((invalid + 1))
-		continue
+		echo "INVALID  $what ($name:$line): does not build: $(grep -m 1 'error' "$wlog/mutant.build")"
+		return
 	fi
 	if run_tests "$filter"; then
 		echo "KILLED   $what ($name:$line) by $failed"
-		killed=$((killed + 1))
 	else
 		echo "SURVIVED $what ($name:$line)"
-		survived=$((survived + 1))
 	fi
+}
+
+# The mutations, one worker per CPU (X4_MUTATION_JOBS), each with its own
+# directories; the results in the order of the list.
+entries=()
+while IFS= read -r entry || [ -n "$entry" ]; do
+	case $entry in '' | '#'*) continue ;; esac
+	entries+=("$entry")
 done <"$list"
+workers=${X4_MUTATION_JOBS:-$(nproc)}
+case $workers in '' | 0* | *[!0-9]*)
+	echo "mutation run: X4_MUTATION_JOBS wants a positive number, not '$workers'" >&2
+	exit 2 ;;
+esac
+rm -rf "$work/res"
+mkdir -p "$work/res"
+for w in $(seq "$workers"); do
+	(
+		mut=$work/mut$w omut=$work/obj/mut$w bin=$work/bin$w wlog=$work/log/w$w
+		mkdir -p "$mut" "$omut" "$bin" "$wlog"
+		rm -f "$mut"/*
+		for i in "${!entries[@]}"; do
+			[ $((i % workers + 1)) = "$w" ] && mutate "${entries[i]}" >"$work/res/$i"
+		done
+	) &
+done
+wait
+total=${#entries[@]} killed=0 survived=0 invalid=0
+for i in "${!entries[@]}"; do
+	cat "$work/res/$i"
+	case $(cat "$work/res/$i") in
+	KILLED*) killed=$((killed + 1)) ;;
+	SURVIVED*) survived=$((survived + 1)) ;;
+	*) invalid=$((invalid + 1)) ;;
+	esac
+done
 
 echo "mutation score: $killed of $total killed, $survived survived, $invalid invalid ($(($(date +%s) - start)) s)"
 [ "$total" -gt 0 ] && [ "$survived" -eq 0 ] && [ "$invalid" -eq 0 ]

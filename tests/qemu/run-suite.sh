@@ -5,13 +5,15 @@
 # against its headers and run every guest test under tests/qemu/run-guest.sh.
 #
 # Usage: tests/qemu/run-suite.sh [-k KVER_SUBSTRING]... [-t TEST]... [-j JOBS] [-v]
-#   -k/-t select kernels/tests (default: all); -j runs JOBS kernels side by
-#   side (default: X4_QEMU_JOBS or the number of CPUs); -v streams the guest
-#   consoles (and runs one kernel at a time). X4_DEBUGKERNEL=1 adds the debug
-#   kernel (tests/debugkernel) to the kernels.
+#   -k/-t select kernels/tests (default: all); -j runs JOBS guests side by
+#   side (default: X4_QEMU_JOBS or the number of CPUs), each test on each
+#   kernel one guest, the longest tests first; -v streams the guest consoles
+#   (to stderr, one guest at a time). X4_DEBUGKERNEL=1 adds the debug kernel
+#   (tests/debugkernel) to the kernels.
 # Output: one "PASS|FAIL|SKIP <test> <kver> [(<seconds> s)]" line per test and
-# kernel (SKIP: the test does not apply to that kernel, with why; the time of a
-# test that ran, to keep the suite's budget in sight), then "N passed, M failed".
+# kernel, as the tests end (SKIP: the test does not apply to that kernel, with
+# why; the time of a test that ran, to keep the suite's budget in sight), then
+# "N passed, M failed".
 # Logs: build/qemu/<kver>/<test>/ (console.log, dmesg.log, lpt.log,
 # lpt-test.log, run.log, host-check.log), module build: build/qemu/<kver>/src.
 set -euo pipefail
@@ -20,33 +22,36 @@ top=$(cd "$(dirname "$0")/../.." && pwd)
 qdir=$top/tests/qemu
 bdir=${X4_QEMU_BUILD:-$top/build/qemu}
 
-# The tests: "name|guest script|extra static bins|run-guest flags|host check".
-# Paths are relative to the repository. Bins are space-separated; the host
-# check (optional) runs after a passing guest as `CHECK OUTDIR KVER` with
-# X4TRACE set to a built tools/x4trace, e.g. to assert on edge counts in
-# OUTDIR/lpt-test.log; its status decides the test.
-# @KOUT@ in flags stands for the kernel's build directory (x4vport.ko).
+# The tests: "name|guest script|extra static bins|run-guest flags|host
+# check|seconds". Paths are relative to the repository. Bins are
+# space-separated; the host check (optional) runs after a passing guest as
+# `CHECK OUTDIR KVER` with X4TRACE set to a built tools/x4trace, e.g. to
+# assert on edge counts in OUTDIR/lpt-test.log; its status decides the test.
+# In flags @KOUT@ stands for the kernel's build directory (x4vport.ko), @OUT@
+# for the test's OUTDIR (tests of a kernel run side by side). Seconds: about
+# how long the test takes on Debian's 6.12, for the longest to start first
+# (empty: 60).
 g=build/guest
 tests=(
-	"smoke|tests/qemu/smoke.sh|||tests/qemu/check-no-steps.sh"
-	"module|tests/guest/module.sh|$g/module_test||tests/qemu/check-segments.sh"
-	"keys|tests/guest/keys.sh|$g/keys_test||tests/qemu/check-segments.sh"
-	"cpp|tests/guest/cpp.sh|$g/cpp_test|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh"
-	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @KOUT@/mon.sock|tests/qemu/check-segments.sh"
-	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko|"
-	"fuzz|tests/fuzz/fuzz.sh|$g/ioctl_fuzz||tests/fuzz/check-no-edges.sh"
-	"reliability|tests/guest/reliability.sh|$g/reliability_test||tests/qemu/check-segments.sh"
-	"phase|tests/guest/phase.sh|$g/phase_test||tests/qemu/check-phase.sh"
-	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/x4ctl/check-json.sh"
-	"x4ctl-keys|tests/x4ctl/guest-x4ctl-keys.sh|$g/x4ctl|--monitor @KOUT@/mon.sock|"
-	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko|"
-	"speed|tests/guest/speed.sh|$g/speed_bench|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko|"
-	"discipline|tests/guest/discipline.sh|$g/discipline_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|"
-	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh"
-	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko|"
-	"config|tests/guest/config.sh|$g/config_test||tests/qemu/check-config.sh"
-	"path|tests/guest/path.sh|$g/path_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh"
-	"faith|tests/faith/faith.sh|$g/faith_moves tests/faith/faith.machine|--icount --module @KOUT@/src/tests/kmod/x4vport.ko|tests/faith/check-faith.sh"
+	"smoke|tests/qemu/smoke.sh|||tests/qemu/check-no-steps.sh|8"
+	"module|tests/guest/module.sh|$g/module_test||tests/qemu/check-segments.sh|10"
+	"keys|tests/guest/keys.sh|$g/keys_test||tests/qemu/check-segments.sh|10"
+	"cpp|tests/guest/cpp.sh|$g/cpp_test|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh|13"
+	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @OUT@/mon.sock|tests/qemu/check-segments.sh|15"
+	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko||30"
+	"fuzz|tests/fuzz/fuzz.sh|$g/ioctl_fuzz||tests/fuzz/check-no-edges.sh|56"
+	"reliability|tests/guest/reliability.sh|$g/reliability_test||tests/qemu/check-segments.sh|50"
+	"phase|tests/guest/phase.sh|$g/phase_test||tests/qemu/check-phase.sh|20"
+	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/x4ctl/check-json.sh|65"
+	"x4ctl-keys|tests/x4ctl/guest-x4ctl-keys.sh|$g/x4ctl|--monitor @OUT@/mon.sock||46"
+	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko||30"
+	"speed|tests/guest/speed.sh|$g/speed_bench|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko||48"
+	"discipline|tests/guest/discipline.sh|$g/discipline_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko||35"
+	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh|45"
+	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko||20"
+	"config|tests/guest/config.sh|$g/config_test||tests/qemu/check-config.sh|18"
+	"path|tests/guest/path.sh|$g/path_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh|45"
+	"faith|tests/faith/faith.sh|$g/faith_moves tests/faith/faith.machine|--icount --module @KOUT@/src/tests/kmod/x4vport.ko|tests/faith/check-faith.sh|22"
 )
 
 # The kernels the module must pass on: label, glob under /boot, exclusion,
@@ -87,27 +92,10 @@ result() { # PASS|FAIL|SKIP TEST KVER [WHY]: with the test's time once it ran
 	[ -z "${4:-}" ] || echo "    $4"
 }
 
-# Host checks use x4trace; build it once if its source is there.
 mkdir -p "$bdir"
-if [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
-	if g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tools/x4trace/x4trace.cpp" \
-		2>"$bdir/x4trace-build.log"; then
-		export X4TRACE=$bdir/x4trace
-	else
-		echo "run-suite: building x4trace failed, see $bdir/x4trace-build.log" >&2
-	fi
-fi
 
-# The guest programs are the same for every kernel.
-if ! "$top/tests/guest/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1; then
-	cat "$bdir/guest-build.log" >&2
-	echo "FAIL building the guest programs, see $bdir/guest-build.log"
-	echo "0 passed, 1 failed"
-	exit 1
-fi
-
-# Run the selected tests on one kernel, printing result lines.
-kernel_release() { # GLOB EXCLUDE: the newest /boot/vmlinuz-* release matching
+# The newest /boot/vmlinuz-* release matching GLOB, without EXCLUDE.
+kernel_release() { # GLOB EXCLUDE
 	local f
 	cd /boot && for f in $1; do
 		[ -e "$f" ] || continue
@@ -116,30 +104,20 @@ kernel_release() { # GLOB EXCLUDE: the newest /boot/vmlinuz-* release matching
 	done | sort -V | tail -n1
 }
 
-# Run the selected tests on one kernel, printing result lines.
-run_kernel() { # KIND|RELEASE (empty: not installed)
-	local label glob exclude skip kver kdir kout why t name script bins flags check out args rc why2 b started took=""
-	IFS='|' read -r label glob exclude skip kver <<<"$1"
-	if [ -z "$kver" ]; then
-		for t in "${tests[@]}"; do
-			name=${t%%|*}
-			selected "$name" "${want_t[@]}" || continue
-			result FAIL "$name" "$label" "no /boot/$glob: install the Debian kernel package (tools/deps.sh test)"
-		done
-		return
-	fi
+# Build x4step.ko and the test modules for one kernel in its own copy of the
+# sources (one tree cannot hold several builds), and unpack the kernel for a
+# faster boot (pvh-kernel.sh). Writes why it cannot run tests to $kout/why
+# (empty: it can).
+prepare_kernel() { # KVER
+	local kver=$1 kdir kout why=""
 	kdir=/lib/modules/$kver/build
 	[ -d "$kdir" ] || kdir=/usr/src/linux-headers-$kver
 	kout=$bdir/$kver
-
-	# Each kernel builds in its own copy: one tree cannot hold three builds.
-	why=""
+	rm -rf "$kout/src" "$kout/vmlinux-pvh"
+	mkdir -p "$kout/src/tests"
 	if [ ! -d "$kdir" ]; then
 		why="no headers for $kver (linux-headers package)"
 	else
-		rm -rf "$kout/src"
-		mkdir -p "$kout/src"
-		mkdir -p "$kout/src/tests"
 		cp -a "$top/Kbuild" "$top/kmod" "$top/include" "$kout/src/"
 		cp -a "$top/tests/kmod" "$kout/src/tests/"
 		find "$kout/src" \( -name '*.o' -o -name '*.ko' -o -name '*.mod*' -o -name '.*.cmd' \
@@ -152,56 +130,55 @@ run_kernel() { # KIND|RELEASE (empty: not installed)
 			why="no kmod/x4step.ko after the build, see $kout/build.log"
 		fi
 	fi
+	# Without a PVH entry (the debug kernel) the guests boot /boot's image.
+	"$qdir/pvh-kernel.sh" "/boot/vmlinuz-$kver" "$kout/vmlinux-pvh" || true
+	echo "$why" >"$kout/why"
+}
 
-	for t in "${tests[@]}"; do
-		IFS='|' read -r name script bins flags check <<<"$t"
-		took=""
-		selected "$name" "${want_t[@]}" || continue
-		if [[ " ${skip%%:*} " == *" $name "* ]]; then
-			result SKIP "$name" "$kver" "${skip#*:}"
-			continue
-		fi
-		if [ -n "$why" ]; then
-			result FAIL "$name" "$kver" "$why"
-			continue
-		fi
-		out=$kout/$name
-		rm -rf "$out"
-		mkdir -p "$out"
-		args=(--kver "$kver" --out "$out" --module "$kout/src/kmod/x4step.ko")
-		for b in $bins; do args+=(--bin "$top/$b"); done
-		# shellcheck disable=SC2206 # flags are words by design
-		args+=(${flags//@KOUT@/$kout})
-		set +e
-		started=$SECONDS
-		if [ "$verbose" = 1 ]; then
-			"$qdir/run-guest.sh" "${args[@]}" "$top/$script" 2>&1 | tee "$out/run.log"
-			rc=${PIPESTATUS[0]}
-		else
-			"$qdir/run-guest.sh" "${args[@]}" "$top/$script" >"$out/run.log" 2>&1
-			rc=$?
-		fi
-		set -e
-		took=$((SECONDS - started))
-		if [ "$rc" -ne 0 ]; then
-			case "$rc" in
-			124) why2="timeout" ;;
-			125) why2="guest crashed" ;;
-			126) why2="kernel reported problems" ;;
-			*) why2="guest status $rc" ;;
-			esac
-			result FAIL "$name" "$kver" "$why2, see $out/run.log"
-			# Show what failed without making the developer open the log.
-			tr -d '\r' <"$out/run.log" | grep -a -E '^FAIL |^run-guest:' | sed 's/^/    /' | head -n 20 || true
-			continue
-		fi
-		if [ -n "$check" ] && ! "$top/$check" "$out" "$kver" >"$out/host-check.log" 2>&1; then
-			result FAIL "$name" "$kver" "host check $check failed, see $out/host-check.log"
-			sed 's/^/    /' "$out/host-check.log" | tail -n 20
-			continue
-		fi
-		result PASS "$name" "$kver"
-	done
+# Run one test on one kernel and print its result line(s).
+run_test() { # KVER TEST
+	local kver=$1 kout name script bins flags check out args rc why2 b started took=""
+	IFS='|' read -r name script bins flags check _ <<<"$2"
+	kout=$bdir/$kver
+	out=$kout/$name
+	rm -rf "$out"
+	mkdir -p "$out"
+	args=(--kver "$kver" --out "$out" --module "$kout/src/kmod/x4step.ko")
+	[ -f "$kout/vmlinux-pvh" ] && args+=(--kernel "$kout/vmlinux-pvh")
+	for b in $bins; do args+=(--bin "$top/$b"); done
+	flags=${flags//@KOUT@/$kout}
+	# shellcheck disable=SC2206 # flags are words by design
+	args+=(${flags//@OUT@/$out})
+	set +e
+	started=$SECONDS
+	if [ "$verbose" = 1 ]; then
+		# The consoles to stderr: only result lines are counted.
+		"$qdir/run-guest.sh" "${args[@]}" "$top/$script" 2>&1 | tee "$out/run.log" >&2
+		rc=${PIPESTATUS[0]}
+	else
+		"$qdir/run-guest.sh" "${args[@]}" "$top/$script" >"$out/run.log" 2>&1
+		rc=$?
+	fi
+	set -e
+	took=$((SECONDS - started))
+	if [ "$rc" -ne 0 ]; then
+		case "$rc" in
+		124) why2="timeout" ;;
+		125) why2="guest crashed" ;;
+		126) why2="kernel reported problems" ;;
+		*) why2="guest status $rc" ;;
+		esac
+		result FAIL "$name" "$kver" "$why2, see $out/run.log"
+		# Show what failed without making the developer open the log.
+		tr -d '\r' <"$out/run.log" | grep -a -E '^FAIL |^run-guest:' | sed 's/^/    /' | head -n 20 || true
+		return
+	fi
+	if [ -n "$check" ] && ! "$top/$check" "$out" "$kver" >"$out/host-check.log" 2>&1; then
+		result FAIL "$name" "$kver" "host check $check failed, see $out/host-check.log"
+		sed 's/^/    /' "$out/host-check.log" | tail -n 20
+		return
+	fi
+	result PASS "$name" "$kver"
 }
 
 # The kernels to run, resolved to the newest release matching each kind.
@@ -213,27 +190,102 @@ for kind in "${kernel_kinds[@]}"; do
 	kinds+=("$kind|$kver")
 done
 
-# Kernels run side by side, JOBS at a time (each guest is one TCG thread);
-# each prints its block when it is done, in order.
-outs=() pids=()
-for i in "${!kinds[@]}"; do
-	outs[i]=$bdir/suite-$i.out
-	if [ "$jobs" = 1 ]; then
-		run_kernel "${kinds[i]}" | tee "${outs[i]}"
-		continue
-	fi
-	while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n || true; done
-	run_kernel "${kinds[i]}" >"${outs[i]}" 2>&1 &
-	pids[i]=$!
+# Built side by side: x4trace (host checks use it), the guest programs (the
+# same for every kernel) and each kernel's modules.
+rm -f "$bdir/x4trace"
+if [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
+	g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tools/x4trace/x4trace.cpp" \
+		>"$bdir/x4trace-build.log" 2>&1 &
+fi
+"$top/tests/guest/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1 &
+guest_build=$!
+for kind in "${kinds[@]}"; do
+	kver=${kind##*|}
+	[ -z "$kver" ] || prepare_kernel "$kver" &
 done
-if [ "$jobs" != 1 ]; then
-	for i in "${!kinds[@]}"; do
-		wait "${pids[i]}" || true
-		cat "${outs[i]}"
-	done
+if ! wait "$guest_build"; then
+	wait
+	cat "$bdir/guest-build.log" >&2
+	echo "FAIL building the guest programs, see $bdir/guest-build.log"
+	echo "0 passed, 1 failed"
+	exit 1
+fi
+wait
+if [ -x "$bdir/x4trace" ]; then
+	export X4TRACE=$bdir/x4trace
+elif [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
+	echo "run-suite: building x4trace failed, see $bdir/x4trace-build.log" >&2
 fi
 
-passed=$(cat "${outs[@]}" /dev/null | grep -c '^PASS' || true)
-failed=$(cat "${outs[@]}" /dev/null | grep -c '^FAIL' || true)
+# Every result goes to the terminal and to $all, which is counted at the end.
+all=$bdir/suite.out
+: >"$all"
+report() { # FILE
+	cat "$1"
+	cat "$1" >>"$all"
+}
+
+# One job per kernel and test that has to boot; what needs no guest (SKIP,
+# or FAIL for a kernel without headers or module) is reported at once.
+joblist=()
+for kind in "${kinds[@]}"; do
+	IFS='|' read -r label glob _ skip kver <<<"$kind"
+	why=""
+	if [ -z "$kver" ]; then
+		why="no /boot/$glob: install the Debian kernel package (tools/deps.sh test)"
+	else
+		why=$(cat "$bdir/$kver/why" 2>/dev/null || echo "preparing $kver failed, see $bdir/$kver")
+		label=$kver
+	fi
+	for ti in "${!tests[@]}"; do
+		IFS='|' read -r name _ _ _ _ secs <<<"${tests[ti]}"
+		selected "$name" "${want_t[@]}" || continue
+		if [ -n "$why" ]; then
+			result FAIL "$name" "$label" "$why"
+		elif [[ " ${skip%%:*} " == *" $name "* ]]; then
+			result SKIP "$name" "$kver" "${skip#*:}"
+		else
+			joblist+=("${secs:-60} $ti $kver")
+			continue
+		fi >"$bdir/direct.out"
+		report "$bdir/direct.out"
+	done
+done
+
+# The jobs, JOBS guests side by side (each is one TCG thread). One at a time
+# they run in order; side by side the longest start first, so that the CPUs
+# finish together. Each result is printed when its test is done.
+# (No process substitution here: wait -n would see it end.)
+[ "$jobs" = 1 ] || [ ${#joblist[@]} = 0 ] ||
+	mapfile -t joblist <<<"$(printf '%s\n' "${joblist[@]}" | sort -s -k1,1nr)"
+declare -A job_out
+running=0
+reap() { # wait for a job to end and print its result
+	local pid="" st=0
+	wait -n -p pid || st=$?
+	if [ -n "$pid" ] && [ -n "${job_out[$pid]:-}" ]; then
+		report "${job_out[$pid]}"
+		running=$((running - 1))
+	elif [ "$st" = 127 ]; then
+		running=0 # no job left to wait for
+	fi
+}
+mkdir -p "$bdir/jobs"
+for job in "${joblist[@]}"; do
+	read -r _ ti kver <<<"$job"
+	f=$bdir/jobs/$kver-${tests[ti]%%|*}.out
+	if [ "$jobs" = 1 ]; then
+		run_test "$kver" "${tests[ti]}" | tee -a "$all"
+		continue
+	fi
+	while [ "$running" -ge "$jobs" ]; do reap; done
+	run_test "$kver" "${tests[ti]}" >"$f" 2>&1 &
+	job_out[$!]=$f
+	running=$((running + 1))
+done
+while [ "$running" -gt 0 ]; do reap; done
+
+passed=$(grep -c '^PASS' "$all" || true)
+failed=$(grep -c '^FAIL' "$all" || true)
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ "$passed" -gt 0 ]
