@@ -19,7 +19,8 @@ count() { # LOGFILE: add its PASS/FAIL lines
 
 echo "== host: build and unit tests"
 if make -s userspace BUILD="$build" >"$log/build.log" 2>&1; then
-	(cd "$build" && ctest --output-on-failure -j2) >"$log/ctest.log" 2>&1
+	# --timeout: a test that hangs (a wait that never ends) fails in 5 min.
+	(cd "$build" && ctest --output-on-failure -j2 --timeout 300) >"$log/ctest.log" 2>&1
 	tail -n 3 "$log/ctest.log"
 	# One PASS/FAIL line per test case, from CTest's report: anything but
 	# "Passed" (failed, not run, timeout) fails, and so does a count that
@@ -47,6 +48,10 @@ mutation=$!
 
 echo "== static checks"
 wait $style
+st=$?
+# A check script that died without its FAIL line still fails.
+[ $st -ne 0 ] && ! grep -q '^FAIL' "$log/style.log" &&
+	echo "FAIL static checks: check-style.sh ended with status $st, see $log/style.log" >>"$log/style.log"
 grep -E '^(PASS|FAIL)' "$log/style.log"
 grep -q '^FAIL' "$log/style.log" && cat "$log/style.log"
 count "$log/style.log"

@@ -958,9 +958,8 @@ void TestLimit(int fd) {
 // 4 steps, 2 to 4 leader steps), streamed through the default queue of 256
 // at 15 000 steps/s along the path: the streamer keeps up (nothing starved,
 // one start), and at every chord junction of the cruise the path speed,
-// measured from the edges over 3 leader steps either side (about 0.5 ms:
-// the timer's jitter of a microsecond or two stays well inside the 1 %),
-// is within 1 % of the commanded speed.
+// measured from the edges over 2 to 6 leader steps either side (the median
+// of the five: 0.3 to 0.8 ms), is within 1 % of the commanded speed.
 void TestCircleBench(int fd) {
   std::printf("== benchmark: a 5000-chord circle streamed at speed\n");
   constexpr int kChords = 5000, kR = 3200;
@@ -996,9 +995,16 @@ void TestCircleBench(int fd) {
   double lo = 1e9, hi = 0;
   int junctions = 0, off = 0;
   std::string first;
-  for (size_t j = 3; j + 3 < w.st.size(); j++) {
+  for (size_t j = 6; j + 6 < w.st.size(); j++) {
     if (w.st[j].seg == w.st[j + 1].seg || w.st[j].s < 1.5 * ramp || w.st[j].s > total - 1.5 * ramp) continue;
-    const double r = (w.st[j + 3].s - w.st[j - 3].s) / (w.st[j + 3].t - w.st[j - 3].t) / kSpeed;
+    // The median over windows of 2..6 steps either side: an edge written
+    // late (the timer's rare jitter of several us) moves only the windows
+    // that end on it, a slow-down at the junction moves all of them.
+    std::array<double, 5> rs{};
+    for (size_t k = 2; k <= 6; k++)
+      rs[k - 2] = (w.st[j + k].s - w.st[j - k].s) / (w.st[j + k].t - w.st[j - k].t) / kSpeed;
+    std::nth_element(rs.begin(), rs.begin() + 2, rs.end());
+    const double r = rs[2];
     lo = std::min(lo, r);
     hi = std::max(hi, r);
     junctions++;

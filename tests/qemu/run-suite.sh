@@ -17,6 +17,12 @@
 # Logs: build/qemu/<kver>/<test>/ (console.log, dmesg.log, lpt.log,
 # lpt-test.log, run.log, host-check.log), module build: build/qemu/<kver>/src.
 set -euo pipefail
+# wait -n -p (the job queue) needs bash 5.1.
+if ((BASH_VERSINFO[0] * 100 + BASH_VERSINFO[1] < 501)); then
+	echo "run-suite: bash 5.1 or newer is needed (this is $BASH_VERSION)" >&2
+	echo "FAIL qemu suite: bash $BASH_VERSION is older than 5.1"
+	exit 1
+fi
 
 top=$(cd "$(dirname "$0")/../.." && pwd)
 qdir=$top/tests/qemu
@@ -113,7 +119,7 @@ prepare_kernel() { # KVER
 	kdir=/lib/modules/$kver/build
 	[ -d "$kdir" ] || kdir=/usr/src/linux-headers-$kver
 	kout=$bdir/$kver
-	rm -rf "$kout/src" "$kout/vmlinux-pvh"
+	rm -rf "$kout/src" "$kout/vmlinux-pvh" "$kout/why" # no stale "can run"
 	mkdir -p "$kout/src/tests"
 	if [ ! -d "$kdir" ]; then
 		why="no headers for $kver (linux-headers package)"
@@ -261,10 +267,14 @@ done
 declare -A job_out
 running=0
 reap() { # wait for a job to end and print its result
-	local pid="" st=0
+	local pid="" st=0 f
 	wait -n -p pid || st=$?
 	if [ -n "$pid" ] && [ -n "${job_out[$pid]:-}" ]; then
-		report "${job_out[$pid]}"
+		f=${job_out[$pid]}
+		# A job that died before its result line still counts, as a FAIL.
+		grep -qE '^(PASS|FAIL|SKIP) ' "$f" ||
+			echo "FAIL $(basename "$f" .out) (the job ended with status $st and no result, see $f)" >>"$f"
+		report "$f"
 		running=$((running - 1))
 	elif [ "$st" = 127 ]; then
 		running=0 # no job left to wait for
