@@ -47,10 +47,21 @@ m::machine load_machine(const config &c) {
   }
 }
 
-// Plans the whole program into out; a refused line is a usage error.
-m::plan_summary plan(const m::machine &mc, const config &c, const g::pose &start, m::planner_output &out) {
-  std::ifstream f(c.file);
+// The program's text, read once: what was checked is what runs, even if
+// the file changes meanwhile (a few MB for a large CAM file).
+std::string read_program(const config &c) {
+  std::ifstream f(c.file, std::ios::binary);
   if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+  std::ostringstream text;
+  text << f.rdbuf();
+  if (f.bad()) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+  return text.str();
+}
+
+// Plans the whole program into out; a refused line is a usage error.
+m::plan_summary plan(const m::machine &mc, const config &c, const std::string &text, const g::pose &start,
+                     m::planner_output &out) {
+  std::istringstream f(text);
   try {
     return m::plan_program(mc, f, c.file, out, start);
   } catch (const g::error &e) {
@@ -59,9 +70,8 @@ m::plan_summary plan(const m::machine &mc, const config &c, const g::pose &start
 }
 
 // The program's text alone, before the port is opened.
-void check_text(const m::machine &mc, const config &c) {
-  std::ifstream f(c.file);
-  if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+void check_text(const m::machine &mc, const config &c, const std::string &text) {
+  std::istringstream f(text);
   try {
     m::check_program(mc, f, c.file);
   } catch (const g::error &e) {
@@ -260,12 +270,13 @@ class runner : public m::planner_output {
 
 int cmd_gcode(const config &c) {
   const m::machine mc = load_machine(c);
+  const std::string text = read_program(c);
   counter n;
   if (c.check) {
-    print_summary(mc, c, plan(mc, c, g::pose{}, n), n);
+    print_summary(mc, c, plan(mc, c, text, g::pose{}, n), n);
     return 0;
   }
-  check_text(mc, c);
+  check_text(mc, c, text);
   config port_config = c;
   port_config.lpt = mc.port[3] - '0';
   x4step::controller ctl = open_controller(device_of(port_config));
@@ -274,7 +285,7 @@ int cmd_gcode(const config &c) {
   const x4step::axes_status at = ctl.get_axes();
   for (size_t a = 0; a < g::n_axes; a++)
     if (mc.axes[a]) start[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
-  const m::plan_summary total = plan(mc, c, start, n);
+  const m::plan_summary total = plan(mc, c, text, start, n);
   const bool keyboard = ::isatty(STDIN_FILENO);
   if (n.pauses && !keyboard)
     throw usage_error("gcode: " + c.file + ": " + std::to_string(n.pauses) +
@@ -301,7 +312,7 @@ int cmd_gcode(const config &c) {
                    });
     runner r(mc, ctl, ps, meter, c.json);
     try {
-      plan(mc, c, start, r);
+      plan(mc, c, text, start, r);
       ps.drain();
     } catch (const run_aborted &) {
       ps.drain();

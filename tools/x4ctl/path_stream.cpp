@@ -77,6 +77,9 @@ void path_stream::take(key k) {
 void path_stream::serve(int poll_ms) {
   take(con_.read_key(std::chrono::milliseconds(0)));
   status_ = path_.status();
+  // At rest with segments missing: the kernel flushed them (a limit
+  // switch, a stop from elsewhere), which is no end of the program.
+  if (at_rest(status_) && done() < pushed_) aborted_ = true;
   show(false);
   if (poll_ms <= 0) return;
   // Room comes as segments end, the end when the path stops: the library's
@@ -95,6 +98,7 @@ bool path_stream::push(const x4step::segment &s) {
   while (!aborted_) {
     try {
       if (path_.try_append(&s, 1)) {
+        pushed_++;
         serve(0);
         return !aborted_;
       }
@@ -111,6 +115,7 @@ bool path_stream::push(const x4step::segment &s) {
 
 std::size_t path_stream::push_some(const x4step::segment *s, std::size_t n) {
   const std::size_t queued = aborted_ ? 0 : path_.try_append(s, n);
+  pushed_ += queued;
   serve(0);
   return queued;
 }

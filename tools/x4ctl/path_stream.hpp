@@ -34,7 +34,8 @@ class path_stream {
   bool push(const x4step::segment &s);
   /// Queues what fits of [s, s + n) now; how many.
   std::size_t push_some(const x4step::segment *s, std::size_t n);
-  /// Waits until the path stands at its end (a hold is waited out); false: aborted.
+  /// Waits until the path stands at its end (a hold is waited out); false:
+  /// aborted, by the user or by the kernel (a flush: fewer done than queued).
   bool drain();
   /// Waits for the time given, serving keys; false: aborted.
   bool wait_for(std::chrono::milliseconds t);
@@ -64,8 +65,9 @@ class path_stream {
   progress_fn progress_;
   unsigned override_;
   bool aborted_ = false;
-  bool drawn_ = false;  // a live line is on the screen
-  std::uint64_t base_ = 0;
+  bool drawn_ = false;        // a live line is on the screen
+  std::uint64_t base_ = 0;    // the port's done count when the stream began
+  std::uint64_t pushed_ = 0;  // segments queued by this stream
   x4step::path_status status_;
   std::chrono::steady_clock::time_point last_shown_;
 };
