@@ -102,9 +102,14 @@ options options_from_env() {
       refuse("X4STEP_SIM_TIME=" + v + ": use virtual (as fast as possible) or real (the default)");
   }
   if (const char *v = std::getenv("X4STEP_SIM_VCD"); v && *v) o.vcd = v;
+  // The terminal only when asked: reading it takes it out of canonical
+  // mode while a move runs, which a program may not expect.
   if (const char *k = std::getenv("X4STEP_SIM_KEYS"); k && *k) {
-    o.terminal_keys = false;  // a script is the keyboard
-    if (std::string(k) != "none") o.keys = parse_keys(k);
+    const std::string v(k);
+    if (v == "tty")
+      o.terminal_keys = true;
+    else if (v != "none")
+      o.keys = parse_keys(v);
   }
   if (const char *m = std::getenv("X4STEP_SIM_MACHINE"); m && *m) {
     std::ifstream in(m);

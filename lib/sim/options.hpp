@@ -28,7 +28,7 @@ struct options {
   time_mode time = time_mode::real;
   std::string vcd;                 ///< a VCD file of every pin change, "" none
   std::vector<scripted_key> keys;  ///< X4STEP_SIM_KEYS, in time order
-  bool terminal_keys = true;       ///< keys from stdin when it is a terminal
+  bool terminal_keys = false;      ///< X4STEP_SIM_KEYS=tty: keys from stdin, a terminal
   machine model;                   ///< X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS
 };
 
@@ -48,7 +48,7 @@ bool is_sim_name(const std::string &name);
 /// naming the good spellings otherwise.
 int port_number(const std::string &name);
 /// X4STEP_SIM_TIME (virtual|real, default real), X4STEP_SIM_VCD,
-/// X4STEP_SIM_KEYS (a script, or "none": not even the terminal's),
+/// X4STEP_SIM_KEYS (a script, "tty": the terminal's keys, "none"),
 /// X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS; throws an error naming the
 /// variable (or the machine file and line) and what to fix.
 options options_from_env();

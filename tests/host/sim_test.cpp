@@ -24,6 +24,16 @@ using x4step::controller;
 
 namespace {
 
+// The tests set the variables they need; none comes in from the shell
+// that runs them (a machine file, a key script, X4STEP_SIM_KEYS=tty).
+// For all of sim_test: sim_path_test and sim_keys_test link in here.
+const bool environment_cleared = [] {
+  for (const char *v : {"X4STEP_SIM", "X4STEP_SIM_TIME", "X4STEP_SIM_VCD", "X4STEP_SIM_KEYS",
+                        "X4STEP_SIM_MACHINE", "X4STEP_SIM_INPUTS"})
+    unsetenv(v);
+  return true;
+}();
+
 class Sim : public ::testing::Test {
  protected:
   void SetUp() override {
