@@ -146,9 +146,14 @@ void run(x4step::controller &c) {
   c.wait();
   report(c, "interpolated");
   c.set_output(x4step::signal::one, true);
-  // An endless move, braked on its way.
+  // An endless move, braked on its way: right after its 120th step (its
+  // start cleared the counters), which the status shows well within the
+  // 333 us to the next, so the brake comes between the same two steps on
+  // the module and on the simulator (a brake after a fixed wait would
+  // depend on the program's wake-up).
   c.move_endless(axis(3), x4step::direction::negative, 3000, 40ms);
-  c.wait(60ms);
+  while (std::llabs(c.steps(axis(3))) < 120) {
+  }
   c.brake();
   c.wait();
   report(c, "endless");
