@@ -70,7 +70,8 @@ enum opt_id {
   opt_accel,
   opt_deviation,
   opt_override,
-  opt_machine
+  opt_machine,
+  opt_no_pause
 };
 
 struct option_spec {
@@ -466,6 +467,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("machine", 'm', true, opt_machine);
       add("override", 'o', true, opt_override);
       add("check", 'c', false, opt_check);
+      add("no-pause", 0, false, opt_no_pause);
       add("json", 'j', false, opt_json);
       break;
     default:
@@ -603,6 +605,9 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       case opt_machine:
         if (o.value.empty()) throw usage_error(prefix + "--machine needs a file");
         c.machine = o.value;
+        break;
+      case opt_no_pause:
+        c.no_pause = true;
         break;
       case opt_ref:
         c.ref = parse_input(o.value, prefix);
@@ -1284,9 +1289,10 @@ std::string help_text(subcommand c) {
              "Keys on a terminal: space holds and resumes, ESC aborts (hold, then flush),\n"
              "+ and - change the feed override by 10 %. Ctrl-C aborts too; 'x4ctl stop'\n"
              "stops at once. M0, M1 and M6 wait for space (or ESC) with the path at\n"
-             "rest: such a program needs a terminal. Outputs the machine file names for\n"
-             "spindle and coolant follow M3/M4/M5 and M7/M8/M9, and are switched off\n"
-             "at the end. The machine file's PORT is the port unless -d is given.\n"
+             "rest: such a program needs a terminal, or --no-pause. Outputs the machine\n"
+             "file names for spindle and coolant follow M3/M4/M5 and M7/M8/M9, and are\n"
+             "switched off at the end. The machine file's PORT is the port unless -d is\n"
+             "given.\n"
              "\n"
              "Options:\n"
              "  -m, --machine=FILE   the machine file (default: $X4STEP_MACHINE, else\n"
@@ -1295,6 +1301,8 @@ std::string help_text(subcommand c) {
              "                       segments, path length, estimated time, extents), as\n"
              "                       if the machine stood at machine zero; nothing moves\n"
              "  -o, --override=PCT   feed override, 1..200 percent (100)\n"
+             "      --no-pause       M0, M1 and M6 stop the path, say so and go on without\n"
+             "                       waiting (a preview on the simulated port, a script)\n"
              "  -j, --json           the summary, progress and result as JSON lines\n" +
              std::string(port_help) +
              "\n"

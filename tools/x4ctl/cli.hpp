@@ -118,6 +118,7 @@ struct config {
   path_defaults path;               ///< path (c.file: the path, "-" stdin; c.check: only check)
   unsigned override_percent = 100;  ///< path, gcode: feed override
   std::string machine;              ///< gcode --machine; empty: $X4STEP_MACHINE, else /etc/x4step/machine.ini
+  bool no_pause = false;            ///< gcode: M0/M1/M6 do not wait for the operator
 };
 
 /// Parses and checks the whole command line (values too, without a device).

@@ -206,8 +206,9 @@ struct run_aborted {};
 // The run pass: segments into the queue; dwells, pauses and outputs with the path at rest.
 class runner : public m::planner_output {
  public:
-  runner(const m::machine &mc, x4step::controller &ctl, path_stream &ps, progress_meter &meter, bool json)
-      : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json) {}
+  runner(const m::machine &mc, x4step::controller &ctl, path_stream &ps, progress_meter &meter, bool json,
+         bool no_pause)
+      : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json), no_pause_(no_pause) {}
 
   void segment(const x4step::segment &s, const m::segment_info &i) override {
     meter_.queued(i);
@@ -219,8 +220,14 @@ class runner : public m::planner_output {
   }
   void pause(bool optional, int tool) override {
     rest();
-    say(tool >= 0 ? "M6: change to tool " + std::to_string(tool) + ", then press space (ESC aborts)"
-                  : std::string(optional ? "M1" : "M0") + ": paused; space goes on, ESC aborts");
+    const std::string what = tool >= 0  ? "M6: change to tool " + std::to_string(tool)
+                             : optional ? "M1"
+                                        : "M0";
+    if (no_pause_) {
+      say(what + ": not waited for (--no-pause)");
+      return;
+    }
+    say(tool >= 0 ? what + ", then press space (ESC aborts)" : what + ": paused; space goes on, ESC aborts");
     if (!ps_.wait_for_operator()) throw run_aborted{};
   }
   void spindle(bool on) override { set(mc_.spindle, on); }
@@ -254,6 +261,7 @@ class runner : public m::planner_output {
   path_stream &ps_;
   progress_meter &meter_;
   bool json_;
+  bool no_pause_;
 };
 
 }  // namespace
@@ -276,7 +284,7 @@ int cmd_gcode(const config &c) {
     if (mc.axes[a]) start[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
   const m::plan_summary total = plan(mc, c, start, n);
   const bool keyboard = ::isatty(STDIN_FILENO);
-  if (n.pauses && !keyboard)
+  if (n.pauses && !keyboard && !c.no_pause)
     throw usage_error("gcode: " + c.file + ": " + std::to_string(n.pauses) +
                       " pauses for the operator (M0, M1, M6): run it from a terminal");
   // Only a program found good changes the port's settings.
@@ -299,7 +307,7 @@ int cmd_gcode(const config &c) {
                    [&](const x4step::path_status &s, std::uint64_t done, bool json) {
                      return meter.record(s, done, json);
                    });
-    runner r(mc, ctl, ps, meter, c.json);
+    runner r(mc, ctl, ps, meter, c.json, c.no_pause);
     try {
       plan(mc, c, start, r);
       ps.drain();
