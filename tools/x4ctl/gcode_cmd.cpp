@@ -14,7 +14,9 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <sstream>
+#include <utility>
 
 #include "commands.hpp"
 #include "json.hpp"
@@ -39,33 +41,49 @@ std::string machine_path(const config &c) {
   return env && *env ? env : "/etc/x4step/machine.ini";
 }
 
-m::machine load_machine(const config &c) {
+m::machine load_machine(const config &c, const std::string &command) {
   try {
     return m::read_file(machine_path(c));
   } catch (const m::error &e) {
-    throw usage_error(std::string("gcode: ") + e.what());
+    throw usage_error(command + ": " + e.what());
   }
 }
 
+// A program: a file (read once per pass), or mdi's blocks in memory.
+struct program {
+  std::string name;  // what errors give: the file, or "mdi"
+  std::string text;  // mdi: the blocks; a file: empty
+  bool is_file;
+  std::string command() const { return is_file ? "gcode" : "mdi"; }
+
+  // Before an error: a file's names the command; mdi's names itself ("mdi:2:7: ...").
+  std::string prefix() const { return is_file ? "gcode: " : ""; }
+
+  std::unique_ptr<std::istream> open() const {
+    if (!is_file) return std::make_unique<std::istringstream>(text);
+    auto f = std::make_unique<std::ifstream>(name);
+    if (!*f) throw failure("cannot read " + name + ": " + std::strerror(errno), errno);
+    return f;
+  }
+};
+
 // Plans the whole program into out; a refused line is a usage error.
-m::plan_summary plan(const m::machine &mc, const config &c, const g::pose &start, m::planner_output &out) {
-  std::ifstream f(c.file);
-  if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &start, m::planner_output &out) {
+  const std::unique_ptr<std::istream> in = p.open();
   try {
-    return m::plan_program(mc, f, c.file, out, start);
+    return m::plan_program(mc, *in, p.name, out, start);
   } catch (const g::error &e) {
-    throw usage_error(std::string("gcode: ") + e.what());
+    throw usage_error(p.prefix() + e.what());
   }
 }
 
 // The program's text alone, before the port is opened.
-void check_text(const m::machine &mc, const config &c) {
-  std::ifstream f(c.file);
-  if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
+void check_text(const m::machine &mc, const program &p) {
+  const std::unique_ptr<std::istream> in = p.open();
   try {
-    m::check_program(mc, f, c.file);
+    m::check_program(mc, *in, p.name);
   } catch (const g::error &e) {
-    throw usage_error(std::string("gcode: ") + e.what());
+    throw usage_error(p.prefix() + e.what());
   }
 }
 
@@ -96,7 +114,8 @@ std::string number(double v) {
   return s == "-0" ? "0" : s;
 }
 
-void print_summary(const m::machine &mc, const config &c, const m::plan_summary &s, const counter &n) {
+void print_summary(const m::machine &mc, const config &c, const program &p, const m::plan_summary &s,
+                   const counter &n) {
   if (c.json) {
     // Extents as [min, max] per axis.
     std::string extents = "{";
@@ -108,7 +127,7 @@ void print_summary(const m::machine &mc, const config &c, const m::plan_summary 
     }
     extents += "}";
     std::cout << json_document()
-                     .add("file", c.file)
+                     .add("file", p.name)
                      .add("machine", machine_path(c))
                      .add("units", units_name(mc))
                      .add("lines", s.lines)
@@ -121,7 +140,7 @@ void print_summary(const m::machine &mc, const config &c, const m::plan_summary 
               << "\n";
     return;
   }
-  std::cout << c.file << ": OK: " << s.lines << " lines, " << s.segments << " segments, " << number(s.length)
+  std::cout << p.name << ": OK: " << s.lines << " lines, " << s.segments << " segments, " << number(s.length)
             << " " << units_name(mc) << " along the path, about " << clock_text(s.seconds)
             << " at the top speeds (ramps not counted)";
   if (n.pauses) std::cout << ", " << n.pauses << " pauses for the operator";
@@ -149,8 +168,11 @@ x4step::output_mode mode_of(m::output_mode o) {
 // The progress of a run: what is done, from the segments the kernel completed.
 class progress_meter {
  public:
-  progress_meter(const m::machine &mc, const m::plan_summary &total)
-      : units_(units_name(mc)), ppu_(m::path_units_per_unit(mc.units)), total_(total) {}
+  progress_meter(const m::machine &mc, const m::plan_summary &total, std::string command)
+      : command_(std::move(command)),
+        units_(units_name(mc)),
+        ppu_(m::path_units_per_unit(mc.units)),
+        total_(total) {}
 
   void queued(const m::segment_info &i) {
     queued_len_ += i.length;
@@ -181,7 +203,7 @@ class progress_meter {
           .add("remaining", remaining)
           .str();
     std::ostringstream o;
-    o << "gcode: " << state.str() << " " << std::fixed << std::setprecision(1) << percent << "%, line "
+    o << command_ << ": " << state.str() << " " << std::fixed << std::setprecision(1) << percent << "%, line "
       << s.tag << ", F" << std::lround(feed) << " " << units_ << "/min, " << s.override_percent << "%, "
       << clock_text(elapsed) << " elapsed, about " << clock_text(remaining) << " left";
     return o.str();
@@ -191,6 +213,7 @@ class progress_meter {
   struct mark {
     double length = 0, seconds = 0;  // at the end of a segment, from the start
   };
+  std::string command_;
   std::string units_;
   double ppu_;
   m::plan_summary total_;
@@ -264,16 +287,15 @@ class runner : public m::planner_output {
   bool no_pause_;
 };
 
-}  // namespace
-
-int cmd_gcode(const config &c) {
-  const m::machine mc = load_machine(c);
+// gcode and mdi: check, plan from where the machine stands, run.
+int run_program(const config &c, const program &prog) {
+  const m::machine mc = load_machine(c, prog.command());
   counter n;
   if (c.check) {
-    print_summary(mc, c, plan(mc, c, g::pose{}, n), n);
+    print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n), n);
     return 0;
   }
-  check_text(mc, c);
+  check_text(mc, prog);
   config port_config = c;
   port_config.lpt = mc.port[3] - '0';
   x4step::controller ctl = open_controller(device_of(port_config));
@@ -282,10 +304,10 @@ int cmd_gcode(const config &c) {
   const x4step::axes_status at = ctl.get_axes();
   for (size_t a = 0; a < g::n_axes; a++)
     if (mc.axes[a]) start[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
-  const m::plan_summary total = plan(mc, c, start, n);
+  const m::plan_summary total = plan(mc, prog, start, n);
   const bool keyboard = ::isatty(STDIN_FILENO);
   if (n.pauses && !keyboard && !c.no_pause)
-    throw usage_error("gcode: " + c.file + ": " + std::to_string(n.pauses) +
+    throw usage_error(prog.prefix() + prog.name + ": " + std::to_string(n.pauses) +
                       " pauses for the operator (M0, M1, M6): run it from a terminal");
   // Only a program found good changes the port's settings.
   const x4step::output_mode mode = mode_of(mc.mode);
@@ -297,9 +319,9 @@ int cmd_gcode(const config &c) {
                     std::to_string(std::lround(std::fabs(mc.axes[a]->scale) * mc.axes[a]->max_velocity)) +
                     " steps/s; the port's step timing allows " + std::to_string(fmax) + ": lower it");
   if (ctl.get_config().mode() != mode) ctl.set_config(ctl.get_config().mode(mode));
-  if (!c.json) print_summary(mc, c, total, n);
+  if (!c.json && prog.is_file) print_summary(mc, c, prog, total, n);
 
-  progress_meter meter(mc, total);
+  progress_meter meter(mc, total, prog.command());
   bool aborted = false;
   std::array<long, x4step::axes> end{};
   {
@@ -309,7 +331,7 @@ int cmd_gcode(const config &c) {
                    });
     runner r(mc, ctl, ps, meter, c.json, c.no_pause);
     try {
-      plan(mc, c, start, r);
+      plan(mc, prog, start, r);
       ps.drain();
     } catch (const run_aborted &) {
       ps.drain();
@@ -332,9 +354,21 @@ int cmd_gcode(const config &c) {
     std::cout << json_document().add("result", aborted ? "aborted" : "done").add("position", pos).str()
               << "\n";
   else
-    std::cout << "gcode: " << (aborted ? "aborted" : "done") << ", at" << where.str() << " ("
+    std::cout << prog.command() << ": " << (aborted ? "aborted" : "done") << ", at" << where.str() << " ("
               << units_name(mc) << ")\n";
   return aborted ? 1 : 0;
+}
+
+}  // namespace
+
+int cmd_gcode(const config &c) { return run_program(c, program{c.file, "", true}); }
+
+int cmd_mdi(const config &c) {
+  // Line n of "mdi" is the n-th block; the M2 after them ends the program
+  // (a block's own M2 ends it first).
+  std::string text;
+  for (const std::string &b : c.blocks) text += b + "\n";
+  return run_program(c, program{"mdi", text + "M2\n", false});
 }
 
 }  // namespace x4ctl
