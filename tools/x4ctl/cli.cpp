@@ -71,7 +71,8 @@ enum opt_id {
   opt_deviation,
   opt_override,
   opt_machine,
-  opt_no_pause
+  opt_no_pause,
+  opt_svg
 };
 
 struct option_spec {
@@ -466,6 +467,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       break;
     case subcommand::gcode:
     case subcommand::mdi:
+      if (c.cmd == subcommand::gcode) add("svg", 0, true, opt_svg);
       add("machine", 'm', true, opt_machine);
       add("override", 'o', true, opt_override);
       add("check", 'c', false, opt_check);
@@ -610,6 +612,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         break;
       case opt_no_pause:
         c.no_pause = true;
+        break;
+      case opt_svg:
+        if (o.value.empty()) throw usage_error(prefix + "--svg needs a file");
+        c.svg = o.value;
         break;
       case opt_ref:
         c.ref = parse_input(o.value, prefix);
@@ -1313,6 +1319,10 @@ std::string help_text(subcommand c) {
              "  -o, --override=PCT   feed override, 1..200 percent (100)\n"
              "      --no-pause       M0, M1 and M6 stop the path, say so and go on without\n"
              "                       waiting (a preview on the simulated port, a script)\n"
+             "      --svg=FILE       draw the planned toolpath and what the motors did\n"
+             "                       (positions read during the run), top view X Y and\n"
+             "                       side view X Z, in the machine's units; with --check\n"
+             "                       the planned path only\n"
              "  -j, --json           the summary, progress and result as JSON lines\n" +
              std::string(port_help) +
              "\n"

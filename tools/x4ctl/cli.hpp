@@ -121,6 +121,7 @@ struct config {
   std::string machine;              ///< gcode --machine; empty: $X4STEP_MACHINE, else /etc/x4step/machine.ini
   bool no_pause = false;            ///< gcode, mdi: M0/M1/M6 do not wait for the operator
   std::vector<std::string> blocks;  ///< mdi: the blocks, one line each
+  std::string svg;                  ///< gcode --svg: the plot's file; empty: none
 };
 
 /// Parses and checks the whole command line (values too, without a device).

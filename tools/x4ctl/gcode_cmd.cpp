@@ -23,6 +23,7 @@
 #include "path_stream.hpp"
 #include "planner.hpp"
 #include "show.hpp"
+#include "toolpath_svg.hpp"
 
 namespace x4ctl {
 
@@ -89,8 +90,11 @@ void check_text(const m::machine &mc, const program &p) {
 
 // The check pass: counts what the run will need.
 struct counter : m::planner_output {
-  long pauses = 0;  // M0, M1, M6: an operator at a terminal
-  void segment(const x4step::segment &, const m::segment_info &) override {}
+  long pauses = 0;                // M0, M1, M6: an operator at a terminal
+  toolpath_plot *plot = nullptr;  // --check --svg: the planned path
+  void segment(const x4step::segment &, const m::segment_info &i) override {
+    if (plot) plot->planned(i.end);
+  }
   void pause(bool, int) override { pauses++; }
 };
 
@@ -234,6 +238,7 @@ class runner : public m::planner_output {
       : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json), no_pause_(no_pause) {}
 
   void segment(const x4step::segment &s, const m::segment_info &i) override {
+    if (plot) plot->planned(i.end);
     meter_.queued(i);
     if (!ps_.push(s)) throw run_aborted{};
   }
@@ -285,14 +290,35 @@ class runner : public m::planner_output {
   progress_meter &meter_;
   bool json_;
   bool no_pause_;
+
+ public:
+  toolpath_plot *plot = nullptr;  // --svg
 };
+
+// Where the motors stand, machine units.
+g::pose pose_of(const m::machine &mc, const x4step::axes_status &at) {
+  g::pose p{};
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a]) p[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
+  return p;
+}
 
 // gcode and mdi: check, plan from where the machine stands, run.
 int run_program(const config &c, const program &prog) {
   const m::machine mc = load_machine(c, prog.command());
   counter n;
+  toolpath_plot plot;
+  // A plot that cannot be written fails before anything moves.
+  if (!c.svg.empty() && !std::ofstream(c.svg))
+    throw failure("--svg " + c.svg + ": cannot write: " + std::strerror(errno), errno);
   if (c.check) {
+    if (!c.svg.empty()) {
+      n.plot = &plot;
+      plot.planned(g::pose{});
+    }
     print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n), n);
+    n.plot = nullptr;
+    if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name + " (planned)");
     return 0;
   }
   check_text(mc, prog);
@@ -300,10 +326,7 @@ int run_program(const config &c, const program &prog) {
   port_config.lpt = mc.port[3] - '0';
   x4step::controller ctl = open_controller(device_of(port_config));
   // Planned from where the machine stands.
-  g::pose start{};
-  const x4step::axes_status at = ctl.get_axes();
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a]) start[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
+  const g::pose start = pose_of(mc, ctl.get_axes());
   const m::plan_summary total = plan(mc, prog, start, n);
   const bool keyboard = ::isatty(STDIN_FILENO);
   if (n.pauses && !keyboard && !c.no_pause)
@@ -330,6 +353,12 @@ int run_program(const config &c, const program &prog) {
                      return meter.record(s, done, json);
                    });
     runner r(mc, ctl, ps, meter, c.json, c.no_pause);
+    if (!c.svg.empty()) {
+      r.plot = &plot;
+      plot.planned(start);
+      plot.done(start);
+      ps.on_poll([&] { plot.done(pose_of(mc, ctl.get_axes())); });
+    }
     try {
       plan(mc, prog, start, r);
       ps.drain();
@@ -341,7 +370,9 @@ int run_program(const config &c, const program &prog) {
     ps.finish();
     const x4step::axes_status a = ctl.get_axes();
     for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
+    plot.done(pose_of(mc, a));
   }
+  if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name);
   std::ostringstream where;
   json_object pos;
   for (size_t a = 0; a < g::n_axes; a++) {

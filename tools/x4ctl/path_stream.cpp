@@ -77,6 +77,7 @@ void path_stream::take(key k) {
 void path_stream::serve(int poll_ms) {
   take(con_.read_key(std::chrono::milliseconds(0)));
   status_ = path_.status();
+  if (on_poll_) on_poll_();
   show(false);
   if (poll_ms <= 0) return;
   // Room comes as segments end, the end when the path stops: the library's
