@@ -70,7 +70,9 @@ enum opt_id {
   opt_accel,
   opt_deviation,
   opt_override,
-  opt_machine
+  opt_machine,
+  opt_no_pause,
+  opt_svg
 };
 
 struct option_spec {
@@ -191,7 +193,8 @@ const command_entry commands[] = {
     {subcommand::mode, "mode"},       {subcommand::profile, "profile"}, {subcommand::go_to, "goto"},
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
     {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::list, "list"},
-    {subcommand::path, "path"},       {subcommand::gcode, "gcode"},     {subcommand::help, "help"},
+    {subcommand::path, "path"},       {subcommand::gcode, "gcode"},     {subcommand::mdi, "mdi"},
+    {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -463,9 +466,12 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("json", 'j', false, opt_json);
       break;
     case subcommand::gcode:
+    case subcommand::mdi:
+      if (c.cmd == subcommand::gcode) add("svg", 0, true, opt_svg);
       add("machine", 'm', true, opt_machine);
       add("override", 'o', true, opt_override);
       add("check", 'c', false, opt_check);
+      add("no-pause", 0, false, opt_no_pause);
       add("json", 'j', false, opt_json);
       break;
     default:
@@ -604,6 +610,13 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         if (o.value.empty()) throw usage_error(prefix + "--machine needs a file");
         c.machine = o.value;
         break;
+      case opt_no_pause:
+        c.no_pause = true;
+        break;
+      case opt_svg:
+        if (o.value.empty()) throw usage_error(prefix + "--svg needs a file");
+        c.svg = o.value;
+        break;
       case opt_ref:
         c.ref = parse_input(o.value, prefix);
         break;
@@ -707,6 +720,13 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
     case subcommand::gcode:  // read twice (checked, then run): a file, not standard input
       need_operands(r, 1, 1, prefix);
       c.file = ops[0];
+      break;
+    case subcommand::mdi:
+      need_operands(r, 1, ops.size(), prefix);
+      for (const std::string &b : ops)
+        if (b.find_first_of("\n\r") != std::string::npos)
+          throw usage_error(prefix + "a block holds no line break: give each line as its own argument");
+      c.blocks = ops;
       break;
     case subcommand::mode:
       need_operands(r, 0, 1, prefix);
@@ -892,6 +912,7 @@ std::string help_text(subcommand c) {
              "                       smc-hold for SMC800/SMC1500 boards\n"
              "  path [FILE]          run a continuous path of straight segments in steps\n"
              "  gcode FILE           run a G-code part program on a machine (machine file)\n"
+             "  mdi BLOCK...         run G-code blocks given as arguments (\"G1 X10 F300\")\n"
              "\n"
              "Positioning: coordinates, independent axes, homing, limit switches:\n"
              "  profile AXIS         show or set the ramp of an axis' own moves\n"
@@ -1284,9 +1305,10 @@ std::string help_text(subcommand c) {
              "Keys on a terminal: space holds and resumes, ESC aborts (hold, then flush),\n"
              "+ and - change the feed override by 10 %. Ctrl-C aborts too; 'x4ctl stop'\n"
              "stops at once. M0, M1 and M6 wait for space (or ESC) with the path at\n"
-             "rest: such a program needs a terminal. Outputs the machine file names for\n"
-             "spindle and coolant follow M3/M4/M5 and M7/M8/M9, and are switched off\n"
-             "at the end. The machine file's PORT is the port unless -d is given.\n"
+             "rest: such a program needs a terminal, or --no-pause. Outputs the machine\n"
+             "file names for spindle and coolant follow M3/M4/M5 and M7/M8/M9, and are\n"
+             "switched off at the end. The machine file's PORT is the port unless -d is\n"
+             "given.\n"
              "\n"
              "Options:\n"
              "  -m, --machine=FILE   the machine file (default: $X4STEP_MACHINE, else\n"
@@ -1295,12 +1317,42 @@ std::string help_text(subcommand c) {
              "                       segments, path length, estimated time, extents), as\n"
              "                       if the machine stood at machine zero; nothing moves\n"
              "  -o, --override=PCT   feed override, 1..200 percent (100)\n"
+             "      --no-pause       M0, M1 and M6 stop the path, say so and go on without\n"
+             "                       waiting (a preview on the simulated port, a script)\n"
+             "      --svg=FILE       draw the planned toolpath and what the motors did\n"
+             "                       (positions read during the run), top view X Y and\n"
+             "                       side view X Z, in the machine's units; with --check\n"
+             "                       the planned path only\n"
              "  -j, --json           the summary, progress and result as JSON lines\n" +
              std::string(port_help) +
              "\n"
              "Exit status: 0 the program ran to its end (or --check found it good); 1 it\n"
              "was aborted or the port refused; 2 bad usage, a bad machine file or program.\n"
              "Example: x4ctl gcode --machine machines/smc1500-mill.ini --check part.ngc\n";
+    case subcommand::mdi:
+      return "Usage: x4ctl mdi [OPTIONS] BLOCK...\n"
+             "\n"
+             "Run G-code blocks typed on the command line (manual data input), each\n"
+             "argument one line, as a program of those lines followed by M2: checked\n"
+             "whole first (a bad word is named as mdi:LINE:COLUMN and nothing moves),\n"
+             "then run as 'x4ctl gcode' runs a file, from where the machine stands, with\n"
+             "its keys and options. Nothing persists between invocations: each starts\n"
+             "in the machine file's units, G90, G17, G94, G54 with every offset zero (so\n"
+             "coordinates are machine coordinates), no tool length offset and no feed\n"
+             "rate: give G91, G20 or F again in the blocks that need them.\n"
+             "\n"
+             "Options:\n"
+             "  -m, --machine=FILE   the machine file (default: $X4STEP_MACHINE, else\n"
+             "                       /etc/x4step/machine.ini)\n"
+             "  -c, --check          check the blocks and stop there; nothing moves\n"
+             "  -o, --override=PCT   feed override, 1..200 percent (100)\n"
+             "      --no-pause       M0, M1 and M6 stop the path, say so and go on\n"
+             "  -j, --json           progress and result as JSON lines\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 the blocks ran to their end (or --check found them good);\n"
+             "1 aborted or the port refused; 2 bad usage, a bad machine file or block.\n"
+             "Example: x4ctl mdi --machine machines/smc1500-mill.ini \"G0 Z-1\" \"G1 X10 Y5 F300\"\n";
     case subcommand::list:
       return "Usage: x4ctl list [OPTIONS]\n"
              "\n"

@@ -591,6 +591,8 @@ int dispatch(const config &c) {
       return cmd_path(c);
     case subcommand::gcode:
       return cmd_gcode(c);
+    case subcommand::mdi:
+      return cmd_mdi(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

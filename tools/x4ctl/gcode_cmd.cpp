@@ -14,13 +14,16 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <sstream>
+#include <utility>
 
 #include "commands.hpp"
 #include "json.hpp"
 #include "path_stream.hpp"
 #include "planner.hpp"
 #include "show.hpp"
+#include "toolpath_svg.hpp"
 
 namespace x4ctl {
 
@@ -39,50 +42,64 @@ std::string machine_path(const config &c) {
   return env && *env ? env : "/etc/x4step/machine.ini";
 }
 
-m::machine load_machine(const config &c) {
+m::machine load_machine(const config &c, const std::string &command) {
   try {
     return m::read_file(machine_path(c));
   } catch (const m::error &e) {
-    throw usage_error(std::string("gcode: ") + e.what());
+    throw usage_error(command + ": " + e.what());
   }
 }
 
-// The program's text, read once: what was checked is what runs, even if
-// the file changes meanwhile (a few MB for a large CAM file).
-std::string read_program(const config &c) {
-  std::ifstream f(c.file, std::ios::binary);
-  if (!f) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) throw failure("cannot read " + c.file + ": " + std::strerror(errno), errno);
-  return text.str();
-}
+// A program: a file's text or mdi's blocks, in memory: read once, so what
+// was checked is what runs even if the file changes meanwhile (a few MB
+// for a large CAM file).
+struct program {
+  std::string name;  // what errors give: the file, or "mdi"
+  std::string text;
+  bool is_file;
+  std::string command() const { return is_file ? "gcode" : "mdi"; }
+
+  // Before an error: a file's names the command; mdi's names itself ("mdi:2:7: ...").
+  std::string prefix() const { return is_file ? "gcode: " : ""; }
+
+  static program from_file(const std::string &file) {
+    std::ifstream f(file, std::ios::binary);
+    if (!f) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
+    std::ostringstream text;
+    text << f.rdbuf();
+    if (f.bad()) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
+    return {file, text.str(), true};
+  }
+  std::unique_ptr<std::istream> open() const { return std::make_unique<std::istringstream>(text); }
+};
 
 // Plans the whole program into out; a refused line is a usage error.
-m::plan_summary plan(const m::machine &mc, const config &c, const std::string &text, const g::pose &start,
-                     m::planner_output &out) {
-  std::istringstream f(text);
+m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &start, m::planner_output &out) {
+  const std::unique_ptr<std::istream> in = p.open();
   try {
-    return m::plan_program(mc, f, c.file, out, start);
+    return m::plan_program(mc, *in, p.name, out, start);
   } catch (const g::error &e) {
-    throw usage_error(std::string("gcode: ") + e.what());
+    throw usage_error(p.prefix() + e.what());
   }
 }
 
 // The program's text alone, before the port is opened.
-void check_text(const m::machine &mc, const config &c, const std::string &text) {
-  std::istringstream f(text);
+void check_text(const m::machine &mc, const program &p) {
+  const std::unique_ptr<std::istream> in = p.open();
   try {
-    m::check_program(mc, f, c.file);
+    m::check_program(mc, *in, p.name);
   } catch (const g::error &e) {
-    throw usage_error(std::string("gcode: ") + e.what());
+    throw usage_error(p.prefix() + e.what());
   }
 }
 
 // The check pass: counts what the run will need.
 struct counter : m::planner_output {
-  long pauses = 0;  // M0, M1, M6: an operator at a terminal
-  void segment(const x4step::segment &, const m::segment_info &) override {}
+  long pauses = 0;                // M0, M1, M6: an operator at a terminal
+  toolpath_plot *plot = nullptr;  // --check --svg: the planned path
+  void segment(const x4step::segment &, const m::segment_info &i) override {
+    if (plot) plot->planned(i.end);
+  }
   void pause(bool, int) override { pauses++; }
 };
 
@@ -106,7 +123,8 @@ std::string number(double v) {
   return s == "-0" ? "0" : s;
 }
 
-void print_summary(const m::machine &mc, const config &c, const m::plan_summary &s, const counter &n) {
+void print_summary(const m::machine &mc, const config &c, const program &p, const m::plan_summary &s,
+                   const counter &n) {
   if (c.json) {
     // Extents as [min, max] per axis.
     std::string extents = "{";
@@ -118,7 +136,7 @@ void print_summary(const m::machine &mc, const config &c, const m::plan_summary 
     }
     extents += "}";
     std::cout << json_document()
-                     .add("file", c.file)
+                     .add("file", p.name)
                      .add("machine", machine_path(c))
                      .add("units", units_name(mc))
                      .add("lines", s.lines)
@@ -131,7 +149,7 @@ void print_summary(const m::machine &mc, const config &c, const m::plan_summary 
               << "\n";
     return;
   }
-  std::cout << c.file << ": OK: " << s.lines << " lines, " << s.segments << " segments, " << number(s.length)
+  std::cout << p.name << ": OK: " << s.lines << " lines, " << s.segments << " segments, " << number(s.length)
             << " " << units_name(mc) << " along the path, about " << clock_text(s.seconds)
             << " at the top speeds (ramps not counted)";
   if (n.pauses) std::cout << ", " << n.pauses << " pauses for the operator";
@@ -159,8 +177,11 @@ x4step::output_mode mode_of(m::output_mode o) {
 // The progress of a run: what is done, from the segments the kernel completed.
 class progress_meter {
  public:
-  progress_meter(const m::machine &mc, const m::plan_summary &total)
-      : units_(units_name(mc)), ppu_(m::path_units_per_unit(mc.units)), total_(total) {}
+  progress_meter(const m::machine &mc, const m::plan_summary &total, std::string command)
+      : command_(std::move(command)),
+        units_(units_name(mc)),
+        ppu_(m::path_units_per_unit(mc.units)),
+        total_(total) {}
 
   void queued(const m::segment_info &i) {
     queued_len_ += i.length;
@@ -191,7 +212,7 @@ class progress_meter {
           .add("remaining", remaining)
           .str();
     std::ostringstream o;
-    o << "gcode: " << state.str() << " " << std::fixed << std::setprecision(1) << percent << "%, line "
+    o << command_ << ": " << state.str() << " " << std::fixed << std::setprecision(1) << percent << "%, line "
       << s.tag << ", F" << std::lround(feed) << " " << units_ << "/min, " << s.override_percent << "%, "
       << clock_text(elapsed) << " elapsed, about " << clock_text(remaining) << " left";
     return o.str();
@@ -201,6 +222,7 @@ class progress_meter {
   struct mark {
     double length = 0, seconds = 0;  // at the end of a segment, from the start
   };
+  std::string command_;
   std::string units_;
   double ppu_;
   m::plan_summary total_;
@@ -216,10 +238,12 @@ struct run_aborted {};
 // The run pass: segments into the queue; dwells, pauses and outputs with the path at rest.
 class runner : public m::planner_output {
  public:
-  runner(const m::machine &mc, x4step::controller &ctl, path_stream &ps, progress_meter &meter, bool json)
-      : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json) {}
+  runner(const m::machine &mc, x4step::controller &ctl, path_stream &ps, progress_meter &meter, bool json,
+         bool no_pause)
+      : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json), no_pause_(no_pause) {}
 
   void segment(const x4step::segment &s, const m::segment_info &i) override {
+    if (plot) plot->planned(i.end);
     meter_.queued(i);
     if (!ps_.push(s)) throw run_aborted{};
   }
@@ -229,8 +253,14 @@ class runner : public m::planner_output {
   }
   void pause(bool optional, int tool) override {
     rest();
-    say(tool >= 0 ? "M6: change to tool " + std::to_string(tool) + ", then press space (ESC aborts)"
-                  : std::string(optional ? "M1" : "M0") + ": paused; space goes on, ESC aborts");
+    const std::string what = tool >= 0  ? "M6: change to tool " + std::to_string(tool)
+                             : optional ? "M1"
+                                        : "M0";
+    if (no_pause_) {
+      say(what + ": not waited for (--no-pause)");
+      return;
+    }
+    say(tool >= 0 ? what + ", then press space (ESC aborts)" : what + ": paused; space goes on, ESC aborts");
     if (!ps_.wait_for_operator()) throw run_aborted{};
   }
   void spindle(bool on) override { set(mc_.spindle, on); }
@@ -264,31 +294,48 @@ class runner : public m::planner_output {
   path_stream &ps_;
   progress_meter &meter_;
   bool json_;
+  bool no_pause_;
+
+ public:
+  toolpath_plot *plot = nullptr;  // --svg
 };
 
-}  // namespace
+// Where the motors stand, machine units.
+g::pose pose_of(const m::machine &mc, const x4step::axes_status &at) {
+  g::pose p{};
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a]) p[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
+  return p;
+}
 
-int cmd_gcode(const config &c) {
-  const m::machine mc = load_machine(c);
-  const std::string text = read_program(c);
+// gcode and mdi: check, plan from where the machine stands, run.
+int run_program(const config &c, const program &prog) {
+  const m::machine mc = load_machine(c, prog.command());
   counter n;
+  toolpath_plot plot;
+  // A plot that cannot be written fails before anything moves.
+  if (!c.svg.empty() && !std::ofstream(c.svg))
+    throw failure("--svg " + c.svg + ": cannot write: " + std::strerror(errno), errno);
   if (c.check) {
-    print_summary(mc, c, plan(mc, c, text, g::pose{}, n), n);
+    if (!c.svg.empty()) {
+      n.plot = &plot;
+      plot.planned(g::pose{});
+    }
+    print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n), n);
+    n.plot = nullptr;
+    if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name + " (planned)");
     return 0;
   }
-  check_text(mc, c, text);
+  check_text(mc, prog);
   config port_config = c;
   port_config.lpt = mc.port[3] - '0';
   x4step::controller ctl = open_controller(device_of(port_config));
   // Planned from where the machine stands.
-  g::pose start{};
-  const x4step::axes_status at = ctl.get_axes();
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a]) start[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
-  const m::plan_summary total = plan(mc, c, text, start, n);
+  const g::pose start = pose_of(mc, ctl.get_axes());
+  const m::plan_summary total = plan(mc, prog, start, n);
   const bool keyboard = ::isatty(STDIN_FILENO);
-  if (n.pauses && !keyboard)
-    throw usage_error("gcode: " + c.file + ": " + std::to_string(n.pauses) +
+  if (n.pauses && !keyboard && !c.no_pause)
+    throw usage_error(prog.prefix() + prog.name + ": " + std::to_string(n.pauses) +
                       " pauses for the operator (M0, M1, M6): run it from a terminal");
   // Only a program found good changes the port's settings.
   const x4step::output_mode mode = mode_of(mc.mode);
@@ -300,9 +347,9 @@ int cmd_gcode(const config &c) {
                     std::to_string(std::lround(std::fabs(mc.axes[a]->scale) * mc.axes[a]->max_velocity)) +
                     " steps/s; the port's step timing allows " + std::to_string(fmax) + ": lower it");
   if (ctl.get_config().mode() != mode) ctl.set_config(ctl.get_config().mode(mode));
-  if (!c.json) print_summary(mc, c, total, n);
+  if (!c.json && prog.is_file) print_summary(mc, c, prog, total, n);
 
-  progress_meter meter(mc, total);
+  progress_meter meter(mc, total, prog.command());
   bool aborted = false;
   std::array<long, x4step::axes> end{};
   {
@@ -310,9 +357,15 @@ int cmd_gcode(const config &c) {
                    [&](const x4step::path_status &s, std::uint64_t done, bool json) {
                      return meter.record(s, done, json);
                    });
-    runner r(mc, ctl, ps, meter, c.json);
+    runner r(mc, ctl, ps, meter, c.json, c.no_pause);
+    if (!c.svg.empty()) {
+      r.plot = &plot;
+      plot.planned(start);
+      plot.done(start);
+      ps.on_poll([&] { plot.done(pose_of(mc, ctl.get_axes())); });
+    }
     try {
-      plan(mc, c, text, start, r);
+      plan(mc, prog, start, r);
       ps.drain();
     } catch (const run_aborted &) {
       ps.drain();
@@ -322,7 +375,9 @@ int cmd_gcode(const config &c) {
     ps.finish();
     const x4step::axes_status a = ctl.get_axes();
     for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
+    plot.done(pose_of(mc, a));
   }
+  if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name);
   std::ostringstream where;
   json_object pos;
   for (size_t a = 0; a < g::n_axes; a++) {
@@ -335,9 +390,21 @@ int cmd_gcode(const config &c) {
     std::cout << json_document().add("result", aborted ? "aborted" : "done").add("position", pos).str()
               << "\n";
   else
-    std::cout << "gcode: " << (aborted ? "aborted" : "done") << ", at" << where.str() << " ("
+    std::cout << prog.command() << ": " << (aborted ? "aborted" : "done") << ", at" << where.str() << " ("
               << units_name(mc) << ")\n";
   return aborted ? 1 : 0;
+}
+
+}  // namespace
+
+int cmd_gcode(const config &c) { return run_program(c, program::from_file(c.file)); }
+
+int cmd_mdi(const config &c) {
+  // Line n of "mdi" is the n-th block; the M2 after them ends the program
+  // (a block's own M2 ends it first).
+  std::string text;
+  for (const std::string &b : c.blocks) text += b + "\n";
+  return run_program(c, program{"mdi", text + "M2\n", false});
 }
 
 }  // namespace x4ctl

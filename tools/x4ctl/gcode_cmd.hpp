@@ -10,6 +10,8 @@ namespace x4ctl {
 
 /// x4ctl gcode: check (and with --check stop there), then run.
 int cmd_gcode(const config &c);
+/// x4ctl mdi: the blocks as a one-line program (c.blocks, then M2), as cmd_gcode.
+int cmd_mdi(const config &c);
 
 }  // namespace x4ctl
 

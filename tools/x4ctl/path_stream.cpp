@@ -80,6 +80,7 @@ void path_stream::serve(int poll_ms) {
   // At rest with segments missing: the kernel flushed them (a limit
   // switch, a stop from elsewhere), which is no end of the program.
   if (at_rest(status_) && done() < pushed_) aborted_ = true;
+  if (on_poll_) on_poll_();
   show(false);
   if (poll_ms <= 0) return;
   // Room comes as segments end, the end when the path stops: the library's

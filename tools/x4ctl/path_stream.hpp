@@ -48,6 +48,9 @@ class path_stream {
   /// Prints a line of text between progress redraws (a message, a pause).
   void say(const std::string &text);
 
+  /// Called at every status read while the path runs (a plot's samples).
+  void on_poll(std::function<void()> f) { on_poll_ = std::move(f); }
+
   bool aborted() const noexcept { return aborted_; }
   const x4step::path_status &status() const noexcept { return status_; }
   std::uint64_t done() const noexcept { return status_.done - base_; }
@@ -70,6 +73,7 @@ class path_stream {
   std::uint64_t pushed_ = 0;  // segments queued by this stream
   x4step::path_status status_;
   std::chrono::steady_clock::time_point last_shown_;
+  std::function<void()> on_poll_;
 };
 
 }  // namespace x4ctl
