@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <exception>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -152,8 +153,8 @@ void run(x4step::controller &c) {
   // the module and on the simulator (a brake after a fixed wait would
   // depend on the program's wake-up).
   c.move_endless(axis(3), x4step::direction::negative, 3000, 40ms);
-  while (std::llabs(c.steps(axis(3))) < 120) {
-  }
+  while (std::llabs(c.steps(axis(3))) < 120)
+    std::this_thread::sleep_for(50us);  // no ioctl storm that delays the timer
   c.brake();
   c.wait();
   report(c, "endless");
