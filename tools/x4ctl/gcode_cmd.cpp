@@ -14,7 +14,6 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <memory>
 #include <sstream>
 #include <utility>
 
@@ -70,14 +69,13 @@ struct program {
     if (f.bad()) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
     return {file, text.str(), true};
   }
-  std::unique_ptr<std::istream> open() const { return std::make_unique<std::istringstream>(text); }
 };
 
 // Plans the whole program into out; a refused line is a usage error.
 m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &start, m::planner_output &out) {
-  const std::unique_ptr<std::istream> in = p.open();
+  std::istringstream in(p.text);
   try {
-    return m::plan_program(mc, *in, p.name, out, start);
+    return m::plan_program(mc, in, p.name, out, start);
   } catch (const g::error &e) {
     throw usage_error(p.prefix() + e.what());
   }
@@ -85,9 +83,9 @@ m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &star
 
 // The program's text alone, before the port is opened.
 void check_text(const m::machine &mc, const program &p) {
-  const std::unique_ptr<std::istream> in = p.open();
+  std::istringstream in(p.text);
   try {
-    m::check_program(mc, *in, p.name);
+    m::check_program(mc, in, p.name);
   } catch (const g::error &e) {
     throw usage_error(p.prefix() + e.what());
   }
