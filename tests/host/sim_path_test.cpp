@@ -14,6 +14,7 @@
 
 #include "sim/port.hpp"
 #include "sim/sim.hpp"
+#include "sim_writes.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
@@ -52,16 +53,6 @@ std::vector<x4step::segment> line(int n) {
         .tag(i + 1)
         .entry_speed(i ? 5000 : 0);
   return s;
-}
-
-long rises(const std::vector<x4step::sim::pin_write> &w, int bit) {
-  long n = 0;
-  uint8_t last = 0;
-  for (const auto &p : w) {
-    n += (p.data & ~last) >> bit & 1;
-    last = p.data;
-  }
-  return n;
 }
 
 std::vector<x4step::event> events(const x4step::monitor &m) {

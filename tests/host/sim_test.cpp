@@ -15,6 +15,7 @@
 
 #include "engine_ref.h"
 #include "sim/port.hpp"
+#include "sim_writes.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
 
@@ -106,16 +107,6 @@ std::vector<x4step::sim::pin_write> after(const std::vector<x4step::sim::pin_wri
   for (const auto &p : w)
     if (p.t_ns >= t0) out.push_back(p);
   return out;
-}
-
-long rises(const std::vector<x4step::sim::pin_write> &w, int bit) {
-  long n = 0;
-  uint8_t last = 0;
-  for (const auto &p : w) {
-    n += (p.data & ~last) >> bit & 1;
-    last = p.data;
-  }
-  return n;
 }
 
 }  // namespace
