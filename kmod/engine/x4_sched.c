@@ -457,8 +457,9 @@ static u8 step_axes(struct x4_engine *e, struct x4_chan *c)
 /*
  * The SETUP event: the directions (phase mode: the patterns) go out, the
  * first step (n, at T(n): a path's piece begins before its step 1) follows
- * after the setup time. A path does not wait as a whole: only an axis
- * whose direction changed does, at its own next step (dir_wait()).
+ * after the setup time. At a path's junction the path does not wait as a
+ * whole: only an axis whose direction changed does, at its own next step
+ * (dir_wait()).
  */
 static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 				 u64 now_ns)
@@ -466,11 +467,14 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	const struct x4_plan *p = &c->run;
 
 	c->ctl = p->n_cruise ? X4_CTL_AKTIV | X4_CTL_BOOST : X4_CTL_AKTIV;
-	if (c->path) {
-		c->dir_fresh |= x4_dir_changes(e, p);
+	if (c->dir_fresh) { /* a path's junction: it goes on (dir_wait()) */
 		c->dir_ready = now_ns + e->timing.dir_setup_ns;
 	} else if (now_ns > c->t_pending) {
-		/* Count the setup time from when the directions go out. */
+		/*
+		 * A start from rest (a move, a path, a resume): count the
+		 * setup time from when the directions go out, not from the
+		 * request, which a late timer or the path's planning delayed.
+		 */
 		c->origin = now_ns + e->timing.dir_setup_ns;
 	}
 	c->phase = c->no_steps ? X4_END : X4_RISE;

@@ -32,7 +32,5 @@ if ! diff -u "$out/guest.faith" "$out/sim.faith"; then
 	exit 1
 fi
 echo "ok: $(wc -l <"$out/sim.faith") stages report the same coordinates, errors and steps"
-# Each stage before the path is one move: the path's moves follow them.
-paths_from=$(awk '/^FAITH path/ { print NR; exit }' "$out/sim.faith")
 "$x4trace" compare "$out/guest.trace" "$out/sim.vcd" --within-ns "$within" --max-ns 3000 --late-ns 1500 \
-	--permille 3 --paths-from "${paths_from:?no path stage}"
+	--permille 3

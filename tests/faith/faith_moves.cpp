@@ -39,7 +39,7 @@ void report(const x4step::controller &c, const char *stage) {
 // interval (3 ms), so both cut the path at the same step on the module
 // and on the simulator; their own timing then is the path's.
 constexpr std::uint32_t feed = 16000, accel = 400000, slow = 300;  // path units: steps
-constexpr double deviation = 100;
+constexpr double deviation = 10;                      // steps: small enough that corners set speeds
 constexpr std::size_t override_at = 4, hold_at = 11;  // indices of the slow segments
 const std::array<std::array<long, x4step::axes>, 16> shape = {{
     {120, 40, 0, 0},

@@ -140,12 +140,6 @@ sed '/^305000/d; /^330000/d' "$tmp/m.trace" >"$tmp/m-drop.trace"
 expect compare-dropped status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-drop.trace"
 sed 's/^305000 d 0x03/305000 d 0x02/' "$tmp/m.trace" >"$tmp/m-dir.trace"
 expect compare-order status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-dir.trace"
-# --paths-from: a path's edges count and keep their order, untimed.
-expect compare-path-late status_is 0 "$bin" compare "$tmp/m.trace" "$tmp/m-late.trace" --within-ns 400 \
-	--paths-from 1
-expect compare-path-dropped status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-drop.trace" --paths-from 1
-expect compare-path-order status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-dir.trace" --paths-from 1
-expect compare-bad-paths status_is 2 "$bin" compare "$tmp/m.trace" "$tmp/m.trace" --paths-from 9999999999
 
 # Errors: bad usage is status 2, unreadable input status 1.
 expect usage status_is 2 "$bin"

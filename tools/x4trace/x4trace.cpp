@@ -39,7 +39,6 @@ const char *const kUsage =
     "       x4trace svg TRACE OUT.svg [--bin-ms N]\n"
     "       x4trace moves TRACE\n"
     "       x4trace compare TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N]\n"
-    "                                     [--paths-from MOVE]\n"
     "TRACE is QEMU's log of -trace parallel_ioport_write (with -msg timestamp=on),\n"
     "x4vport's trace (\"<t_ns> d|c|s 0xVV\" lines) or a VCD file with x4trace's pin\n"
     "names (the simulated port's X4STEP_SIM_VCD); '-' reads standard input.\n";
@@ -759,8 +758,7 @@ void write_svg(const std::string &path, const std::string &out_path, const Trace
 // with a write that raises AKTIV (pin 17) and ends with the one that drops
 // it. Edges of a move are timed from its beginning; edges between moves
 // (outputs, rest patterns) only count and keep their order; edges before
-// the first move (the port's setup) are not compared. Neither are the
-// edges of paths, moves from `paths_from` on (0: none): tests/faith/README.md.
+// the first move (the port's setup) are not compared.
 struct PinEdge {
   int move;
   bool timed;
@@ -768,7 +766,7 @@ struct PinEdge {
   int level;
 };
 
-int pin_edges(const Trace &tr, int paths_from, std::vector<PinEdge> (&out)[kNumPins]) {
+int pin_edges(const Trace &tr, std::vector<PinEdge> (&out)[kNumPins]) {
   std::vector<Change> ch;
   for_each_change(tr, [&](const Change &c) { ch.push_back(c); });
   const int aktiv = pin_index(17);
@@ -785,7 +783,7 @@ int pin_edges(const Trace &tr, int paths_from, std::vector<PinEdge> (&out)[kNumP
       start = ch[i].t_ns;
     }
     high = rise || (high && !fall);
-    const bool timed = (high || fall) && !(paths_from > 0 && move >= paths_from);
+    const bool timed = high || fall;
     for (; i < j; i++)
       if (!ch[i].initial && move > 0)
         out[ch[i].pin].push_back({move, timed, ch[i].t_ns - start, ch[i].level});
@@ -800,9 +798,9 @@ int pin_edges(const Trace &tr, int paths_from, std::vector<PinEdge> (&out)[kNumP
 // `max_ns`, and all but `permille` per mille of them within `within_ns`
 // (a timer interrupt now and then is late). 0 if so, else 1 with `DIFF`.
 int compare(const std::string &p1, const std::string &p2, int64_t within_ns, int64_t max_ns, int64_t late_ns,
-            long permille, int paths_from) {
+            long permille) {
   std::vector<PinEdge> a[kNumPins], b[kNumPins];
-  const int ma = pin_edges(read_trace(p1), paths_from, a), mb = pin_edges(read_trace(p2), paths_from, b);
+  const int ma = pin_edges(read_trace(p1), a), mb = pin_edges(read_trace(p2), b);
   long edges = 0, timed = 0, bad = 0, over = 0;
   auto report = [&](const std::string &msg) {
     if (++bad <= 20) std::cout << "DIFF " << msg << "\n";
@@ -920,25 +918,22 @@ int main(int argc, char **argv) {
     write_svg(path, args[2], tr, bin_ms);
   } else if (mode == "compare") {
     if (args.size() < 3 || args.size() % 2 == 0)
-      usage_error(
-          "compare takes TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N] "
-          "[--paths-from MOVE]");
-    // within, max and late (default: within), permille, paths-from (0: none)
-    long long opt[5] = {1000, -1, -1, 0, 0};
-    const char *const names[5] = {"--within-ns", "--max-ns", "--late-ns", "--permille", "--paths-from"};
+      usage_error("compare takes TRACE1 TRACE2 [--within-ns N] [--max-ns N] [--late-ns N] [--permille N]");
+    // within, max and late (default: within), permille
+    long long opt[4] = {1000, -1, -1, 0};
+    const char *const names[4] = {"--within-ns", "--max-ns", "--late-ns", "--permille"};
     for (size_t i = 3; i < args.size(); i += 2) {
       char *end;
       const long long v = std::strtoll(args[i + 1].c_str(), &end, 10);
       if (*end || end == args[i + 1].c_str() || v < 0) usage_error(args[i] + " needs a number >= 0");
       int k = 0;
-      while (k < 5 && args[i] != names[k]) k++;
-      if (k == 5) usage_error("unknown option " + args[i]);
-      if (k == 4 && v > std::numeric_limits<int>::max()) usage_error("--paths-from needs a move number");
+      while (k < 4 && args[i] != names[k]) k++;
+      if (k == 4) usage_error("unknown option " + args[i]);
       opt[k] = v;
     }
     std::cout.flush();
     return compare(path, args[2], opt[0], opt[1] < 0 ? opt[0] : opt[1], opt[2] < 0 ? opt[0] : opt[2],
-                   static_cast<long>(opt[3]), static_cast<int>(opt[4]));
+                   static_cast<long>(opt[3]));
   } else if (mode == "moves") {
     if (args.size() != 2) usage_error("moves takes just TRACE");
     print_moves(read_trace(path));
