@@ -148,11 +148,14 @@ section X4DEMO-GCODE X4DEMO-SVG
 grep -q '^gcode: done' "$console" || fail "x4ctl gcode did not run to its end in QEMU"
 sed -n '/^X4DEMO-SVG$/,/^X4DEMO-END$/p' "$console" | sed -e '1d' -e '$d' | base64 -d | gzip -dc >"$out/part.svg" ||
 	fail "the plot did not come back from the guest"
-grep -q 'class="done"' "$out/part.svg" || fail "$rel/part.svg has no path of the motors"
+for c in planned "done"; do
+	grep -q "class=\"$c\"[^>]* points=\"[-0-9]" "$out/part.svg" || fail "$rel/part.svg has no $c path"
+done
 "$x4trace" vcd "$out/qemu/part-trace.log" "$out/part.vcd"
 qemu_steps=$(steps "$out/qemu/part-trace.log")
+[ "$qemu_steps" != "X 0, Y 0, Z 0, A 0" ] || fail "QEMU's trace of the part program has no step"
 qemu_secs=$(seconds "$out/qemu/part-trace.log")
-echo "   the pins: $qemu_secs s of port writes; steps per axis: $qemu_steps"
+echo "   the pins: $qemu_secs s of port writes; steps (rising clock edges) per axis: $qemu_steps"
 echo "   the toolpath, planned (blue) and done by the motors (red):  $rel/part.svg"
 echo "   every pin (VCD):                                           $rel/part.vcd"
 
