@@ -58,7 +58,7 @@ fi
 # The kernel unpacked for a faster boot (run-guest.sh --kernel), kept.
 kernel=()
 pvh=$out/vmlinux-pvh-$kver
-if [ -s "$pvh" ] || tests/qemu/pvh-kernel.sh "/boot/vmlinuz-$kver" "$pvh" >/dev/null 2>&1; then
+if [ "$pvh" -nt "/boot/vmlinuz-$kver" ] || tests/qemu/pvh-kernel.sh "/boot/vmlinuz-$kver" "$pvh" >/dev/null 2>&1; then
 	kernel=(--kernel "$pvh")
 fi
 
@@ -118,7 +118,8 @@ awk -v move="$out/qemu/move-trace.log" -v part="$out/qemu/part-trace.log" '
 	/parallel_ioport_write/ { print > (part_on ? part : move) }' "$trace"
 [ -s "$out/qemu/part-trace.log" ] || fail "QEMU's trace has no part program (see $rel/qemu/console.log)"
 
-# steps TRACE: the steps per axis (rising clock edges), one line
+# steps TRACE: the steps per axis (rising clock edges), one line; motors 1..4
+# drive X Y Z A in machines/x4step-4axis.ini
 steps() {
 	"$x4trace" summary "$1" | awk '
 		/^axis [1-4] / { n = $2; sub(/^[^:]*: /, ""); s[n] = $1 }
