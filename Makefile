@@ -3,7 +3,8 @@
 # x4step: stepper motors on the PC parallel port.
 #   make            module (kmod/x4step.ko), libx4step, x4ctl
 #   make check      installs what it needs, runs every test (host + QEMU)
-#   make demo       the manual's first example on an emulated parallel port
+#   make demo       a part program and the manual's first example on an emulated
+#                   parallel port (QEMU), then simulated (tools/demo.sh)
 #   make bench      engine and module benchmarks (print figures)
 #   make install    headers, library, x4ctl, module, udev rule, pkg-config
 

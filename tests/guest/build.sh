@@ -3,10 +3,14 @@
 # Build the statically linked guest programs into OUTDIR: the module and
 # key tests (UAPI only), and the library tests and the manual's examples
 # against the *installed* headers and static library (staged install).
-# The compilers run side by side, one per CPU.
+# The compilers run side by side, one per CPU. With PROGRAM names after
+# OUTDIR only those are built (make demo: x4ctl).
+#   build.sh OUTDIR [PROGRAM...]
 set -eu
 top=$(cd "$(dirname "$0")/../.." && pwd)
-out=${1:?usage: build.sh OUTDIR}
+out=${1:?usage: build.sh OUTDIR [PROGRAM...]}
+shift
+only=" $* " # the programs to build; "  ": all
 build=${BUILD:-$top/build}
 mkdir -p "$out"
 stage=$out/stage
@@ -16,7 +20,15 @@ lib=$(find "$stage" -name libx4step.a) # lib/ or lib/<multiarch>/
 cxx="g++ -std=c++17 -O2 -Wall -Wextra -Werror -static"
 
 failed=0
-job() { # COMMAND...: in the background, at most one per CPU
+job() { # COMMAND...: in the background, at most one per CPU; skipped if its -o is not asked for
+	if [ "$only" != "  " ]; then
+		local a prev="" name=""
+		for a in "$@"; do
+			[ "$prev" = -o ] && name=$(basename "$a")
+			prev=$a
+		done
+		case $only in *" $name "*) ;; *) return 0 ;; esac
+	fi
 	while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || failed=1; done
 	"$@" &
 }

@@ -1,0 +1,41 @@
+#!/bin/bash
+# SPDX-License-Identifier: GPL-2.0
+# make demo's part program (tools/demo.sh: machine= and program=) on its
+# machine file, on the host: x4ctl gcode --check passes it (soft limits
+# included), and on the simulated port in virtual time it runs to its end,
+# its steps (the VCD, read by gcode_sim_check) ending at exactly
+# round(programmed end x SCALE) and within ARC_TOLERANCE + 1 step of the
+# path. So the demo's QEMU run cannot fail on the program itself.
+#   check-demo.sh X4CTL SIM_CHECK SOURCE_DIR
+set -u
+x4ctl=$1 sim_check=$2 top=$3
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+failed=0
+check() { # check NAME STATUS: PASS if STATUS is 0
+	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
+}
+unset X4STEP_SIM X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS X4STEP_SIM_VCD
+
+# The files the demo runs, as tools/demo.sh names them.
+machine=$(sed -n 's/^machine=\([^ ]*\)$/\1/p' "$top/tools/demo.sh")
+program=$(sed -n 's/^program=\([^ ]*\)$/\1/p' "$top/tools/demo.sh")
+[ -f "$top/$machine" ] && [ -f "$top/$program" ]
+check "tools/demo.sh names its machine ($machine) and program ($program)" $?
+machine=$top/$machine program=$top/$program
+
+"$x4ctl" gcode --check --machine "$machine" "$program" >"$dir/out" 2>&1
+st=$?
+cat "$dir/out"
+[ $st -eq 0 ] && grep -q ': OK: [0-9]* lines, [0-9]* segments' "$dir/out"
+check "x4ctl gcode --check passes it on its machine" $?
+
+X4STEP_SIM_TIME=virtual X4STEP_SIM_VCD=$dir/run.vcd timeout 60 \
+	"$x4ctl" --sim gcode --machine "$machine" "$program" </dev/null >"$dir/out" 2>&1
+st=$?
+cat "$dir/out"
+[ $st -eq 0 ] && grep -q '^gcode: done, at ' "$dir/out"
+check "it runs to its end on the simulated port" $?
+"$sim_check" "$machine" "$program" "$dir/run.vcd"
+check "its steps: the programmed end exactly, within ARC_TOLERANCE + 1 step of the path" $?
+exit $failed
