@@ -55,6 +55,8 @@ class port {
 class controller_port : public port {
  public:
   explicit controller_port(x4step::controller c) : c_(std::move(c)) {}
+  /// The controller itself, for what a port does not offer (paths).
+  x4step::controller &controller() { return c_; }
   void load(const x4step::move &m) override { c_.load(m); }
   void start() override { c_.start(); }
   void brake() override { c_.brake(); }
