@@ -369,8 +369,8 @@ std::string beyond_soft_limit(const machine &m, size_t a, double units) {
     o << v;
     return o.str();
   };
-  const std::string what = std::string(1, "XYZABC"[a]) + " " + text(units) + " is beyond the soft limit [AXIS_" +
-                           "XYZABC"[a] + "] ";
+  const std::string what = std::string(1, "XYZABC"[a]) + " " + text(units) +
+                           " is beyond the soft limit [AXIS_" + "XYZABC"[a] + "] ";
   if (units < ax->min_limit - 1e-9 * std::max(1.0, std::fabs(ax->min_limit)))
     return what + "MIN_LIMIT " + text(ax->min_limit);
   if (units > ax->max_limit + 1e-9 * std::max(1.0, std::fabs(ax->max_limit)))

@@ -97,10 +97,14 @@ enum class key {
   esc,
   left,
   right,
+  up,
+  down,
+  page_up,
+  page_down,
   space,
   plus,           ///< '+' (or '=', its key unshifted)
   minus,          ///< '-'
-  other,          ///< any other key
+  other,          ///< any other key (std_console::last_char() tells a character)
   brake_request,  ///< SIGTERM, SIGHUP, SIGUSR1 (`x4ctl brake`, `x4ctl halt`)
   interrupt,      ///< Ctrl-C: brakes; a second one stops
   stop_request,   ///< SIGUSR2 (`x4ctl stop`, `x4ctl halt --stop`)
