@@ -43,7 +43,7 @@ st=$?
 check "home: exit 0, the engine's coordinates at HOME" $?
 [ "$(net "$dir/home.vcd" 1) $(net "$dir/home.vcd" 2) $(net "$dir/home.vcd" 3)" = "-199 599 499" ]
 check "home: the motors stand at HOME from the switches' edges (X -199, Y 599, Z 499 steps)" $?
-read -r _ _ zfirst zlast < <(steps "$dir/home.vcd" 3)
+read -r _ _ _ zlast < <(steps "$dir/home.vcd" 3)
 read -r _ _ xfirst xlast < <(steps "$dir/home.vcd" 1)
 read -r _ _ yfirst ylast < <(steps "$dir/home.vcd" 2)
 [ "$zlast" -lt "$xfirst" ] && [ "$zlast" -lt "$yfirst" ]
@@ -54,8 +54,8 @@ check "home: X and Y (HOME_SEQUENCE 1) home at the same time" $?
 [ "$(sed -n 's/^home: \([XYZ]\) (sequence.*/\1/p' "$dir/out" | tr -d '\n')" = ZXY ]
 check "home: reported in sequence order" $?
 
-run "$dir/homez.vcd" home --machine "$machine" z
-[ $? -eq 0 ] && grep -qx 'home: done, at Z-1 (mm)' "$dir/out" &&
+run "$dir/homez.vcd" home --machine "$machine" z &&
+	grep -qx 'home: done, at Z-1 (mm)' "$dir/out" &&
 	[ "$(net "$dir/homez.vcd" 1) $(net "$dir/homez.vcd" 2) $(net "$dir/homez.vcd" 3)" = "0 0 499" ]
 check "home z: only Z moves" $?
 
@@ -90,18 +90,18 @@ check "home W: refused" $?
 
 # --- jog ------------------------------------------------------------------------------
 # By a distance: exactly round(position x SCALE); Y's SCALE is negative.
-run "$dir/jx.vcd" jog X+ --machine "$machine" --distance 1.2345
-[ $? -eq 0 ] && grep -qx 'jog: X at 1.238 mm (198 steps)' "$dir/out" && [ "$(net "$dir/jx.vcd" 1)" = 198 ]
+run "$dir/jx.vcd" jog X+ --machine "$machine" --distance 1.2345 &&
+	grep -qx 'jog: X at 1.238 mm (198 steps)' "$dir/out" && [ "$(net "$dir/jx.vcd" 1)" = 198 ]
 check "jog X+ --distance 1.2345: 198 steps (1.2345 x 160 = 197.52)" $?
-run "$dir/jy.vcd" jog y+ --machine "$machine" --distance 0.3333 --feed 60
-[ $? -eq 0 ] && grep -qx 'jog: Y at 0.335 mm (-67 steps)' "$dir/out" && [ "$(net "$dir/jy.vcd" 2)" = -67 ]
+run "$dir/jy.vcd" jog y+ --machine "$machine" --distance 0.3333 --feed 60 &&
+	grep -qx 'jog: Y at 0.335 mm (-67 steps)' "$dir/out" && [ "$(net "$dir/jy.vcd" 2)" = -67 ]
 check "jog y+ --distance 0.3333: -67 steps (0.3333 x -200 = -66.66)" $?
 # Continuously: to the soft limit, and not a step beyond.
-run "$dir/jlim.vcd" jog Y+ --machine "$machine" --feed 1200
-[ $? -eq 0 ] && grep -qx 'jog: Y at 50 mm (-10000 steps)' "$dir/out" && [ "$(net "$dir/jlim.vcd" 2)" = -10000 ]
+run "$dir/jlim.vcd" jog Y+ --machine "$machine" --feed 1200 &&
+	grep -qx 'jog: Y at 50 mm (-10000 steps)' "$dir/out" && [ "$(net "$dir/jlim.vcd" 2)" = -10000 ]
 check "jog Y+: stops at MAX_LIMIT 50 mm (-10000 steps)" $?
-run "$dir/jmin.vcd" jog X- --machine "$machine" --feed 1200
-[ $? -eq 0 ] && [ "$(net "$dir/jmin.vcd" 1)" = -800 ]
+run "$dir/jmin.vcd" jog X- --machine "$machine" --feed 1200 &&
+	[ "$(net "$dir/jmin.vcd" 1)" = -800 ]
 check "jog X-: stops at MIN_LIMIT -5 mm (-800 steps)" $?
 # Braked by a key (the module's ESC) on its way: short of the limit.
 X4STEP_SIM_KEYS=500ms:esc run "$dir/jkey.vcd" jog X+ --machine "$machine" --feed 600
@@ -119,7 +119,7 @@ run "$dir/jat.vcd" jog Y- --machine "$machine"
 	[ "$(net "$dir/jat.vcd" 2)" = 0 ]
 check "jog Y- at MIN_LIMIT: exit 1, no step" $?
 # The steps form is still there.
-run "$dir/jsteps.vcd" jog 2 - --time 100
-[ $? -eq 0 ] && [ "$(net "$dir/jsteps.vcd" 2)" -lt 0 ]
+run "$dir/jsteps.vcd" jog 2 - --time 100 &&
+	[ "$(net "$dir/jsteps.vcd" 2)" -lt 0 ]
 check "jog 2 - (steps) still runs" $?
 exit $failed

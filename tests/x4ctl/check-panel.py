@@ -81,9 +81,13 @@ class Panel:
         os.write(self.fd, keys.encode())
 
     def finish(self, timeout=20):
+        """Reads to the end (a panel blocked on a full terminal would never
+        end); after timeout it is killed, and fails the test."""
         end = time.time() + timeout
         while time.time() < end and self.read(0.2) is not None:
             pass
+        if time.time() >= end:
+            os.kill(self.pid, signal.SIGKILL)
         _, st = os.waitpid(self.pid, 0)
         self.status = os.waitstatus_to_exitcode(st)
         return self.out.decode(errors="replace")

@@ -256,7 +256,7 @@ void panel::run() {
   while (!quit_) {
     draw(true);
     const key k = con_.read_key(milliseconds(200));
-    if (quit_requested() || k == key::interrupt) break;
+    if (quit_requested() || k == key::interrupt || con_.gone()) break;
     if (k == key::none) continue;
     message_.clear();
     try {

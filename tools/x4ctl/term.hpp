@@ -78,6 +78,8 @@ class std_console : public console {
   x4step::axis_set requested_axes() const override { return taken_axes(); }
   /// The byte of the last key read if it was one byte ('q', '\r', ...), else 0.
   char last_char() const { return last_char_; }
+  /// The terminal hung up (end of input): no key will come any more.
+  bool gone() const { return gone_; }
 
  private:
   bool live_;
