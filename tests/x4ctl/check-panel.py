@@ -138,6 +138,9 @@ f = p.wait(lambda f: "jog step: continuous" in f)
 p.send("\x1b[6~")
 f = p.wait(idle_at("Z", -30))
 check("i (continuous), PgDn: Z to its soft limit MIN_LIMIT -30", axis(f, "Z") == (-30, -30), f)
+p.send("]")
+f = p.wait(lambda f: "no A axis" in f)
+check("]: the machine has no A axis, said", "A+: the machine has no A axis" in f, f)
 p.send("+")
 f = p.wait(lambda f: "feed F500 " in f)
 check("+: feed 200 -> 500 mm/min", "feed F500 mm/min" in f, f)
@@ -184,6 +187,23 @@ check("SIGINT while jogging: braked, the panel ends (exit 0 within 3 s)",
       p.status == 0 and time.time() - t < 3 and m and 0 < float(m.group(1)) < 10, out[-300:])
 check("and the motor stands where the panel says (%s steps)" % steps[0],
       m and steps[0] == round(float(m.group(1)) * 160), repr(steps))
+
+# --- real time: any key brakes a jog, and the panel goes on -----------------------------
+vcd = os.path.join(tmp, "key.vcd")
+p = Panel(vcd, {}, ["--feed", "60"])
+p.wait(lambda f: "state: idle" in f)
+p.send("\x1b[D")
+f = p.wait(lambda f: "state: jog X-" in f and axis(f, "X")[1] < -0.2)
+p.send("x")
+f = p.wait(lambda f: "state: idle" in f and "braked" in f)
+x = axis(f, "X")[1] if axis(f, "X") else 0
+check("any key (x) brakes a continuous jog short of its limit; the panel goes on",
+      "jog X-: braked (ESC)" in f and -5 < x < 0, f)
+p.send("q")
+out = p.finish()
+steps = vcd_steps(vcd)
+check("and the motor stands where the panel says (%s steps)" % steps[0],
+      p.status == 0 and steps[0] == round(x * 160), repr(steps))
 
 # --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
 p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})
