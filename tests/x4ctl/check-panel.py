@@ -118,9 +118,9 @@ check("the panel shows its machine, axes, feed and keys",
       "x4ctl panel: " in f and axis(f, "X") == (0, 0) and "not homed" in f and "feed F200 mm/min" in f
       and "jog step: continuous" in f and "z or 0: work zero here (this session only)" in f, f)
 p.send("h")
-f = p.wait(lambda f: "state: idle" in f and "homed" in f.split("state:")[1] and axis(f, "Z")[1] == -1)
+f = p.wait(lambda f: "state: idle" in f and "home: done" in f)
 check("h homes: X3 Y1 Z-1, homed", axis(f, "X") == (3, 3) and axis(f, "Y") == (1, 1) and
-      axis(f, "Z") == (-1, -1) and f.count("  homed") == 3, f)
+      axis(f, "Z") == (-1, -1) and f.count("  homed") == 3 and "home: done, at Z-1 X3 Y1 (mm)" in f, f)
 p.send("i")
 f = p.wait(lambda f: "jog step: 1 mm" in f)
 check("i: jog step 1 mm", "jog step: 1 mm" in f, f)

@@ -214,26 +214,28 @@ void panel::go_to() {
   move(to, "go to" + what);
 }
 
+// The last line of a text, without its line end.
+std::string last_line(std::string text) {
+  if (!text.empty() && text.back() == '\n') text.pop_back();
+  return text.substr(text.rfind('\n') + 1);  // npos + 1: all of it
+}
+
 void panel::home() {
-  std::ostringstream log;
+  std::ostringstream log;  // home_machine's progress, its last line on the screen
   state_ = "homing";
   any_key_brakes keys(con_, false, [&] {
-    const std::string l = log.str();
-    const size_t nl = l.rfind('\n', l.size() > 1 ? l.size() - 2 : 0);
-    message_ = l.substr(nl == std::string::npos ? 0 : nl + 1);
-    if (!message_.empty() && message_.back() == '\n') message_.pop_back();
+    message_ = last_line(log.str());
     draw(false);
   });
   try {
     home_machine(p_, keys, mc_, machine_axes(mc_, "", "home"), log);
-    message_ = "homed";
   } catch (...) {
-    state_ = "idle";
     quit_ = keys.interrupted();
     throw;
   }
-  state_ = "idle";
   quit_ = keys.interrupted();
+  state_ = "idle";
+  message_ = last_line(log.str());
 }
 
 void panel::set_zero() {
