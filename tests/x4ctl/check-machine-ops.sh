@@ -59,6 +59,18 @@ run "$dir/homez.vcd" home --machine "$machine" z &&
 	[ "$(net "$dir/homez.vcd" 1) $(net "$dir/homez.vcd" 2) $(net "$dir/homez.vcd" 3)" = "0 0 499" ]
 check "home z: only Z moves" $?
 
+# The shipped SMC1500 mill: every switch on input 1, homed one sequence
+# after the other, each axis off its switch (at HOME) before the next
+# search. In step-dir mode here: the simulated machine follows clock and
+# direction pins only. Z at 299 + -2 x 320 = -341, X at -499 + 2 x 320 =
+# 141, Y at -699 + 640 = -59.
+sed 's/^OUTPUT_MODE = smc-phase/OUTPUT_MODE = step-dir/' "$here/../../machines/smc1500-mill.ini" >"$dir/smc.ini"
+printf 'ref 1 below -500 pin15 no\nref 2 below -700 pin15 no\nref 3 above 300 pin15 no\n' >"$dir/smc.sim"
+X4STEP_SIM_MACHINE=$dir/smc.sim run "$dir/smc.vcd" home --machine "$dir/smc.ini" &&
+	grep -qx 'home: done, at Z-2 X2 Y2 (mm)' "$dir/out" &&
+	[ "$(net "$dir/smc.vcd" 1) $(net "$dir/smc.vcd" 2) $(net "$dir/smc.vcd" 3)" = "141 -59 -341" ]
+check "home the SMC1500 mill: three switches on one input, Z, X, Y in turn" $?
+
 # A switch that is not there: the search gives up after 1.25 x the travel,
 # and the later sequence does not start.
 printf 'ref 1 below -1000 pin15 no\nref 2 above 700 pin13 no\n' >"$dir/noz.sim"
