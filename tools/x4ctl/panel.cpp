@@ -99,7 +99,7 @@ void panel::draw(bool now) {
   auto line = [&](const std::string &s) { o << s << "\x1b[K\n"; };
   line("x4ctl panel: " + (mc_.name.empty() ? file_ : mc_.name + " (" + file_ + ")") + " on " + dev_);
   line("");
-  line("axis        work     machine  unit   ");
+  line("axis       work     machine  unit");
   for (size_t a = 0; a < g::n_axes; a++) {
     if (!mc_.axes[a]) continue;
     const x4step::axis_status &s = st[motor_of(*mc_.axes[a])];
