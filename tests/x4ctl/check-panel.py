@@ -15,6 +15,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import termios
 import time
 
 X4CTL = sys.argv[1]
@@ -80,6 +81,11 @@ class Panel:
     def send(self, keys):
         os.write(self.fd, keys.encode())
 
+    def canonical(self):
+        """The terminal is in canonical mode with echo (as a shell wants it)."""
+        lflag = termios.tcgetattr(self.fd)[3]
+        return bool(lflag & termios.ICANON) and bool(lflag & termios.ECHO)
+
     def finish(self, timeout=20):
         """Reads to the end (a panel blocked on a full terminal would never
         end); after timeout it is killed, and fails the test."""
@@ -114,6 +120,7 @@ tmp = tempfile.mkdtemp()
 vcd = os.path.join(tmp, "panel.vcd")
 p = Panel(vcd, {"X4STEP_SIM_TIME": "virtual"})
 f = p.wait(lambda f: "state: idle" in f)
+check("the terminal is in raw mode while the panel runs", not p.canonical())
 check("the panel shows its machine, axes, feed and keys",
       "x4ctl panel: " in f and axis(f, "X") == (0, 0) and "not homed" in f and "feed F200 mm/min" in f
       and "jog step: continuous" in f and "z or 0: work zero here (this session only)" in f, f)
@@ -164,8 +171,8 @@ check("g X200: refused on the screen (X 206 beyond MAX_LIMIT 100), nothing moves
 p.send("q")
 out = p.finish()
 last = out.split("\x1b[?1049l")[-1].strip()
-check("q: exit 0, the normal screen back, the positions on it",
-      p.status == 0 and "\x1b[?25h\x1b[?1049l" in out and
+check("q: exit 0, the terminal's mode and the normal screen back, the positions on it",
+      p.status == 0 and p.canonical() and "\x1b[?25h\x1b[?1049l" in out and
       last == "panel: at X4 Y6.01 Z-30 (mm, machine coordinates); work X-2 Y5 Z0", repr(last))
 # The pins: from where homing left them (X -199, Y 599, Z 499) by the moves after.
 steps = vcd_steps(vcd)
@@ -183,8 +190,8 @@ t = time.time()
 out = p.finish()
 m = re.search(r"panel: at X(-?[0-9.]+) ", out)
 steps = vcd_steps(vcd)
-check("SIGINT while jogging: braked, the panel ends (exit 0 within 3 s)",
-      p.status == 0 and time.time() - t < 3 and m and 0 < float(m.group(1)) < 10, out[-300:])
+check("SIGINT while jogging: braked, the panel ends (exit 0 within 3 s), the terminal restored",
+      p.status == 0 and p.canonical() and time.time() - t < 3 and m and 0 < float(m.group(1)) < 10, out[-300:])
 check("and the motor stands where the panel says (%s steps)" % steps[0],
       m and steps[0] == round(float(m.group(1)) * 160), repr(steps))
 
