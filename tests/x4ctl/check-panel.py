@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0
-"""x4ctl panel driven through a pseudo-terminal on the simulated port
+"""x4ctl panel (and jog) driven through a pseudo-terminal on the simulated port
 (test-mill.ini, test-mill.sim's switches): keys typed as a user types them,
 the screen read back from what the panel draws, the final positions from
 its last line and from the pins' VCD (vcd-steps.awk).
@@ -33,14 +33,14 @@ def check(name, ok, detail=""):
 class Panel:
     """x4ctl --sim panel on a pty: send keys, read frames."""
 
-    def __init__(self, vcd, env_extra, args=()):
+    def __init__(self, vcd, env_extra, args=(), command=("panel", "--machine", MACHINE)):
         env = {k: v for k, v in os.environ.items() if not k.startswith("X4STEP")}
         env.update({"X4STEP_SIM_MACHINE": os.path.join(HERE, "test-mill.sim"), "X4STEP_SIM_VCD": vcd,
                     "TERM": "xterm"})
         env.update(env_extra)
         self.pid, self.fd = pty.fork()
         if self.pid == 0:
-            os.execve(X4CTL, [X4CTL, "--sim", "panel", "--machine", MACHINE, *args], env)
+            os.execve(X4CTL, [X4CTL, "--sim", *command, *args], env)
         self.out = b""
         self.status = None
 
@@ -77,6 +77,10 @@ class Panel:
             if self.read(0.2) is None:
                 break
         return self.frame()
+
+    def run_for(self, seconds):
+        """Reads what comes for a while."""
+        self.wait(lambda f: False, seconds)
 
     def send(self, keys):
         os.write(self.fd, keys.encode())
@@ -211,6 +215,18 @@ out = p.finish()
 steps = vcd_steps(vcd)
 check("and the motor stands where the panel says (%s steps)" % steps[0],
       p.status == 0 and steps[0] == round(x * 160), repr(steps))
+
+# --- x4ctl jog on a terminal: any key brakes it too ---------------------------------------
+vcd = os.path.join(tmp, "jog.vcd")
+p = Panel(vcd, {}, command=("jog", "X+", "--machine", MACHINE, "--feed", "60"))
+p.run_for(0.8)
+p.send(" ")
+out = p.finish()
+m = re.search(r"jog: X at (-?[0-9.]+) mm \((-?[0-9]+) steps\), braked \(ESC\)", out)
+steps = vcd_steps(vcd)
+check("x4ctl jog X+ on a terminal: space brakes it, exit 0, where it says (%s steps)" % steps[0],
+      p.status == 0 and m and 0 < int(m.group(2)) < 16000 and steps[0] == int(m.group(2)) and
+      "\rjog: X " in out, out[-300:])
 
 # --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
 p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})
