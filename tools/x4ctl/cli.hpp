@@ -119,7 +119,7 @@ struct config {
 
   path_defaults path;               ///< path (c.file: the path, "-" stdin; c.check: only check)
   unsigned override_percent = 100;  ///< path, gcode: feed override
-  std::string machine;              ///< gcode --machine; empty: $X4STEP_MACHINE, else /etc/x4step/machine.ini
+  std::string machine;              ///< --machine (machine_path(): else $X4STEP_MACHINE, /etc/...)
   bool no_pause = false;            ///< gcode, mdi: M0/M1/M6 do not wait for the operator
   std::vector<std::string> blocks;  ///< mdi: the blocks, one line each
   std::string svg;                  ///< gcode --svg: the plot's file; empty: none
