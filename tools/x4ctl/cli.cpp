@@ -1486,8 +1486,8 @@ std::string help_text(subcommand c) {
              "Options:\n"
              "  -m, --machine=FILE   the machine file (default: $X4STEP_MACHINE, else\n"
              "                       /etc/x4step/machine.ini)\n"
-             "      --feed=F         the feed to start with, units/min (default: a quarter\n"
-             "                       of the fastest axis' MAX_VELOCITY)\n" +
+             "      --feed=F         the feed to start with, units/min, at most the fastest\n"
+             "                       axis' MAX_VELOCITY (default: a quarter of that)\n" +
              std::string(port_help) +
              "\n"
              "Exit status: 0 quit; 1 the port refused, or no terminal; 2 bad usage or\n"

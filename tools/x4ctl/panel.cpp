@@ -50,7 +50,7 @@ class panel {
     feed_ = feed_steps[0];
     for (double f : feed_steps)
       if (f <= max_feed_ / 4) feed_ = f;
-    if (feed) feed_ = *feed;
+    if (feed) feed_ = std::min(*feed, max_feed_);  // no axis goes faster anyway
   }
 
   void run();
