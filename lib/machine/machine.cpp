@@ -3,6 +3,7 @@
 // key against what x4step knows, so that nothing is skipped silently.
 #include "machine.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -332,6 +333,22 @@ void read_joint(ini &f, int n, char letter, axis &a, int coord_line, const std::
   read_homing(r, a);
 }
 
+// Axes homing at the same time on one input could not tell whose switch
+// it was: the later one (in the file) of two such joints is refused.
+void check_shared_inputs(ini &f, const machine &m, const std::string &letters) {
+  for (size_t j = 0; j < letters.size(); j++)
+    for (size_t i = 0; i < j; i++) {
+      const homing &a = m.axes[std::string("XYZABC").find(letters[i])]->home;
+      const homing &b = m.axes[std::string("XYZABC").find(letters[j])]->home;
+      if (!a.enabled || !b.enabled || a.input != b.input || a.sequence != b.sequence) continue;
+      const std::string name = "JOINT_" + std::to_string(j);
+      reader(f, name, f.find(name))
+          .fail("HOME_SEQUENCE", "joint " + std::to_string(i) + " homes on input " + std::to_string(a.input) +
+                                     " in sequence " + std::to_string(a.sequence) +
+                                     " too: axes sharing a home switch input need different HOME_SEQUENCEs");
+    }
+}
+
 std::string directory_of(const std::string &path) {
   const size_t slash = path.rfind('/');
   return slash == std::string::npos ? "" : path.substr(0, slash + 1);
@@ -343,6 +360,23 @@ error::error(const std::string &file, int line, const std::string &key, const st
     : std::runtime_error(where(file, line) + ": " + (key.empty() ? "" : key + ": ") + message),
       line_(line),
       key_(key) {}
+
+std::string beyond_soft_limit(const machine &m, size_t a, double units) {
+  const std::optional<axis> &ax = m.axes.at(a);
+  if (!ax) return "";
+  auto text = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
+  const std::string what = std::string(1, "XYZABC"[a]) + " " + text(units) +
+                           " is beyond the soft limit [AXIS_" + "XYZABC"[a] + "] ";
+  if (units < ax->min_limit - 1e-9 * std::max(1.0, std::fabs(ax->min_limit)))
+    return what + "MIN_LIMIT " + text(ax->min_limit);
+  if (units > ax->max_limit + 1e-9 * std::max(1.0, std::fabs(ax->max_limit)))
+    return what + "MAX_LIMIT " + text(ax->max_limit);
+  return "";
+}
 
 machine read(std::istream &in, const std::string &name) {
   ini f(in, name);
@@ -377,6 +411,7 @@ machine read(std::istream &in, const std::string &name) {
     read_joint(f, static_cast<int>(j), letters[j], ax, coord_line, name, motor_line, m);
     m.axes[size_t(a)] = ax;
   }
+  check_shared_inputs(f, m, letters);
   // Sections for axes or joints the machine does not have.
   for (const std::string &s : f.order()) {
     if (s.compare(0, 5, "AXIS_") == 0 && letters.find(s[5]) == std::string::npos)

@@ -79,6 +79,10 @@ struct machine {
   std::string tool_table;  ///< [EMCIO] TOOL_TABLE, relative to the file's directory made absolute
 };
 
+/// Why `units` lies beyond the soft limits of axis a (gcode::X ..), e.g.
+/// "X 30 is beyond the soft limit [AXIS_X] MAX_LIMIT 24"; empty if within.
+std::string beyond_soft_limit(const machine &m, size_t a, double units);
+
 /// Reads and checks a machine file; `name` is the file name errors give.
 machine read(std::istream &in, const std::string &name);
 /// The same, opening the file (error at line 0 if it cannot be read).

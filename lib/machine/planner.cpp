@@ -44,13 +44,7 @@ void planner::check_limits(const gcode::pose &p) const {
         fail(std::string("the machine has no ") + letter_of(a) + " axis ([TRAJ] COORDINATES)");
       continue;
     }
-    const std::string name = std::string("[AXIS_") + letter_of(a) + "]";
-    if (p[a] < ax->min_limit - 1e-9 * std::max(1.0, std::fabs(ax->min_limit)))
-      fail(std::string(1, letter_of(a)) + " " + number(p[a]) + " is beyond the soft limit " + name +
-           " MIN_LIMIT " + number(ax->min_limit));
-    if (p[a] > ax->max_limit + 1e-9 * std::max(1.0, std::fabs(ax->max_limit)))
-      fail(std::string(1, letter_of(a)) + " " + number(p[a]) + " is beyond the soft limit " + name +
-           " MAX_LIMIT " + number(ax->max_limit));
+    if (const std::string why = beyond_soft_limit(m_, a, p[a]); !why.empty()) fail(why);
   }
 }
 

@@ -238,4 +238,10 @@ TEST(Machine, RefusesContradictions) {
   EXPECT_REFUSED(std::string(base) + "[JOINT_2]\nMOTOR = 2\n",
                  "^m.ini:23: \\[JOINT_2\\]: the machine has joints 0..1");
   EXPECT_REFUSED(replaced(5, "COORDINATES = XX"), "^m.ini:5: \\[TRAJ\\] COORDINATES: axis X given twice");
+  // Two axes homing on one input at once: whose switch would it be?
+  const std::string homes_x = "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 1\nHOME_INPUT = 2";
+  const std::string homes_z = "HOME_SEARCH_VEL = 5\nHOME_LATCH_VEL = -1\nHOME_INPUT = 2";
+  EXPECT_REFUSED(replaced(19, homes_x) + homes_z + "\n",
+                 "^m.ini:23: \\[JOINT_1\\] HOME_SEQUENCE: joint 0 homes on input 2 in sequence 0 too");
+  EXPECT_NO_THROW(read(replaced(19, homes_x) + homes_z + "\nHOME_SEQUENCE = 1\n"));
 }

@@ -395,6 +395,50 @@ TEST(Cli, Home) {
   EXPECT_EQ(usage_message({"home", "1", "2"}), "home: unexpected argument '2'");
 }
 
+// home, jog and panel in a machine's units: axis letters, --machine, --feed, --distance.
+TEST(Cli, MachineUnits) {
+  config c = parse({"home", "--machine", "m.ini"});
+  EXPECT_TRUE(c.machine_units());
+  EXPECT_EQ(c.letters, "");
+  c = parse({"home", "x", "ZY", "-m", "m.ini"});
+  EXPECT_EQ(c.letters, "XZY");
+  c = parse({"home", "Z"});  // the machine file from $X4STEP_MACHINE or /etc
+  EXPECT_TRUE(c.machine_units());
+  EXPECT_FALSE(parse({"home", "2"}).machine_units());
+  EXPECT_EQ(
+      usage_message({"home", "X", "--vref1", "100"}),
+      "home: --vref1, --vref2, --sref, --phase and --brake are for AXIS in steps; the machine file gives "
+      "the homing of axis letters");
+  EXPECT_EQ(usage_message({"home", "--machine", "m.ini", "1"}),
+            "home: '1': give axis letters (X Y Z A B C), or one AXIS 1..4");
+  c = parse({"jog", "z-", "--machine", "m.ini", "--feed", "120.5", "--distance", "0.25"});
+  EXPECT_EQ(c.cmd, subcommand::jog);
+  EXPECT_EQ(c.letters, "Z");
+  EXPECT_EQ(c.dir, x4step::direction::negative);
+  EXPECT_EQ(c.feed, 120.5);
+  EXPECT_EQ(c.distance, 0.25);
+  c = parse({"jog", "A+"});
+  EXPECT_EQ(c.dir, x4step::direction::positive);
+  EXPECT_FALSE(c.distance);
+  EXPECT_FALSE(parse({"jog", "1", "+"}).machine_units());
+  EXPECT_EQ(usage_message({"jog", "X"}),
+            "jog: 'X': give an axis letter and a sign (X+, Z-), or AXIS +|- in steps");
+  EXPECT_EQ(
+      usage_message({"jog", "X+", "--freq", "100"}),
+      "jog: --freq, --ramp, --time and --wait are for AXIS +|- in steps; X+ takes --machine, --feed and "
+      "--distance");
+  EXPECT_EQ(usage_message({"jog", "1", "+", "--distance", "2"}),
+            "jog: --machine, --feed and --distance jog an axis letter, e.g. 'jog X+ --machine FILE'");
+  EXPECT_EQ(usage_message({"jog", "X+", "--distance", "0"}), "jog: distance '0': use a number above 0 units");
+  EXPECT_EQ(usage_message({"jog", "X+", "--feed", "fast"}),
+            "jog: feed 'fast': use a number above 0 units/min");
+  c = parse({"panel", "-m", "m.ini", "--feed", "300"});
+  EXPECT_EQ(c.cmd, subcommand::panel);
+  EXPECT_EQ(c.machine, "m.ini");
+  EXPECT_EQ(c.feed, 300.0);
+  EXPECT_EQ(usage_message({"panel", "X"}), "panel: unexpected argument 'X'");
+}
+
 TEST(Cli, ZeroHaltLimits) {
   config c = parse({"zero", "1", "4"});
   EXPECT_EQ(c.cmd, subcommand::zero);
@@ -2164,12 +2208,21 @@ TEST(Term, DecodeKeys) {
   EXPECT_EQ(decode_key("\x1bOD", false).k, key::left);
   EXPECT_EQ(decode_key("\x1b[1;2C", false).k, key::right);  // shift-right
   EXPECT_EQ(decode_key("\x1b[1;2C", false).used, 6u);
-  EXPECT_EQ(decode_key("\x1b[A", false).k, key::other);
+  EXPECT_EQ(decode_key("\x1b[A", false).k, key::up);
+  EXPECT_EQ(decode_key("\x1bOB", false).k, key::down);
+  EXPECT_EQ(decode_key("\x1b[5~", false).k, key::page_up);
+  EXPECT_EQ(decode_key("\x1b[6~", false).k, key::page_down);
+  EXPECT_EQ(decode_key("\x1b[6~", false).used, 4u);
+  EXPECT_EQ(decode_key("\x1b[3~", false).k, key::other);  // Delete
+  EXPECT_EQ(decode_key("\x1b[H", false).k, key::other);   // Home
   EXPECT_EQ(decode_key("\x1b[", false).used, 0u);
   EXPECT_EQ(decode_key("\x1bx", false).k, key::esc);
   EXPECT_EQ(decode_key("\x1bx", false).used, 1u);
   EXPECT_EQ(decode_key("\x03", false).k, key::interrupt);
   EXPECT_EQ(decode_key("q", false).k, key::other);
+  EXPECT_EQ(decode_key("q", false).ch, 'q');
+  EXPECT_EQ(decode_key("\r", false).ch, '\r');
+  EXPECT_EQ(decode_key("\x1b[C", false).ch, 0);
   EXPECT_EQ(decode_key(" ", false).k, key::space);
   EXPECT_EQ(decode_key("+", false).k, key::plus);
   EXPECT_EQ(decode_key("=", false).k, key::plus);

@@ -7,9 +7,12 @@
 #include "cli.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <iterator>
 #include <string_view>
 
@@ -72,7 +75,9 @@ enum opt_id {
   opt_override,
   opt_machine,
   opt_no_pause,
-  opt_svg
+  opt_svg,
+  opt_feed,
+  opt_distance
 };
 
 struct option_spec {
@@ -194,7 +199,7 @@ const command_entry commands[] = {
     {subcommand::home, "home"},       {subcommand::zero, "zero"},       {subcommand::limits, "limits"},
     {subcommand::halt, "halt"},       {subcommand::watch, "watch"},     {subcommand::list, "list"},
     {subcommand::path, "path"},       {subcommand::gcode, "gcode"},     {subcommand::mdi, "mdi"},
-    {subcommand::help, "help"},
+    {subcommand::panel, "panel"},     {subcommand::help, "help"},
 };
 
 int parse_lpt(const std::string &text, const std::string &prefix) {
@@ -257,6 +262,20 @@ x4step::output_mode parse_mode(const std::string &text, const std::string &prefi
   }
   throw usage_error(prefix + "no mode '" + text + "': use " + names);
 }
+
+// A number above 0 (not necessarily whole), else "WHAT 'TEXT': use a number above 0 UNIT".
+double parse_positive(const std::string &text, const std::string &what, const std::string &unit,
+                      const std::string &prefix) {
+  char *end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end || !std::isfinite(v) || v <= 0)
+    throw usage_error(prefix + what + " '" + text + "': use a number above 0" + unit);
+  return v;
+}
+
+bool is_axis_letter(char ch) { return ch && std::strchr("XYZABCxyzabc", ch); }
+
+char upper(char ch) { return static_cast<char>(std::toupper(static_cast<unsigned char>(ch))); }
 
 // A number in min..max, else "WHAT TEXT out of range: use MIN to MAX UNIT".
 long parse_range(const std::string &text, const std::string &what, long min, long max,
@@ -387,6 +406,13 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("ramp", 'r', true, opt_ramp);
       add("time", 't', true, opt_time);
       add("wait", 'w', false, opt_wait);
+      add("machine", 'm', true, opt_machine);
+      add("feed", 0, true, opt_feed);
+      add("distance", 0, true, opt_distance);
+      break;
+    case subcommand::panel:
+      add("machine", 'm', true, opt_machine);
+      add("feed", 0, true, opt_feed);
       break;
     case subcommand::sweep:
       add("ramp", 'r', true, opt_ramp);
@@ -439,6 +465,7 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       add("sref", 0, true, opt_sref);
       add("phase", 0, true, opt_phase);
       add("brake", 0, false, opt_brake);
+      add("machine", 'm', true, opt_machine);
       break;
     case subcommand::zero:
       add("at", 0, true, opt_at);
@@ -479,12 +506,14 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
   }
   const split_result r = split(args, from, specs, name_of(c.cmd), false);
   motion_options mo;
+  bool step_options = false;                         // jog, home: an option of the steps form
   std::vector<std::vector<std::string>> then_paths;  // checked once freq and ramp are known
   // A move stays in the foreground until it ends, as gpioset does: 'x4ctl
   // move 100; x4ctl move -100' runs one after the other.
   if (c.cmd == subcommand::move) c.wait = true;
   for (const auto &o : r.options) {
     if (apply_common(c, o, prefix)) continue;
+    if (o.id != opt_machine && o.id != opt_feed && o.id != opt_distance) step_options = true;
     switch (o.id) {
       case opt_freq:
         mo.freq = parse_freq(o.value, prefix);
@@ -617,6 +646,12 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
         if (o.value.empty()) throw usage_error(prefix + "--svg needs a file");
         c.svg = o.value;
         break;
+      case opt_feed:
+        c.feed = parse_positive(o.value, "feed", " units/min", prefix);
+        break;
+      case opt_distance:
+        c.distance = parse_positive(o.value, "distance", " units", prefix);
+        break;
       case opt_ref:
         c.ref = parse_input(o.value, prefix);
         break;
@@ -659,7 +694,22 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       break;
     }
     case subcommand::jog: {
-      need_operands(r, 2, 2, prefix);
+      need_operands(r, 1, 2, prefix);
+      if (ops.size() == 1) {  // X+: machine units
+        const std::string &o = ops[0];
+        if (o.size() != 2 || !is_axis_letter(o[0]) || (o[1] != '+' && o[1] != '-'))
+          throw usage_error(prefix + "'" + o +
+                            "': give an axis letter and a sign (X+, Z-), or AXIS +|- in steps");
+        if (step_options)
+          throw usage_error(prefix + "--freq, --ramp, --time and --wait are for AXIS +|- in steps; " + o +
+                            " takes --machine, --feed and --distance");
+        c.letters = std::string(1, upper(o[0]));
+        c.dir = o[1] == '+' ? x4step::direction::positive : x4step::direction::negative;
+        break;
+      }
+      if (c.machine_units() || c.feed || c.distance)
+        throw usage_error(
+            prefix + "--machine, --feed and --distance jog an axis letter, e.g. 'jog X+ --machine FILE'");
       c.axis = parse_axis(ops[0], prefix);
       if (ops[1] == "+" || ops[1] == "pos")
         c.dir = x4step::direction::positive;
@@ -732,10 +782,28 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       need_operands(r, 0, 1, prefix);
       if (!ops.empty()) c.mode = parse_mode(ops[0], prefix);
       break;
-    case subcommand::profile:
     case subcommand::home:
+      // AXIS (1..4) without --machine: steps; axis letters or --machine: machine units.
+      if (!c.machine.empty() || (!ops.empty() && std::isalpha(static_cast<unsigned char>(ops[0][0])))) {
+        for (const std::string &o : ops)
+          for (char ch : o) {
+            if (!is_axis_letter(ch))
+              throw usage_error(prefix + "'" + o + "': give axis letters (X Y Z A B C), or one AXIS 1..4");
+            c.letters += upper(ch);
+          }
+        if (step_options)
+          throw usage_error(prefix +
+                            "--vref1, --vref2, --sref, --phase and --brake are for AXIS in steps; the "
+                            "machine file gives the homing of axis letters");
+        break;
+      }
+      [[fallthrough]];
+    case subcommand::profile:
       need_operands(r, 1, 1, prefix);
       c.axis = parse_axis(ops[0], prefix);
+      break;
+    case subcommand::panel:
+      need_operands(r, 0, 0, prefix);
       break;
     case subcommand::go_to: {
       need_operands(r, 1, x4step::axes, prefix);
@@ -894,7 +962,8 @@ std::string help_text(subcommand c) {
              "\n"
              "Commands:\n"
              "  move STEPS...        interpolated move of up to four axes\n"
-             "  jog AXIS +|-         endless move of one axis until braked\n"
+             "  jog AXIS +|-         endless move of one axis until braked; 'jog X+' (a\n"
+             "                       letter): an axis of a machine file, in its units\n"
              "  brake                brake the running move along its ramp\n"
              "  stop                 stop the running move at once (emergency stop)\n"
              "  status               show the state of the port\n"
@@ -913,11 +982,14 @@ std::string help_text(subcommand c) {
              "  path [FILE]          run a continuous path of straight segments in steps\n"
              "  gcode FILE           run a G-code part program on a machine (machine file)\n"
              "  mdi BLOCK...         run G-code blocks given as arguments (\"G1 X10 F300\")\n"
+             "  panel                full-screen operator panel of a machine: positions, jog,\n"
+             "                       set zero, go to, home\n"
              "\n"
              "Positioning: coordinates, independent axes, homing, limit switches:\n"
              "  profile AXIS         show or set the ramp of an axis' own moves\n"
              "  goto AXIS=POS...     move axes on their own to coordinates\n"
-             "  home AXIS            reference run: find the reference switch, zero there\n"
+             "  home AXIS            reference run: find the reference switch, zero there;\n"
+             "                       'home --machine FILE [LETTERS]': a machine's axes\n"
              "  zero AXIS...         stop the axes and set their coordinates (stop and zero)\n"
              "  limits               show or set the reference and limit switch inputs\n"
              "  halt AXIS...         brake (or stop) the moves of some axes\n"
@@ -962,20 +1034,40 @@ std::string help_text(subcommand c) {
              "          x4ctl move 100000 --background; x4ctl brake\n";
     case subcommand::jog:
       return "Usage: x4ctl jog [OPTIONS] AXIS +|-\n"
+             "       x4ctl jog [--machine FILE] [--feed F] [--distance D] LETTER+|LETTER-\n"
              "\n"
              "Move AXIS (1..4) endlessly in the positive (+) or negative (-) direction\n"
              "(X4MovePos, X4MoveNeg) until it is braked: by ESC or a brake key on the\n"
              "console keyboard, by 'x4ctl brake' or 'x4ctl stop', or after --time.\n"
              "\n"
+             "With an axis letter and a sign (X+, Z-), the axis of a machine file\n"
+             "(machines/README.md) moves in its units, in machine coordinates: by the\n"
+             "distance D, ending exactly at round(position x SCALE) steps (a target\n"
+             "beyond a soft limit is refused, nothing moves); without it toward its soft\n"
+             "limit (MAX_LIMIT for +, MIN_LIMIT for -) until any key, Ctrl-C or 'x4ctl\n"
+             "brake' brakes it, or it stops there. Soft limits apply whether the axis is\n"
+             "homed or not. At --feed, ramps at the axis' MAX_ACCELERATION (the axis'\n"
+             "own move: 'x4ctl profile' is put back afterwards).\n"
+             "\n"
              "Options:\n" +
              std::string(motion_help) +
              "  -t, --time=MS        brake after MS milliseconds\n"
              "  -w, --wait           stay until the move ends, showing the steps; Ctrl-C\n"
-             "                       brakes, a second Ctrl-C stops\n" +
+             "                       brakes, a second Ctrl-C stops\n"
+             "  -m, --machine=FILE   the machine file of LETTER+|- (default: $X4STEP_MACHINE,\n"
+             "                       else /etc/x4step/machine.ini); its PORT is the port\n"
+             "      --feed=F         units/min (degrees for A B C); at most MAX_VELOCITY\n"
+             "                       (default: a quarter of it)\n"
+             "      --distance=D     jog by D units (> 0) in the sign's direction\n" +
              port_help + "\n" + background_help +
              "\n"
-             "Exit status: 0 the axis ran (and, with --wait, was braked); 1 the port\n"
-             "refused; 2 bad usage.\n";
+             "Exit status: 0 the axis ran (and, with --wait, was braked; LETTER+|-: the jog\n"
+             "ended or was braked); 1 the port refused, a --distance jog was braked, or a\n"
+             "continuous one stood at its soft limit already; 2 bad usage or machine file,\n"
+             "or a target beyond a soft limit (nothing moved).\n"
+             "Examples: x4ctl jog 1 + --time 2000\n"
+             "          x4ctl jog X+ --machine machines/smc1500-mill.ini --distance 0.5\n"
+             "          x4ctl jog Z- --machine machines/smc1500-mill.ini --feed 60\n";
     case subcommand::brake:
     case subcommand::stop: {
       const bool brake = c == subcommand::brake;
@@ -1199,6 +1291,7 @@ std::string help_text(subcommand c) {
              "          x4ctl goto 3=100 --relative\n";
     case subcommand::home:
       return "Usage: x4ctl home [OPTIONS] AXIS\n"
+             "       x4ctl home [--machine FILE] [LETTERS...]\n"
              "\n"
              "Reference run of AXIS (ProStep4 section 3), without ramps: phase 1 runs at\n"
              "vref1 until the reference switch becomes active and stops there (--brake:\n"
@@ -1209,6 +1302,17 @@ std::string help_text(subcommand c) {
              "('x4ctl limits AXIS --ref INPUT'). Waits until the run ends; ESC or Ctrl-C\n"
              "brakes it.\n"
              "\n"
+             "With axis letters or --machine, the axes of a machine file (all that home,\n"
+             "or those named: 'home Z', 'home X Y') home as its [JOINT_n] HOME_* keys\n"
+             "say (machines/README.md), in HOME_SEQUENCE order, those of one sequence at\n"
+             "the same time: the reference run above on HOME_INPUT at HOME_SEARCH_VEL,\n"
+             "then HOME_LATCH_VEL (units/s, times SCALE), each phase within 1.25 times\n"
+             "the travel between the soft limits; there the axis' coordinate becomes\n"
+             "HOME_OFFSET (the switch's place in machine coordinates), and it goes to\n"
+             "HOME at MAX_VELOCITY before the next sequence starts. The inputs' polarity\n"
+             "is the port's ('x4ctl limits --nc'). ESC or Ctrl-C brakes; an axis that\n"
+             "does not home stops the later sequences.\n"
+             "\n"
              "Options:\n"
              "      --vref1=V        phase 1 speed, signed: -100000..-1 or 1..100000 steps/s,\n"
              "                       the sign is the direction (default -1000)\n"
@@ -1217,13 +1321,16 @@ std::string help_text(subcommand c) {
              "                       (default 100000)\n"
              "      --phase=1|2      only this phase (semi-automatic); default both\n"
              "      --brake          phase 1 brakes past the switch (it must stay active\n"
-             "                       over the brake distance, vref1^2 / 2 ae steps)\n" +
+             "                       over the brake distance, vref1^2 / 2 ae steps)\n"
+             "  -m, --machine=FILE   the machine file of LETTERS (default: $X4STEP_MACHINE,\n"
+             "                       else /etc/x4step/machine.ini); its PORT is the port\n" +
              std::string(port_help) +
              "\n"
              "Exit status: 0 done (both phases or phase 2: the axis is synchronized);\n"
              "1 the port refused, no reference switch, sref exceeded, a limit switch hit,\n"
              "or the run was halted; 2 bad usage.\n"
-             "Example: x4ctl home 1 --vref1 -2000 --vref2 200 --sref 50000\n";
+             "Examples: x4ctl home 1 --vref1 -2000 --vref2 200 --sref 50000\n"
+             "          x4ctl home --machine machines/smc1500-mill.ini\n";
     case subcommand::zero:
       return "Usage: x4ctl zero [OPTIONS] AXIS...\n"
              "\n"
@@ -1353,6 +1460,39 @@ std::string help_text(subcommand c) {
              "Exit status: 0 the blocks ran to their end (or --check found them good);\n"
              "1 aborted or the port refused; 2 bad usage, a bad machine file or block.\n"
              "Example: x4ctl mdi --machine machines/smc1500-mill.ini \"G0 Z-1\" \"G1 X10 Y5 F300\"\n";
+    case subcommand::panel:
+      return "Usage: x4ctl panel [OPTIONS]\n"
+             "\n"
+             "A full-screen operator panel for a machine file's machine, as the SMC1500\n"
+             "program's screen: each axis' position in work and machine coordinates\n"
+             "(updated while it moves), homed or not, the jog feed and step, the state.\n"
+             "Keys:\n"
+             "  Right/Left  jog X+/X-        Up/Down  jog Y+/Y-     PgUp/PgDn  jog Z+/Z-\n"
+             "  ] / [       jog A+/A-\n"
+             "  i           jog step: continuous (to the soft limit), or 1, 0.1, 0.01 units\n"
+             "  + / -       jog and go-to feed up/down (1-2-5 steps, at most MAX_VELOCITY)\n"
+             "  z or 0      set the work zero of every axis where it stands: a work offset\n"
+             "              for this session only (machine coordinates and soft limits\n"
+             "              stay; nothing is written to the port)\n"
+             "  g           go to a position in work coordinates (typed: X10 Y-5; Enter\n"
+             "              goes, ESC cancels); each axis on its own at the feed\n"
+             "  h           home (as 'x4ctl home --machine FILE')\n"
+             "  space, ESC  stop: while anything moves, every key brakes it\n"
+             "  q           quit (also Ctrl-C)\n"
+             "Moves keep to the soft limits. Nothing is left running when the panel ends:\n"
+             "a move is braked first (also at SIGINT, SIGTERM or a hang-up). Needs a\n"
+             "terminal; the machine file's PORT is the port unless -d is given.\n"
+             "\n"
+             "Options:\n"
+             "  -m, --machine=FILE   the machine file (default: $X4STEP_MACHINE, else\n"
+             "                       /etc/x4step/machine.ini)\n"
+             "      --feed=F         the feed to start with, units/min, at most the fastest\n"
+             "                       axis' MAX_VELOCITY (default: a quarter of that)\n" +
+             std::string(port_help) +
+             "\n"
+             "Exit status: 0 quit; 1 the port refused, or no terminal; 2 bad usage or\n"
+             "machine file.\n"
+             "Example: x4ctl panel --machine machines/smc1500-mill.ini\n";
     case subcommand::list:
       return "Usage: x4ctl list [OPTIONS]\n"
              "\n"

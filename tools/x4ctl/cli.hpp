@@ -57,6 +57,7 @@ enum class subcommand {
   path,
   gcode,
   mdi,
+  panel,
   help
 };
 
@@ -118,10 +119,17 @@ struct config {
 
   path_defaults path;               ///< path (c.file: the path, "-" stdin; c.check: only check)
   unsigned override_percent = 100;  ///< path, gcode: feed override
-  std::string machine;              ///< gcode --machine; empty: $X4STEP_MACHINE, else /etc/x4step/machine.ini
+  std::string machine;              ///< --machine (machine_path(): else $X4STEP_MACHINE, /etc/...)
   bool no_pause = false;            ///< gcode, mdi: M0/M1/M6 do not wait for the operator
   std::vector<std::string> blocks;  ///< mdi: the blocks, one line each
   std::string svg;                  ///< gcode --svg: the plot's file; empty: none
+
+  // Machine units (home, jog and panel with a machine file; c.machine).
+  std::string letters;             ///< home: the axes' letters (empty: all); jog: the axis' (c.dir its way)
+  std::optional<double> feed;      ///< jog, panel --feed: units/min
+  std::optional<double> distance;  ///< jog --distance: units, > 0; none: to the soft limit
+  /// home and jog in machine units: --machine or axis letters given.
+  bool machine_units() const { return !machine.empty() || !letters.empty(); }
 };
 
 /// Parses and checks the whole command line (values too, without a device).

@@ -22,6 +22,8 @@
 #include "holder.hpp"
 #include "json.hpp"
 #include "lang.hpp"
+#include "operate.hpp"
+#include "panel.hpp"
 #include "path.hpp"
 #include "position.hpp"
 #include "term.hpp"
@@ -548,7 +550,7 @@ int dispatch(const config &c) {
     case subcommand::move:
       return cmd_move(c);
     case subcommand::jog:
-      return cmd_jog(c);
+      return c.machine_units() ? cmd_jog_machine(c) : cmd_jog(c);
     case subcommand::brake:
       return cmd_halt(c, false);
     case subcommand::stop:
@@ -576,7 +578,7 @@ int dispatch(const config &c) {
     case subcommand::go_to:
       return cmd_goto(c);
     case subcommand::home:
-      return cmd_home(c);
+      return c.machine_units() ? cmd_home_machine(c) : cmd_home(c);
     case subcommand::zero:
       return with_port(c, zero_command);
     case subcommand::limits:
@@ -593,6 +595,8 @@ int dispatch(const config &c) {
       return cmd_gcode(c);
     case subcommand::mdi:
       return cmd_mdi(c);
+    case subcommand::panel:
+      return cmd_panel(c);
     case subcommand::help:
       std::cout << help_text(c.topic);
       return 0;

@@ -19,6 +19,7 @@
 
 #include "commands.hpp"
 #include "json.hpp"
+#include "machine_io.hpp"
 #include "path_stream.hpp"
 #include "planner.hpp"
 #include "show.hpp"
@@ -26,28 +27,7 @@
 
 namespace x4ctl {
 
-namespace m = x4step::machine;
-namespace g = x4step::gcode;
-
 namespace {
-
-const char *const axis_letters = "XYZABC";
-
-std::string units_name(const m::machine &mc) { return mc.units == g::units::inch ? "inch" : "mm"; }
-
-std::string machine_path(const config &c) {
-  if (!c.machine.empty()) return c.machine;
-  const char *env = std::getenv("X4STEP_MACHINE");
-  return env && *env ? env : "/etc/x4step/machine.ini";
-}
-
-m::machine load_machine(const config &c, const std::string &command) {
-  try {
-    return m::read_file(machine_path(c));
-  } catch (const m::error &e) {
-    throw usage_error(command + ": " + e.what());
-  }
-}
 
 // A program: a file's text or mdi's blocks, in memory: read once, so what
 // was checked is what runs even if the file changes meanwhile (a few MB
@@ -112,15 +92,6 @@ std::string clock_text(double seconds) {
   return o.str();
 }
 
-std::string number(double v) {
-  std::ostringstream o;
-  o << std::fixed << std::setprecision(std::fabs(v) < 100 ? 3 : 1) << v;
-  std::string s = o.str();
-  while (s.back() == '0') s.pop_back();
-  if (s.back() == '.') s.pop_back();
-  return s == "-0" ? "0" : s;
-}
-
 void print_summary(const m::machine &mc, const config &c, const program &p, const m::plan_summary &s,
                    const counter &n) {
   if (c.json) {
@@ -158,18 +129,6 @@ void print_summary(const m::machine &mc, const config &c, const program &p, cons
     if (mc.axes[a])
       std::cout << " " << axis_letters[a] << " " << number(s.min[a]) << ".." << number(s.max[a]);
   std::cout << "\n";
-}
-
-x4step::output_mode mode_of(m::output_mode o) {
-  switch (o) {
-    case m::output_mode::smc_phase:
-      return x4step::output_mode::smc_phase;
-    case m::output_mode::smc_hold:
-      return x4step::output_mode::smc_phase_hold;
-    case m::output_mode::step_dir:
-      break;
-  }
-  return x4step::output_mode::clock_dir;
 }
 
 // The progress of a run: what is done, from the segments the kernel completed.
@@ -298,14 +257,6 @@ class runner : public m::planner_output {
   toolpath_plot *plot = nullptr;  // --svg
 };
 
-// Where the motors stand, machine units.
-g::pose pose_of(const m::machine &mc, const x4step::axes_status &at) {
-  g::pose p{};
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a]) p[a] = double(at[x4step::axis(mc.axes[a]->motor + 1)].position) / mc.axes[a]->scale;
-  return p;
-}
-
 // gcode and mdi: check, plan from where the machine stands, run.
 int run_program(const config &c, const program &prog) {
   const m::machine mc = load_machine(c, prog.command());
@@ -325,9 +276,8 @@ int run_program(const config &c, const program &prog) {
     return 0;
   }
   check_text(mc, prog);
-  config port_config = c;
-  port_config.lpt = mc.port[3] - '0';
-  x4step::controller ctl = open_controller(device_of(port_config));
+  controller_port port(open_controller(machine_device(c, mc)));
+  x4step::controller &ctl = port.controller();
   // Planned from where the machine stands.
   const g::pose start = pose_of(mc, ctl.get_axes());
   const m::plan_summary total = plan(mc, prog, start, n);
@@ -336,15 +286,7 @@ int run_program(const config &c, const program &prog) {
     throw usage_error(prog.prefix() + prog.name + ": " + std::to_string(n.pauses) +
                       " pauses for the operator (M0, M1, M6): run it from a terminal");
   // Only a program found good changes the port's settings.
-  const x4step::output_mode mode = mode_of(mc.mode);
-  // The axes' top speeds within what the port's step timing allows in that mode.
-  const int fmax = max_freq_hz(ctl.get_step_timing(), mode, x4step::vel_max);
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a] && std::fabs(mc.axes[a]->scale) * mc.axes[a]->max_velocity > fmax)
-      throw failure(std::string("[AXIS_") + axis_letters[a] + "] MAX_VELOCITY needs " +
-                    std::to_string(std::lround(std::fabs(mc.axes[a]->scale) * mc.axes[a]->max_velocity)) +
-                    " steps/s; the port's step timing allows " + std::to_string(fmax) + ": lower it");
-  if (ctl.get_config().mode() != mode) ctl.set_config(ctl.get_config().mode(mode));
+  prepare_port(port, mc);
   if (!c.json && prog.is_file) print_summary(mc, c, prog, total, n);
 
   progress_meter meter(mc, total, prog.command());

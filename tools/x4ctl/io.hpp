@@ -55,6 +55,8 @@ class port {
 class controller_port : public port {
  public:
   explicit controller_port(x4step::controller c) : c_(std::move(c)) {}
+  /// The controller itself, for what a port does not offer (paths).
+  x4step::controller &controller() { return c_; }
   void load(const x4step::move &m) override { c_.load(m); }
   void start() override { c_.start(); }
   void brake() override { c_.brake(); }
@@ -95,10 +97,14 @@ enum class key {
   esc,
   left,
   right,
+  up,
+  down,
+  page_up,
+  page_down,
   space,
   plus,           ///< '+' (or '=', its key unshifted)
   minus,          ///< '-'
-  other,          ///< any other key
+  other,          ///< any other key (std_console::last_char() tells a character)
   brake_request,  ///< SIGTERM, SIGHUP, SIGUSR1 (`x4ctl brake`, `x4ctl halt`)
   interrupt,      ///< Ctrl-C: brakes; a second one stops
   stop_request,   ///< SIGUSR2 (`x4ctl stop`, `x4ctl halt --stop`)

@@ -111,18 +111,25 @@ raw_mode::~raw_mode() {
 decoded decode_key(std::string_view b, bool complete) {
   if (b.empty()) return {};
   const unsigned char c = static_cast<unsigned char>(b[0]);
-  if (c == 0x03) return {key::interrupt, 1};  // Ctrl-C in raw mode
-  if (c == ' ') return {key::space, 1};
-  if (c == '+' || c == '=') return {key::plus, 1};
-  if (c == '-') return {key::minus, 1};
-  if (c != 0x1b) return {key::other, 1};
+  if (c == 0x03) return {key::interrupt, 1, b[0]};  // Ctrl-C in raw mode
+  if (c == ' ') return {key::space, 1, b[0]};
+  if (c == '+' || c == '=') return {key::plus, 1, b[0]};
+  if (c == '-') return {key::minus, 1, b[0]};
+  if (c != 0x1b) return {key::other, 1, b[0]};
   if (b.size() == 1) return complete ? decoded{key::esc, 1} : decoded{};
   if (b[1] != '[' && b[1] != 'O') return {key::esc, 1};  // ESC, then another key
   // CSI or SS3 sequence: parameters, then a final byte 0x40..0x7e.
   for (size_t i = 2; i < b.size(); i++) {
     const unsigned char f = static_cast<unsigned char>(b[i]);
     if (f >= 0x40 && f <= 0x7e) {
-      const key k = f == 'C' ? key::right : f == 'D' ? key::left : key::other;
+      const std::string_view param = b.substr(2, i - 2);
+      const key k = f == 'A'                   ? key::up
+                    : f == 'B'                 ? key::down
+                    : f == 'C'                 ? key::right
+                    : f == 'D'                 ? key::left
+                    : f == '~' && param == "5" ? key::page_up
+                    : f == '~' && param == "6" ? key::page_down
+                                               : key::other;
       return {k, i + 1};
     }
   }
@@ -181,6 +188,7 @@ key std_console::read_key(milliseconds timeout) {
     d = decode_key(pending_, !more);
   }
   pending_.erase(0, d.used);
+  last_char_ = d.ch;
   return d.k;
 }
 

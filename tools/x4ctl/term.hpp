@@ -55,6 +55,7 @@ class raw_mode {
 struct decoded {
   key k = key::none;
   size_t used = 0;
+  char ch = 0;  ///< a key of one byte: that byte (a letter, Enter, Backspace); else 0
 };
 decoded decode_key(std::string_view bytes, bool complete);
 
@@ -75,6 +76,10 @@ class std_console : public console {
   void keys_off() override;
   key read_key(milliseconds timeout) override;
   x4step::axis_set requested_axes() const override { return taken_axes(); }
+  /// The byte of the last key read if it was one byte ('q', '\r', ...), else 0.
+  char last_char() const { return last_char_; }
+  /// The terminal hung up (end of input): no key will come any more.
+  bool gone() const { return gone_; }
 
  private:
   bool live_;
@@ -83,6 +88,7 @@ class std_console : public console {
   bool gone_ = false;  // the terminal hung up
   std::unique_ptr<raw_mode> raw_;
   std::string pending_;  // bytes read but not decoded yet
+  char last_char_ = 0;
 };
 
 }  // namespace x4ctl

@@ -22,6 +22,10 @@ _x4ctl() {
 		mapfile -t COMPREPLY < <(compgen -f -- "${cur:-/dev/x4step}")
 		return
 		;;
+	-m | --machine | --svg)
+		mapfile -t COMPREPLY < <(compgen -f -- "$cur")
+		return
+		;;
 	esac
 	# The command: the first word that is neither an option nor -p/-d's value.
 	cmd=
@@ -50,9 +54,10 @@ _x4ctl() {
 	case $cmd in
 	help) mapfile -t COMPREPLY < <(compgen -W "$(_x4ctl_commands "$bin")" -- "$cur") ;;
 	mode) mapfile -t COMPREPLY < <(compgen -W 'clock-dir smc-phase smc-hold' -- "$cur") ;;
-	run) mapfile -t COMPREPLY < <(compgen -f -- "$cur") ;;
+	run | gcode) mapfile -t COMPREPLY < <(compgen -f -- "$cur") ;;
 	out) mapfile -t COMPREPLY < <(compgen -W '1 2 on off' -- "$cur") ;;
-	jog) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 + -' -- "$cur") ;;
+	jog) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 + - X+ X- Y+ Y- Z+ Z- A+ A- B+ B- C+ C-' -- "$cur") ;;
+	home) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 X Y Z A B C' -- "$cur") ;;
 	esac
 }
 complete -F _x4ctl x4ctl

@@ -1,0 +1,240 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0
+"""x4ctl panel (and jog) driven through a pseudo-terminal on the simulated port
+(test-mill.ini, test-mill.sim's switches): keys typed as a user types them,
+the screen read back from what the panel draws, the final positions from
+its last line and from the pins' VCD (vcd-steps.awk).
+
+    check-panel.py X4CTL
+"""
+import os
+import pty
+import re
+import select
+import signal
+import subprocess
+import sys
+import tempfile
+import termios
+import time
+
+X4CTL = sys.argv[1]
+HERE = os.path.dirname(os.path.abspath(__file__))
+MACHINE = os.path.join(HERE, "test-mill.ini")
+failed = False
+
+
+def check(name, ok, detail=""):
+    global failed
+    print(("PASS " if ok else "FAIL ") + name + ("" if ok else "\n" + detail))
+    failed |= not ok
+
+
+class Panel:
+    """x4ctl --sim panel on a pty: send keys, read frames."""
+
+    def __init__(self, vcd, env_extra, args=(), command=("panel", "--machine", MACHINE)):
+        env = {k: v for k, v in os.environ.items() if not k.startswith("X4STEP")}
+        env.update({"X4STEP_SIM_MACHINE": os.path.join(HERE, "test-mill.sim"), "X4STEP_SIM_VCD": vcd,
+                    "TERM": "xterm"})
+        env.update(env_extra)
+        self.pid, self.fd = pty.fork()
+        if self.pid == 0:
+            os.execve(X4CTL, [X4CTL, "--sim", *command, *args], env)
+        self.out = b""
+        self.status = None
+
+    def read(self, timeout):
+        r, _, _ = select.select([self.fd], [], [], timeout)
+        if not r:
+            return False
+        try:
+            data = os.read(self.fd, 65536)
+        except OSError:  # the child is gone
+            data = b""
+        if not data:
+            return None
+        self.out += data
+        return True
+
+    def frame(self):
+        """The last whole screen drawn, without escape sequences."""
+        text = self.out.decode(errors="replace")
+        end = text.rfind("\x1b[J")
+        start = text.rfind("\x1b[H", 0, end)
+        if start < 0 or end < 0:
+            return ""
+        body = text[start + 3:end]
+        return re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", body).replace("\r", "")
+
+    def wait(self, what, timeout=20):
+        """Reads until what(frame) holds; the frame."""
+        end = time.time() + timeout
+        while time.time() < end:
+            f = self.frame()
+            if what(f):
+                return f
+            if self.read(0.2) is None:
+                break
+        return self.frame()
+
+    def run_for(self, seconds):
+        """Reads what comes for a while."""
+        self.wait(lambda f: False, seconds)
+
+    def send(self, keys):
+        os.write(self.fd, keys.encode())
+
+    def canonical(self):
+        """The terminal is in canonical mode with echo (as a shell wants it)."""
+        lflag = termios.tcgetattr(self.fd)[3]
+        return bool(lflag & termios.ICANON) and bool(lflag & termios.ECHO)
+
+    def finish(self, timeout=20):
+        """Reads to the end (a panel blocked on a full terminal would never
+        end); after timeout it is killed, and fails the test."""
+        end = time.time() + timeout
+        while time.time() < end and self.read(0.2) is not None:
+            pass
+        if time.time() >= end:
+            os.kill(self.pid, signal.SIGKILL)
+        _, st = os.waitpid(self.pid, 0)
+        self.status = os.waitstatus_to_exitcode(st)
+        return self.out.decode(errors="replace")
+
+
+def axis(frame, letter):
+    """(work, machine) of an axis line of the frame."""
+    m = re.search(r"^ " + letter + r" +(-?[0-9.]+) +(-?[0-9.]+) ", frame, re.M)
+    return (float(m.group(1)), float(m.group(2))) if m else None
+
+
+def idle_at(letter, machine):
+    return lambda f: "state: idle" in f and axis(f, letter) and abs(axis(f, letter)[1] - machine) < 1e-9
+
+
+def vcd_steps(vcd):
+    r = subprocess.run(["awk", "-f", os.path.join(HERE, "vcd-steps.awk"), vcd], capture_output=True, text=True)
+    return [int(line.split()[1]) for line in r.stdout.splitlines()]
+
+
+tmp = tempfile.mkdtemp()
+
+# --- a session in virtual time: home, jog, step, feed, zero, go to, quit ---------------
+vcd = os.path.join(tmp, "panel.vcd")
+p = Panel(vcd, {"X4STEP_SIM_TIME": "virtual"})
+f = p.wait(lambda f: "state: idle" in f)
+check("the terminal is in raw mode while the panel runs", not p.canonical())
+check("the panel shows its machine, axes, feed and keys",
+      "x4ctl panel: " in f and axis(f, "X") == (0, 0) and "not homed" in f and "feed F200 mm/min" in f
+      and "jog step: continuous" in f and "z or 0: work zero here (this session only)" in f, f)
+p.send("h")
+f = p.wait(lambda f: "state: idle" in f and "home: done" in f)
+check("h homes: X3 Y1 Z-1, homed", axis(f, "X") == (3, 3) and axis(f, "Y") == (1, 1) and
+      axis(f, "Z") == (-1, -1) and f.count("  homed") == 3 and "home: done, at Z-1 X3 Y1 (mm)" in f, f)
+p.send("i")
+f = p.wait(lambda f: "jog step: 1 mm" in f)
+check("i: jog step 1 mm", "jog step: 1 mm" in f, f)
+for x in (4, 5, 6):
+    p.send("\x1b[C")
+    f = p.wait(idle_at("X", x))
+check("Right three times: X 3 -> 6 mm", axis(f, "X") == (6, 6), f)
+p.send("ii")
+f = p.wait(lambda f: "jog step: 0.01 mm" in f)
+p.send("\x1b[A")
+f = p.wait(idle_at("Y", 1.01))
+check("i i, Up: Y by 0.01 mm", axis(f, "Y") == (1.01, 1.01), f)
+p.send("i")
+f = p.wait(lambda f: "jog step: continuous" in f)
+p.send("\x1b[6~")
+f = p.wait(idle_at("Z", -30))
+check("i (continuous), PgDn: Z to its soft limit MIN_LIMIT -30", axis(f, "Z") == (-30, -30), f)
+p.send("]")
+f = p.wait(lambda f: "no A axis" in f)
+check("]: the machine has no A axis, said", "A+: the machine has no A axis" in f, f)
+p.send("+")
+f = p.wait(lambda f: "feed F500 " in f)
+check("+: feed 200 -> 500 mm/min", "feed F500 mm/min" in f, f)
+p.send("-")
+f = p.wait(lambda f: "feed F200 " in f)
+check("-: feed 500 -> 200 mm/min", "feed F200 mm/min" in f, f)
+p.send("z")
+f = p.wait(lambda f: "work zero set" in f)
+check("z: work zero where the axes stand, machine positions kept",
+      axis(f, "X") == (0, 6) and axis(f, "Y") == (0, 1.01) and axis(f, "Z") == (0, -30), f)
+p.send("g")
+f = p.wait(lambda f: "go to (work coordinates" in f)
+p.send("X-2 Y5\r")
+f = p.wait(lambda f: idle_at("X", 4)(f) and idle_at("Y", 6.01)(f))
+check("g X-2 Y5: work X-2 Y5 is machine X4 Y6.01",
+      axis(f, "X") == (-2, 4) and axis(f, "Y") == (5, 6.01) and axis(f, "Z") == (0, -30), f)
+p.send("gX200\r")
+f = p.wait(lambda f: "beyond the soft limit" in f)
+check("g X200: refused on the screen (X 206 beyond MAX_LIMIT 100), nothing moves",
+      "X 206 is beyond the soft limit [AXIS_X] MAX_LIMIT 100" in f and axis(f, "X") == (-2, 4), f)
+p.send("q")
+out = p.finish()
+last = out.split("\x1b[?1049l")[-1].strip()
+check("q: exit 0, the terminal's mode and the normal screen back, the positions on it",
+      p.status == 0 and p.canonical() and "\x1b[?25h\x1b[?1049l" in out and
+      last == "panel: at X4 Y6.01 Z-30 (mm, machine coordinates); work X-2 Y5 Z0", repr(last))
+# The pins: from where homing left them (X -199, Y 599, Z 499) by the moves after.
+steps = vcd_steps(vcd)
+check("the motors stand there: X -199 + 160 = -39, Y 599 - 1002 = -403, Z 499 - 11600 = -11101 steps",
+      steps[:3] == [-39, -403, -11101], repr(steps))
+
+# --- real time: SIGINT during a jog brakes it, and the panel ends -----------------------
+vcd = os.path.join(tmp, "sigint.vcd")
+p = Panel(vcd, {}, ["--feed", "60"])
+p.wait(lambda f: "state: idle" in f)
+p.send("\x1b[C")
+f = p.wait(lambda f: "state: jog X+" in f and axis(f, "X")[1] > 0.2)
+os.kill(p.pid, signal.SIGINT)
+t = time.time()
+out = p.finish()
+m = re.search(r"panel: at X(-?[0-9.]+) ", out)
+steps = vcd_steps(vcd)
+check("SIGINT while jogging: braked, the panel ends (exit 0 within 3 s), the terminal restored",
+      p.status == 0 and p.canonical() and time.time() - t < 3 and m and 0 < float(m.group(1)) < 10, out[-300:])
+check("and the motor stands where the panel says (%s steps)" % steps[0],
+      m and steps[0] == round(float(m.group(1)) * 160), repr(steps))
+
+# --- real time: any key brakes a jog, and the panel goes on -----------------------------
+vcd = os.path.join(tmp, "key.vcd")
+p = Panel(vcd, {}, ["--feed", "60"])
+p.wait(lambda f: "state: idle" in f)
+p.send("\x1b[D")
+f = p.wait(lambda f: "state: jog X-" in f and axis(f, "X")[1] < -0.2)
+p.send("x")
+f = p.wait(lambda f: "state: idle" in f and "braked" in f)
+x = axis(f, "X")[1] if axis(f, "X") else 0
+check("any key (x) brakes a continuous jog short of its limit; the panel goes on",
+      "jog X-: braked (ESC)" in f and -5 < x < 0, f)
+p.send("q")
+out = p.finish()
+steps = vcd_steps(vcd)
+check("and the motor stands where the panel says (%s steps)" % steps[0],
+      p.status == 0 and steps[0] == round(x * 160), repr(steps))
+
+# --- x4ctl jog on a terminal: any key brakes it too ---------------------------------------
+vcd = os.path.join(tmp, "jog.vcd")
+p = Panel(vcd, {}, command=("jog", "X+", "--machine", MACHINE, "--feed", "60"))
+p.run_for(0.8)
+p.send(" ")
+out = p.finish()
+m = re.search(r"jog: X at (-?[0-9.]+) mm \((-?[0-9]+) steps\), braked \(ESC\)", out)
+steps = vcd_steps(vcd)
+check("x4ctl jog X+ on a terminal: space brakes it, exit 0, where it says (%s steps)" % steps[0],
+      p.status == 0 and m and 0 < int(m.group(2)) < 16000 and steps[0] == int(m.group(2)) and
+      "\rjog: X " in out, out[-300:])
+
+# --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
+p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})
+p.wait(lambda f: "state: idle" in f)
+p.send("\x03")
+out = p.finish()
+check("Ctrl-C at rest: exit 0", p.status == 0 and "panel: at X0 Y0 Z0" in out, out[-200:])
+r = subprocess.run([X4CTL, "--sim", "panel", "--machine", MACHINE], stdin=subprocess.DEVNULL,
+                   capture_output=True, text=True, timeout=30)
+check("without a terminal: exit 1, said", r.returncode == 1 and "needs a terminal" in r.stderr, r.stderr)
+sys.exit(1 if failed else 0)

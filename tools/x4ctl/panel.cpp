@@ -1,0 +1,349 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl panel: one screen redrawn in place with ANSI escape sequences, keys
+// from the terminal in raw mode (std_console). Idle, it waits for a key; a
+// move (jog, go to, home) is followed to its end with the screen redrawn at
+// every look and every key braking it, so that one thing moves at a time.
+#include "panel.hpp"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "commands.hpp"
+#include "operate.hpp"
+#include "show.hpp"
+#include "term.hpp"
+
+namespace x4ctl {
+namespace {
+
+// The alternate screen, cursor hidden, for as long as it lives.
+class full_screen {
+ public:
+  explicit full_screen(std::ostream &out) : out_(out) { out_ << "\x1b[?1049h\x1b[?25l\x1b[2J" << std::flush; }
+  ~full_screen() { out_ << "\x1b[?25h\x1b[?1049l" << std::flush; }
+  full_screen(const full_screen &) = delete;
+  full_screen &operator=(const full_screen &) = delete;
+
+ private:
+  std::ostream &out_;
+};
+
+// Feeds the + and - keys step through, units/min.
+constexpr double feed_steps[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000};
+constexpr int jog_steps = 4;  // continuous, then 3 increments
+
+class panel {
+ public:
+  panel(const m::machine &mc, std::string file, std::string dev, port &p, std_console &con,
+        std::optional<double> feed)
+      : mc_(mc), file_(std::move(file)), dev_(std::move(dev)), p_(p), con_(con) {
+    for (size_t a = 0; a < g::n_axes; a++)
+      if (mc_.axes[a]) max_feed_ = std::max(max_feed_, mc_.axes[a]->max_velocity * 60);
+    feed_ = feed_steps[0];
+    for (double f : feed_steps)
+      if (f <= max_feed_ / 4) feed_ = f;
+    if (feed) feed_ = std::min(*feed, max_feed_);  // no axis goes faster anyway
+  }
+
+  void run();
+  const g::pose &offset() const { return offset_; }
+
+ private:
+  void draw(bool now);
+  void jog(size_t a, bool positive);
+  void move(const machine_targets &to, const std::string &what);
+  void go_to();
+  void home();
+  void set_zero();
+  void change_feed(bool up);
+  std::optional<std::string> prompt(const std::string &question);
+  double increment(size_t a) const;  // the jog step of axis a, units; 0: continuous
+  std::string step_text() const;
+
+  const m::machine &mc_;
+  std::string file_, dev_;
+  port &p_;
+  std_console &con_;
+  g::pose offset_{};  // work offset: work = machine - offset
+  double feed_ = 0, max_feed_ = 0;
+  int step_ = 0;  // index of the jog step: 0 continuous
+  std::string state_ = "idle", message_;
+  bool quit_ = false;
+  steady::time_point drawn_{};
+};
+
+std::string fixed(double v, int decimals) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(decimals) << v;
+  std::string s = o.str();
+  if (s[0] == '-' && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);  // no "-0.000"
+  return s;
+}
+
+void panel::draw(bool now) {
+  const auto t = steady::now();
+  if (!now && t - drawn_ < milliseconds(50)) return;
+  drawn_ = t;
+  const x4step::axes_status st = p_.get_axes();
+  const g::pose at = pose_of(mc_, st);
+  std::ostringstream o;
+  o << "\x1b[H";
+  auto line = [&](const std::string &s) { o << s << "\x1b[K\n"; };
+  line("x4ctl panel: " + (mc_.name.empty() ? file_ : mc_.name + " (" + file_ + ")") + " on " + dev_);
+  line("");
+  line("axis       work     machine  unit");
+  for (size_t a = 0; a < g::n_axes; a++) {
+    if (!mc_.axes[a]) continue;
+    const x4step::axis_status &s = st[motor_of(*mc_.axes[a])];
+    const int decimals = unit_of(mc_, a) == "inch" ? 4 : 3;
+    std::ostringstream l;
+    l << " " << axis_letters[a] << std::setw(13) << fixed(at[a] - offset_[a], decimals) << std::setw(12)
+      << fixed(at[a], decimals) << "  " << std::left << std::setw(5) << unit_of(mc_, a) << std::right
+      << (s.synced ? "  homed" : "  not homed") << (s.running ? ", moving" : "")
+      << (s.error ? ", " + errors_text(s.error) : "");
+    line(l.str());
+  }
+  line("");
+  line("feed F" + number(feed_) + " " + units_name(mc_) + "/min   jog step: " + step_text());
+  line("state: " + state_);
+  line(message_);
+  line("");
+  line("Right/Left X+/X-  Up/Down Y+/Y-  PgUp/PgDn Z+/Z-  ]/[ A+/A-  i: jog step  +/-: feed");
+  line("z or 0: work zero here (this session only)  g: go to  h: home  space/ESC: stop  q: quit");
+  o << "\x1b[J";
+  con_.out() << o.str() << std::flush;
+}
+
+double panel::increment(size_t a) const {
+  if (step_ == 0) return 0;
+  const double largest = unit_of(mc_, a) == "inch" ? 0.1 : 1;
+  return largest / std::pow(10, step_ - 1);
+}
+
+std::string panel::step_text() const {
+  if (step_ == 0) return "continuous (to the soft limit)";
+  std::string s = number(increment(g::X)) + " " + units_name(mc_);
+  if (mc_.axes[g::A] || mc_.axes[g::B] || mc_.axes[g::C]) s += ", " + number(increment(g::A)) + " deg";
+  return s;
+}
+
+void panel::move(const machine_targets &to, const std::string &what) {
+  state_ = what;
+  any_key_brakes keys(con_, false, [&] { draw(false); });
+  const axes_outcome o = move_machine(p_, keys, mc_, to, feed_ / 60);
+  state_ = "idle";
+  if (keys.interrupted()) quit_ = true;
+  if (!o.halted_by.empty()) message_ = what + ": braked (" + o.halted_by + ")";
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (to[a] && o.end[motor_of(*mc_.axes[a])].error)
+      message_ = what + ": " + axis_letters[a] + " " + errors_text(o.end[motor_of(*mc_.axes[a])].error);
+}
+
+void panel::jog(size_t a, bool positive) {
+  const std::string name = std::string(1, axis_letters[a]) + (positive ? "+" : "-");
+  if (!mc_.axes[a]) {
+    message_ = name + ": the machine has no " + axis_letters[a] + " axis";
+    return;
+  }
+  const m::axis &ax = *mc_.axes[a];
+  const double from = pose_of(mc_, p_.get_axes())[a], limit = jog_limit(ax, positive);
+  double to = step_ == 0 ? limit : from + (positive ? increment(a) : -increment(a));
+  if (positive ? to > limit : to < limit) to = limit;  // an increment stops at the soft limit
+  if (positive ? to <= from : to >= from) {
+    message_ = name + ": at the soft limit " + (positive ? "MAX_LIMIT " : "MIN_LIMIT ") + number(limit);
+    return;
+  }
+  machine_targets t;
+  t[a] = to;
+  move(t, "jog " + name);
+}
+
+std::optional<std::string> panel::prompt(const std::string &question) {
+  std::string text;
+  for (;;) {
+    message_ = question + text + "_";
+    draw(true);
+    const key k = con_.read_key(milliseconds(200));
+    const char ch = con_.last_char();
+    if (k == key::none) continue;
+    if (k == key::esc || k == key::interrupt || quit_requested()) {
+      quit_ = k == key::interrupt || quit_requested();
+      message_.clear();
+      return std::nullopt;
+    }
+    if (ch == '\r' || ch == '\n') return text;
+    if ((ch == 0x7f || ch == '\b') && !text.empty())
+      text.pop_back();
+    else if (std::isprint(static_cast<unsigned char>(ch)))
+      text += ch;
+  }
+}
+
+void panel::go_to() {
+  const std::optional<std::string> line =
+      prompt("go to (work coordinates, e.g. X10 Y-5; Enter: go, ESC: cancel): ");
+  message_.clear();
+  if (!line) return;
+  machine_targets to;
+  std::string what;
+  const char *s = line->c_str();
+  for (;;) {
+    while (*s == ' ') s++;
+    if (!*s) break;
+    const char *letter = std::strchr(axis_letters, std::toupper(static_cast<unsigned char>(*s)));
+    char *end = nullptr;
+    const double v = letter ? std::strtod(s + 1, &end) : 0;
+    const size_t a = letter ? size_t(letter - axis_letters) : 0;
+    if (!letter || end == s + 1 || !std::isfinite(v) || !mc_.axes[a]) {
+      message_ = "go to '" + *line + "': give the machine's axis letters with numbers, e.g. X10 Y-5";
+      return;
+    }
+    to[a] = v + offset_[a];
+    what += " " + std::string(1, axis_letters[a]) + number(v);
+    s = end;
+  }
+  if (what.empty()) return;
+  move(to, "go to" + what);
+}
+
+// The last line of a text, without its line end.
+std::string last_line(std::string text) {
+  if (!text.empty() && text.back() == '\n') text.pop_back();
+  return text.substr(text.rfind('\n') + 1);  // npos + 1: all of it
+}
+
+void panel::home() {
+  std::ostringstream log;  // home_machine's progress, its last line on the screen
+  state_ = "homing";
+  any_key_brakes keys(con_, false, [&] {
+    message_ = last_line(log.str());
+    draw(false);
+  });
+  try {
+    home_machine(p_, keys, mc_, machine_axes(mc_, "", "home"), log);
+  } catch (...) {
+    quit_ = keys.interrupted();
+    throw;
+  }
+  quit_ = keys.interrupted();
+  state_ = "idle";
+  message_ = last_line(log.str());
+}
+
+void panel::set_zero() {
+  offset_ = pose_of(mc_, p_.get_axes());
+  message_ = "work zero set where the axes stand (for this session only)";
+}
+
+void panel::change_feed(bool up) {
+  double f = feed_;
+  for (double s : feed_steps)
+    if (up ? s > feed_ && s <= max_feed_ : s < feed_) {
+      f = s;
+      if (up) break;
+    }
+  feed_ = up ? std::min(std::max(f, feed_), max_feed_) : f;
+}
+
+void panel::run() {
+  keys_guard keys(con_);
+  while (!quit_) {
+    draw(true);
+    const key k = con_.read_key(milliseconds(200));
+    if (quit_requested() || k == key::interrupt || con_.gone()) break;
+    if (k == key::none) continue;
+    message_.clear();
+    try {
+      switch (k) {
+        case key::right:
+        case key::left:
+          jog(g::X, k == key::right);
+          break;
+        case key::up:
+        case key::down:
+          jog(g::Y, k == key::up);
+          break;
+        case key::page_up:
+        case key::page_down:
+          jog(g::Z, k == key::page_up);
+          break;
+        case key::plus:
+        case key::minus:
+          change_feed(k == key::plus);
+          break;
+        case key::other:
+          switch (con_.last_char()) {
+            case 'q':
+            case 'Q':
+              quit_ = true;
+              break;
+            case ']':
+            case '[':
+              jog(g::A, con_.last_char() == ']');
+              break;
+            case 'i':
+              step_ = (step_ + 1) % jog_steps;
+              break;
+            case 'z':
+            case '0':
+              set_zero();
+              break;
+            case 'g':
+              go_to();
+              break;
+            case 'h':
+              home();
+              break;
+            default:
+              message_ = "keys: see below ('x4ctl help panel')";
+              break;
+          }
+          break;
+        default:  // ESC, space: nothing moves at rest
+          break;
+      }
+    } catch (const std::exception &e) {
+      const auto *x = dynamic_cast<const x4step::error *>(&e);
+      message_ = x && x->code().category() == x4step::category() ? x->code().message() : e.what();
+      state_ = "idle";
+    }
+  }
+}
+
+}  // namespace
+
+int cmd_panel(const config &c) {
+  const m::machine mc = load_machine(c, "panel");
+  if (!::isatty(STDIN_FILENO) || !::isatty(STDOUT_FILENO))
+    throw failure("needs a terminal: standard input and output");
+  const std::string dev = machine_device(c, mc);
+  controller_port p(open_controller(dev));
+  prepare_port(p, mc);
+  std_console con(true);
+  panel pn(mc, machine_path(c), dev, p, con, c.feed);
+  {
+    full_screen screen(std::cout);
+    pn.run();
+  }
+  // Left on the normal screen: where the machine stands.
+  const g::pose at = pose_of(mc, p.get_axes());
+  std::string machine, work;
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a]) {
+      machine += " " + std::string(1, axis_letters[a]) + number(at[a]);
+      work += " " + std::string(1, axis_letters[a]) + number(at[a] - pn.offset()[a]);
+    }
+  std::cout << "panel: at" << machine << " (" << units_name(mc) << ", machine coordinates); work" << work
+            << "\n";
+  return 0;
+}
+
+}  // namespace x4ctl
