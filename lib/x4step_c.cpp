@@ -17,6 +17,7 @@ extern "C" {
 #include "x4_check.h"  // the kernel's own timing check
 }
 #include "detail.hpp"
+#include "sim/options.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
@@ -77,9 +78,12 @@ void refuse_while_active(const x4step::status &s) {
 }
 
 // The default step timing of the module (its parameters), else X4Step's
-// where they fail the engine's check: the module ignored them then too.
-x4step::step_timing module_step_timing() {
+// where they fail the engine's check: the module ignored them then too. A
+// simulated port has the module's built-in defaults: a loaded module's
+// parameters are none of its business.
+x4step::step_timing module_step_timing(bool simulated) {
   x4_timing k{0, 0, X4_DIR_SETUP_NS, 0};
+  if (simulated) return {};
   const auto param = [](const char *name, uint32_t &out) {
     std::ifstream f(std::string("/sys/module/x4step/parameters/") + name);
     uint32_t ns;
@@ -104,7 +108,7 @@ x4step::step_timing module_step_timing() {
 // brakes, no switches, the default profiles.
 void dos_state(x4step::controller &c) {
   c.set_config({});
-  c.set_step_timing(module_step_timing());
+  c.set_step_timing(module_step_timing(x4step::sim::is_sim_name(c.path())));
   c.set_brake_codes({});
   c.set_switches({});
   for (x4step::axis a : x4step::axis_set::all()) c.set_profile(a, {});

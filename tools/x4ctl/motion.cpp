@@ -60,6 +60,7 @@ struct follow_ops {
   std::function<bool()> ended;                             // waits up to a tick: true once it ended
   std::function<void(x4step::axis_set axes)> brake, stop;  // of some of the axes
   std::function<std::string(bool braking)> live;           // the live line
+  std::function<steady::time_point()> now;                 // the port's clock, for the deadline
 };
 
 // Follows until ops.ended(): ESC, Ctrl-C, a brake request or the deadline
@@ -103,7 +104,7 @@ std::string follow_until(console &con, const follow_ops &ops, deadline until) {
       default:
         break;
     }
-    if (until && steady::now() >= *until) brake_for("time up", all_axes);
+    if (until && ops.now() >= *until) brake_for("time up", all_axes);
     if (con.live()) draw_live(con, ops.live(!halted.empty()));
   }
   return why;
@@ -179,6 +180,27 @@ void stop_quietly(port &p) {
   halt([&] { p.stop(); });
 }
 
+key pause(port &p, console &con, milliseconds d, bool paced) {
+  if (p.clock_runs()) return con.read_key(d);
+  const key k = con.read_key(paced ? d : milliseconds(0));
+  p.pass(d);
+  return k;
+}
+
+deadline deadline_in(const port &p, const std::optional<milliseconds> &t) {
+  if (!t) return std::nullopt;
+  return p.now() + *t;
+}
+
+void check_endless_ends(const port &p, const console &con, bool timed, const std::string &what) {
+  if (timed || p.clock_runs() || con.has_keyboard() || sim_keys_scripted()) return;
+  throw usage_error(
+      what +
+      ": on a simulated port in virtual time nothing would end this endless move (no "
+      "terminal, no brake key script): give it a time, a key script (X4STEP_SIM_KEYS=500ms:esc) "
+      "or real time (X4STEP_SIM_TIME=real)");
+}
+
 void draw_live(console &con, const std::string &line) { con.out() << '\r' << line << "\x1b[K" << std::flush; }
 
 step_counts steps_of(const x4step::move &m) {
@@ -196,13 +218,16 @@ int leader_index(const step_counts &steps) {
 
 outcome follow(port &p, console &con, const std::optional<step_counts> &target, deadline until) {
   const int lead = target ? leader_index(*target) : 0;
-  const follow_ops ops{all_axes, [&] { return p.wait(tick); }, [&](x4step::axis_set) { brake_quietly(p); },
+  const follow_ops ops{all_axes,
+                       [&] { return p.wait(tick); },
+                       [&](x4step::axis_set) { brake_quietly(p); },
                        [&](x4step::axis_set) { stop_quietly(p); },
                        [&](bool braking) {
                          const auto s = p.get_status();
                          if (target) return progress_line(s.steps, s.steps[lead], (*target)[lead]);
                          return "steps " + steps_text(s.steps) + live_hint(con, braking);
-                       }};
+                       },
+                       [&] { return p.now(); }};
   outcome o;
   o.halted_by = follow_until(con, ops, until);
   // First the outcome: the next move of a sequence starts on it.
@@ -220,10 +245,12 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
 
 axes_outcome follow_axes(port &p, console &con, x4step::axis_set axes, deadline until) {
   const follow_ops ops{
-      axes, [&] { return p.wait_axes(axes, tick); },
+      axes,
+      [&] { return p.wait_axes(axes, tick); },
       [&](x4step::axis_set some) { halt_quietly(p, some, x4step::halt_mode::brake); },
       [&](x4step::axis_set some) { halt_quietly(p, some, x4step::halt_mode::stop); },
-      [&](bool braking) { return positions_text(p.get_axes(), axes) + live_hint(con, braking); }};
+      [&](bool braking) { return positions_text(p.get_axes(), axes) + live_hint(con, braking); },
+      [&] { return p.now(); }};
   axes_outcome o;
   o.halted_by = follow_until(con, ops, until);
   o.end = p.get_axes();

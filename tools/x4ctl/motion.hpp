@@ -92,6 +92,19 @@ std::string describe(const outcome &o, const std::optional<step_counts> &target)
 void brake_quietly(port &p);
 void stop_quietly(port &p);
 
+/// Waits up to d on the port's clock for a key or signal (key::none if
+/// none came). A simulated port in virtual time: d passes there at once,
+/// or, paced (a wait that only Ctrl-C ends), as on the wall clock.
+key pause(port &p, console &con, milliseconds d, bool paced = false);
+
+/// The deadline t from now on the port's clock; none without t.
+deadline deadline_in(const port &p, const std::optional<milliseconds> &t);
+
+/// An endless move (jog, M+, M-, T) that nothing would end, what (the
+/// command) names it: a simulated port in virtual time without a time,
+/// a terminal or a brake key script. Throws usage_error naming the ways.
+void check_endless_ends(const port &p, const console &con, bool timed, const std::string &what);
+
 /// Redraws the live line of a terminal.
 void draw_live(console &con, const std::string &line);
 
