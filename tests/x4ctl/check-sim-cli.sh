@@ -192,6 +192,12 @@ n=$(rises pin03_clk1)
 [ $st -eq 0 ] && has '^done: 0 -400 0 0$' && [ "$(rises pin05_clk2)" -eq 400 ] &&
 	ms "$(high_ns pin01_signal1)" 250 && between "$n" 95 112 && has "^halted \(time up\): $n 0 0 0$"
 check "run: G, O and W (pin 1 HIGH 250 ms of port time), M+ 100 ($n steps)" $?
+printf 'S4; F2000\nM-\n' >"$dir/keys.txt"
+X4STEP_SIM_KEYS=200ms:esc sim run "$dir/keys.txt"
+n=$(rises pin09_clk4)
+[ $st -eq 0 ] && has '^M-: axis 4 endless at 2000 Hz, ramp 50 ms; a brake key or Ctrl-C brakes$' &&
+	has "^halted \(ESC\): 0 0 0 -$n$" && between "$n" 300 420
+check "run: M- without a time, braked by a scripted ESC at 200 ms ($n steps)" $?
 printf 'S3\nD100\nG\nO2,1\nM-\nW50\nI\nQ\n' >"$dir/in.txt"
 rm -f "$vcd"
 X4STEP_SIM_VCD=$vcd timeout 20 "$x4ctl" --sim <"$dir/in.txt" >"$dir/out" 2>"$dir/err"

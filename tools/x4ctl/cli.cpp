@@ -787,7 +787,8 @@ const char *const port_help =
     "  -p, --port=LPT       parallel port 1..4 (/dev/x4step0..3), default 1\n"
     "  -d, --device=PATH    device node to use instead of --port\n"
     "      --sim            a simulated port in this process (sim:0..3 for LPT\n"
-    "                       1..4): no module, no root; X4STEP_SIM=1 does the same\n"
+    "                       1..4): no module, no root; X4STEP_SIM=1 does the same;\n"
+    "                       a fresh one in each x4ctl (README: without a port)\n"
     "  -h, --help           show this help\n";
 
 const char *const motion_help =

@@ -58,6 +58,8 @@ class port {
   virtual bool clock_runs() const { return true; }
   /// Virtual time: lets d pass on the port (its moves run meanwhile).
   virtual void pass(milliseconds d) { (void)d; }
+  /// A simulated port: it lives in this process, no other x4ctl reaches it.
+  virtual bool simulated() const { return false; }
 };
 
 /// A port that is a real x4step::controller.
@@ -96,6 +98,7 @@ class controller_port : public port {
   std::chrono::steady_clock::time_point now() const override { return port_now(c_); }
   bool clock_runs() const override { return port_clock_runs(c_); }
   void pass(milliseconds d) override { port_pass(c_, d); }
+  bool simulated() const override { return is_sim_device(c_.path()); }
 
  private:
   x4step::controller c_;

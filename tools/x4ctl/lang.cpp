@@ -216,6 +216,16 @@ std::string language_help() {
          "terminal.\n";
 }
 
+namespace {
+
+// What brakes a move without a terminal: another x4ctl cannot reach a
+// simulated port.
+std::string brakes_text(const port &p) {
+  return p.simulated() ? "a brake key or Ctrl-C brakes" : "a brake key, Ctrl-C or 'x4ctl brake' brakes";
+}
+
+}  // namespace
+
 interpreter::interpreter(console &con, port *p, bool strict) : con_(con), port_(p), strict_(strict) {}
 
 std::string interpreter::prompt() const { return std::to_string(axis_) + "-> "; }
@@ -363,7 +373,7 @@ void interpreter::endless(const command &c) {
              << " ms; "
              << (c.time_ms             ? "brakes after " + std::to_string(*c.time_ms) + " ms"
                  : con_.has_keyboard() ? "ESC brakes"
-                                       : "a brake key, Ctrl-C or 'x4ctl brake' brakes")
+                                       : brakes_text(*port_))
              << "\n"
              << std::flush;
   const outcome o =
@@ -476,7 +486,7 @@ void interpreter::toggle(const command &c) {
              << " Hz, ramp " << v.ramp_ms << " ms; "
              << (c.time_ms             ? "brakes after " + std::to_string(*c.time_ms) + " ms"
                  : con_.has_keyboard() ? "ESC brakes"
-                                       : "a brake key, Ctrl-C or 'x4ctl brake' brakes")
+                                       : brakes_text(*port_))
              << "\n"
              << std::flush;
   keys_guard keys(con_);  // raw for all the moves: an ESC between two moves counts too
