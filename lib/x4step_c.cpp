@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <chrono>
 #include <climits>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <new>
@@ -114,6 +116,24 @@ void dos_state(x4step::controller &c) {
   for (x4step::axis a : x4step::axis_set::all()) c.set_profile(a, {});
 }
 
+// The simulated port refused X4STEP_SIM or one of its settings: the
+// manual's program learns only X4ErrLPTNotFound, so what to fix goes to
+// stderr, once, without the general "is x4step loaded" of the code.
+void tell_sim_refusal(const x4step::error &e) noexcept {
+  const char *sim = std::getenv("X4STEP_SIM");
+  if (!sim || !*sim || std::strcmp(sim, "0") == 0 || e.code() != x4step::errc::lpt_not_found) return;
+  try {
+    std::string text = e.what();
+    const std::string general = ": " + e.code().message();
+    if (text.size() > general.size() &&
+        text.compare(text.size() - general.size(), general.size(), general) == 0)
+      text.resize(text.size() - general.size());
+    std::fprintf(stderr, "libx4step: %s\n", text.c_str());
+  } catch (...) {
+    std::fprintf(stderr, "libx4step: %s\n", e.what());
+  }
+}
+
 int with_port(void (*op)(x4step::controller &)) noexcept {
   if (!port) return X4ErrInitNotDone;
   return guarded([op] { op(*port); });
@@ -179,7 +199,12 @@ int X4Init(int lpt) {
   port.reset();
   X4ClearTimer();
   const int ret = guarded([lpt] {
-    port.emplace(lpt);
+    try {
+      port.emplace(lpt);
+    } catch (const x4step::error &e) {
+      tell_sim_refusal(e);
+      throw;
+    }
     dos_state(*port);
   });
   if (ret != X4NoErr) port.reset();

@@ -6,9 +6,10 @@
 # program's port (brake, stop, halt, monitor, watch), says why it cannot
 # and ends at once. Bad names and settings (issue 19, "Checks") are
 # refused naming what to fix, exit non-zero, and simulate nothing.
-#   check-sim-cli.sh X4CTL MACHINES_DIR
+# The C API (SIM_CAPI_PROBE, a manual's program) says on stderr what to fix.
+#   check-sim-cli.sh X4CTL MACHINES_DIR SIM_CAPI_PROBE
 set -u
-x4ctl=$1 machines=$2
+x4ctl=$1 machines=$2 probe=$3
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 failed=0
@@ -281,4 +282,17 @@ machine "REF beyond E+" ":2: axis 2: REF at 900 lies outside E-..E+ (line 1)" \
 	"e+ 2 800 pin13 no\nref 2 above 900 pin12 no\n"
 X4STEP_SIM_MACHINE=$dir/none.machine refused "a missing machine file" 1 \
 	"X4STEP_SIM_MACHINE=$dir/none.machine: cannot read the machine file" --sim move 100
+capi() { # capi NAME PATTERN: X4Init of the C API program fails, saying PATTERN on stderr
+	rm -f "$vcd"
+	X4STEP_SIM_VCD=$vcd timeout 20 "$probe" </dev/null >"$dir/out" 2>&1
+	st=$?
+	sed 's/^/    | /' "$dir/out"
+	[ $st -eq 1 ] && grep -qF -- "libx4step: $2" "$dir/out" && ! grep -q 'is x4step loaded' "$dir/out" &&
+		[ "$(edges)" -eq 0 ]
+	check "C API, $1: X4Init fails, stderr says what to fix" $?
+}
+X4STEP_SIM=2 capi "X4STEP_SIM=2" "X4STEP_SIM=2: use 1"
+X4STEP_SIM=1 X4STEP_SIM_TIME=fast capi "X4STEP_SIM_TIME=fast" "X4STEP_SIM_TIME=fast: use virtual"
+printf 'e+ 1 100 pin11 nc\ne- 1 500 pin12 nc\n' >"$dir/bad.machine"
+X4STEP_SIM=1 X4STEP_SIM_MACHINE=$dir/bad.machine capi "E- above E+" "$dir/bad.machine:2: axis 1: E- at 500"
 exit $failed
