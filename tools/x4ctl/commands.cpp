@@ -284,8 +284,8 @@ class input_reader {
     const x4step::status s = mon_.get_status();
     if (!s.inputs_stale || read_only_) return s;
     try {
-      ctl_.emplace(open_controller(dev_));
-    } catch (const std::exception &) {
+      ctl_.emplace(dev_);
+    } catch (const x4step::error &) {
       return s;  // another driver (or a controller that just opened) has it
     }
     return ctl_->get_status();
