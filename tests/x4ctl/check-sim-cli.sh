@@ -71,6 +71,17 @@ n=$(rises pin05_clk2)
 [ $st -eq 0 ] && has '^halted \(ESC\): 0 -[0-9]+ 0 0$' && between "$n" 450 620
 check "jog braked by a scripted ESC at 300 ms ($n steps at 2 kHz)" $?
 
+printf 'e+ 1 5000 pin11 nc\nposition 1 4000\n' >"$dir/limit.machine"
+X4STEP_SIM_MACHINE=$dir/limit.machine sim jog 1 + -f 5000
+[ $st -eq 0 ] && has '^halted \(limit switch E\+ of axis 1\): 1000 0 0 0$' && [ "$(rises pin03_clk1)" -eq 1000 ]
+check "jog toward the machine's E+ (no time needed): stopped there, 1000 steps" $?
+X4STEP_SIM_MACHINE=$dir/limit.machine sim jog 1 - -f 5000
+[ $st -eq 2 ] && has 'no limit switch ahead' && [ "$(rises pin03_clk1)" -eq 0 ]
+check "jog away from it: nothing would end it, refused" $?
+X4STEP_SIM_MACHINE=$dir/limit.machine sim move 2000 -f 5000
+[ $st -eq 1 ] && has 'halted \(limit switch E\+ of axis 1\) at 1000 of 2000 steps'
+check "move into E+: halted by the limit switch, exit 1" $?
+
 echo "== brake, stop, halt, monitor, watch: another program's moves"
 for cmd in brake stop "halt 1" monitor watch; do
 	# shellcheck disable=SC2086

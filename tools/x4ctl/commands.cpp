@@ -178,7 +178,7 @@ int cmd_move(const config &c) {
 int cmd_jog(const config &c) {
   controller_port p(open_controller(device_of(c)));
   std_console con(c.wait);
-  if (c.wait) check_endless_ends(p, con, c.time.has_value(), "jog");
+  if (c.wait) check_endless_ends(p, con, c.time.has_value(), "jog", std::make_pair(c.axis, c.dir));
   std::cout << "jog: axis " << c.axis.number() << (c.dir == x4step::direction::positive ? " +" : " -")
             << " at " << c.move.freq_hz << " Hz, ramp " << c.move.ramp.count() << " ms"
             << (c.time ? ", for " + std::to_string(c.time->count()) + " ms" : "") << "\n"

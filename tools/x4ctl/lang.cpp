@@ -368,7 +368,7 @@ void interpreter::endless(const command &c) {
     throw usage_error(std::string(name) + ": " + message(e) + " (axis " + std::to_string(axis_) + ": F" +
                       std::to_string(v.freq_hz) + " R" + std::to_string(v.ramp_ms) + ")");
   if (!port_) return;
-  check_endless_ends(*port_, con_, c.time_ms.has_value(), name);
+  check_endless_ends(*port_, con_, c.time_ms.has_value(), name, std::make_pair(x4step::axis(axis_), c.dir));
   con_.out() << name << ": axis " << axis_ << " endless at " << v.freq_hz << " Hz, ramp " << v.ramp_ms
              << " ms; "
              << (c.time_ms             ? "brakes after " + std::to_string(*c.time_ms) + " ms"

@@ -110,6 +110,18 @@ std::string follow_until(console &con, const follow_ops &ops, deadline until) {
   return why;
 }
 
+// Why a move ended that nobody here halted: a limit switch that stopped
+// an axis, else someone else ('x4ctl brake', another reader's halt).
+std::string limit_stop(const x4step::axes_status &a) {
+  for (x4step::axis ax : all_axes) {
+    const unsigned e = a[ax].error;
+    if (e & (x4step::axis_error::limit_pos | x4step::axis_error::limit_neg))
+      return std::string("limit switch ") + (e & x4step::axis_error::limit_pos ? "E+" : "E-") + " of axis " +
+             std::to_string(ax.number());
+  }
+  return "braked elsewhere";
+}
+
 // ", braking" while braking, else what brakes.
 std::string live_hint(const console &con, bool braking) {
   return braking ? "  braking" : con.has_keyboard() ? "  (ESC brakes)" : "";
@@ -192,13 +204,19 @@ deadline deadline_in(const port &p, const std::optional<milliseconds> &t) {
   return p.now() + *t;
 }
 
-void check_endless_ends(const port &p, const console &con, bool timed, const std::string &what) {
+void check_endless_ends(const port &p, const console &con, bool timed, const std::string &what,
+                        const std::optional<std::pair<x4step::axis, x4step::direction>> &toward) {
   if (timed || p.clock_runs() || con.has_keyboard() || sim_keys_scripted()) return;
-  throw usage_error(
-      what +
-      ": on a simulated port in virtual time nothing would end this endless move (no "
-      "terminal, no brake key script): give it a time, a key script (X4STEP_SIM_KEYS=500ms:esc) "
-      "or real time (X4STEP_SIM_TIME=real)");
+  if (toward) {  // a limit switch ahead stops it there
+    const x4step::switches s = p.get_switches();
+    const auto i = static_cast<std::size_t>(toward->first.index());
+    if ((toward->second == x4step::direction::positive ? s.plus : s.minus)[i]) return;
+  }
+  throw usage_error(what +
+                    ": on a simulated port in virtual time nothing would end this endless move (no "
+                    "terminal, no brake key script, no limit switch ahead): give it a time, a key script "
+                    "(X4STEP_SIM_KEYS=500ms:esc), a machine with the limit (X4STEP_SIM_MACHINE) or real "
+                    "time (X4STEP_SIM_TIME=real)");
 }
 
 void draw_live(console &con, const std::string &line) { con.out() << '\r' << line << "\x1b[K" << std::flush; }
@@ -237,7 +255,7 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
     o.late_halt = std::move(o.halted_by);  // a late brake request that found the move at its end
     o.halted_by.clear();
   } else if (o.halted_by.empty()) {
-    o.halted_by = o.end.last_brake_code ? key_name(o.end.last_brake_code) : "braked elsewhere";
+    o.halted_by = o.end.last_brake_code ? key_name(o.end.last_brake_code) : limit_stop(p.get_axes());
   }
   if (con.live()) draw_live(con, "");
   return o;

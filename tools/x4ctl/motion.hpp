@@ -10,6 +10,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io.hpp"
@@ -102,8 +103,11 @@ deadline deadline_in(const port &p, const std::optional<milliseconds> &t);
 
 /// An endless move (jog, M+, M-, T) that nothing would end, what (the
 /// command) names it: a simulated port in virtual time without a time,
-/// a terminal or a brake key script. Throws usage_error naming the ways.
-void check_endless_ends(const port &p, const console &con, bool timed, const std::string &what);
+/// a terminal, a brake key script or (toward: the axis and direction of a
+/// jog) a limit switch input ahead. Throws usage_error naming the ways.
+void check_endless_ends(
+    const port &p, const console &con, bool timed, const std::string &what,
+    const std::optional<std::pair<x4step::axis, x4step::direction>> &toward = std::nullopt);
 
 /// Redraws the live line of a terminal.
 void draw_live(console &con, const std::string &line);
