@@ -288,6 +288,27 @@ TEST_F(Sim, MisspeltNamesAndOtherX4StepSimValuesAreRefused) {
   EXPECT_EQ(X4ReInit(), X4NoErr);
 }
 
+// A refused setting simulates nothing: not even the VCD file is made.
+TEST_F(Sim, RefusedSettingsWriteNoVcd) {
+  const std::string vcd = ::testing::TempDir() + "sim_test_refused.vcd";
+  ::unlink(vcd.c_str());
+  setenv("X4STEP_SIM_VCD", vcd.c_str(), 1);
+  const struct {
+    const char *variable, *value;
+  } bad[] = {{"X4STEP_SIM_TIME", "fast"}, {"X4STEP_SIM_KEYS", "3:esc"}, {"X4STEP_SIM_INPUTS", "soon"}};
+  for (const auto &b : bad) {
+    setenv(b.variable, b.value, 1);
+    EXPECT_THROW(controller("sim"), x4step::error) << b.variable;
+    unsetenv(b.variable);
+  }
+  setenv("X4STEP_SIM_TIME", "virtual", 1);
+  Machine("e+ 1 100 pin11 nc\ne- 1 500 pin12 nc\n");
+  EXPECT_THROW(controller("sim"), x4step::error);
+  EXPECT_THROW(controller("sim:4"), x4step::error);
+  EXPECT_NE(::access(vcd.c_str(), F_OK), 0) << vcd << " was written";
+  EXPECT_FALSE(x4step::sim::port::find(0));
+}
+
 TEST_F(Sim, VcdHasTheTraceSignalNamesAndEveryEdge) {
   const std::string path = ::testing::TempDir() + "sim_test.vcd";
   setenv("X4STEP_SIM_VCD", path.c_str(), 1);
