@@ -34,6 +34,13 @@ class port_io {
   /// A program polls without a request (X4GetTimer): a simulated port in
   /// virtual time lets a little time pass; the device does nothing.
   virtual void let_time_pass() {}
+  /// A simulated port in virtual time: its clock moves only as the
+  /// library lets time pass (waits, status reads, pass()).
+  virtual bool virtual_time() const { return false; }
+  /// Virtual time: lets d pass on the port's clock, running what is due
+  /// meanwhile (a program's "wait 100 ms" with nothing to wait for); else
+  /// nothing: the caller sleeps.
+  virtual void pass(std::chrono::nanoseconds d) { (void)d; }
 };
 
 /// Open a port by name: a path such as /dev/x4step0, or a simulated port

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <chrono>
 #include <climits>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <new>
@@ -17,6 +19,7 @@ extern "C" {
 #include "x4_check.h"  // the kernel's own timing check
 }
 #include "detail.hpp"
+#include "sim/options.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
 #include "x4step_ext.h"
@@ -77,9 +80,12 @@ void refuse_while_active(const x4step::status &s) {
 }
 
 // The default step timing of the module (its parameters), else X4Step's
-// where they fail the engine's check: the module ignored them then too.
-x4step::step_timing module_step_timing() {
+// where they fail the engine's check: the module ignored them then too. A
+// simulated port has the module's built-in defaults: a loaded module's
+// parameters are none of its business.
+x4step::step_timing module_step_timing(bool simulated) {
   x4_timing k{0, 0, X4_DIR_SETUP_NS, 0};
+  if (simulated) return {};
   const auto param = [](const char *name, uint32_t &out) {
     std::ifstream f(std::string("/sys/module/x4step/parameters/") + name);
     uint32_t ns;
@@ -104,10 +110,28 @@ x4step::step_timing module_step_timing() {
 // brakes, no switches, the default profiles.
 void dos_state(x4step::controller &c) {
   c.set_config({});
-  c.set_step_timing(module_step_timing());
+  c.set_step_timing(module_step_timing(x4step::sim::is_sim_name(c.path())));
   c.set_brake_codes({});
   c.set_switches({});
   for (x4step::axis a : x4step::axis_set::all()) c.set_profile(a, {});
+}
+
+// The simulated port refused X4STEP_SIM or one of its settings: the
+// manual's program learns only X4ErrLPTNotFound, so what to fix goes to
+// stderr, once, without the general "is x4step loaded" of the code.
+void tell_sim_refusal(const x4step::error &e) noexcept {
+  const char *sim = std::getenv("X4STEP_SIM");
+  if (!sim || !*sim || std::strcmp(sim, "0") == 0 || e.code() != x4step::errc::lpt_not_found) return;
+  try {
+    std::string text = e.what();
+    const std::string general = ": " + e.code().message();
+    if (text.size() > general.size() &&
+        text.compare(text.size() - general.size(), general.size(), general) == 0)
+      text.resize(text.size() - general.size());
+    std::fprintf(stderr, "libx4step: %s\n", text.c_str());
+  } catch (...) {
+    std::fprintf(stderr, "libx4step: %s\n", e.what());
+  }
 }
 
 int with_port(void (*op)(x4step::controller &)) noexcept {
@@ -175,7 +199,12 @@ int X4Init(int lpt) {
   port.reset();
   X4ClearTimer();
   const int ret = guarded([lpt] {
-    port.emplace(lpt);
+    try {
+      port.emplace(lpt);
+    } catch (const x4step::error &e) {
+      tell_sim_refusal(e);
+      throw;
+    }
     dos_state(*port);
   });
   if (ret != X4NoErr) port.reset();

@@ -83,7 +83,11 @@ std::vector<scripted_key> parse_keys(const std::string &spec) {
   return keys;
 }
 
-bool is_sim_name(const std::string &name) { return name == "sim" || name.rfind("sim:", 0) == 0; }
+// "sim0", "simx", "sim:7" are misspelt simulated ports, refused as such
+// rather than opened as files of the working directory ("./sim0" is one).
+bool is_sim_name(const std::string &name) {
+  return name.rfind("sim", 0) == 0 && name.find('/') == std::string::npos;
+}
 
 int port_number(const std::string &name) {
   if (name == "sim") return 0;
@@ -124,7 +128,12 @@ options options_from_env() {
 
 bool env_wants_sim() {
   const char *s = std::getenv("X4STEP_SIM");
-  return s && *s && std::string(s) != "0";
+  if (!s || !*s || std::string(s) == "0") return false;
+  if (std::string(s) == "1") return true;
+  // X4STEP_SIM=2 is no port number: the program's LPTn still chooses.
+  refuse(std::string("X4STEP_SIM=") + s +
+         ": use 1 (LPT1..4 are the simulated ports sim:0..3) or 0 (the module's devices); the program's "
+         "LPT number chooses the port");
 }
 
 }  // namespace x4step::sim

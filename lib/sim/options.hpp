@@ -42,7 +42,9 @@ unsigned key_code(const std::string &name);
 /// the entry and the good spellings.
 std::vector<scripted_key> parse_keys(const std::string &spec);
 
-/// "sim" or "sim:..." (a name meant for the simulator, good or bad).
+/// A name meant for the simulator, good or bad: "sim" and "sim:N", and
+/// names that start with "sim" without a '/' ("sim0", "simx": refused by
+/// port_number(); a device node there is opened as "./sim0").
 bool is_sim_name(const std::string &name);
 /// The port number of "sim" (0) or "sim:0".."sim:3"; throws an error
 /// naming the good spellings otherwise.
@@ -52,7 +54,8 @@ int port_number(const std::string &name);
 /// X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS; throws an error naming the
 /// variable (or the machine file and line) and what to fix.
 options options_from_env();
-/// X4STEP_SIM is set to anything but "" or "0": LPT1..4 are sim:0..3.
+/// X4STEP_SIM=1: LPT1..4 are sim:0..3; unset, "" or "0": the devices.
+/// Any other value throws an error naming it and the good ones.
 bool env_wants_sim();
 
 }  // namespace x4step::sim

@@ -30,6 +30,11 @@ class sim_io final : public detail::port_io {
   }
   time_point now() const override { return port_->now(); }
   void let_time_pass() override { port_->let_time_pass(); }
+  bool virtual_time() const override { return port_->settings().time == time_mode::virtual_; }
+  void pass(std::chrono::nanoseconds d) override {
+    if (virtual_time() && d.count() > 0)
+      port_->run_until(port_->engine_now() + static_cast<std::uint64_t>(d.count()));
+  }
 
  private:
   std::shared_ptr<port> port_;

@@ -14,6 +14,7 @@
 #include "sim/options.hpp"
 #include "sim/port.hpp"
 #include "sim/terminal.hpp"
+#include "sim_env.hpp"
 #include "x4step.hpp"
 #include "x4step_path.hpp"
 
@@ -23,17 +24,7 @@ using x4step::controller;
 
 namespace {
 
-class SimKeys : public ::testing::Test {
- protected:
-  void SetUp() override {
-    setenv("X4STEP_SIM_TIME", "virtual", 1);
-    unsetenv("X4STEP_SIM_VCD");
-  }
-  void TearDown() override {
-    unsetenv("X4STEP_SIM_TIME");
-    unsetenv("X4STEP_SIM_KEYS");
-  }
-};
+class SimKeys : public SimEnv {};
 
 std::vector<x4step::segment> line(int n) {
   std::vector<x4step::segment> s(n);

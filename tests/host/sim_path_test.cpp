@@ -14,6 +14,7 @@
 
 #include "sim/port.hpp"
 #include "sim/sim.hpp"
+#include "sim_env.hpp"
 #include "sim_writes.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
@@ -27,18 +28,7 @@ using x4step::path_state;
 
 namespace {
 
-class SimPath : public ::testing::Test {
- protected:
-  void SetUp() override {
-    setenv("X4STEP_SIM_TIME", "virtual", 1);
-    unsetenv("X4STEP_SIM_VCD");
-    unsetenv("X4STEP_SIM");
-  }
-  void TearDown() override {
-    unsetenv("X4STEP_SIM_TIME");
-    unsetenv("X4STEP_SIM");
-  }
-};
+class SimPath : public SimEnv {};
 
 // n straight segments of 100 steps on axis 1 and 50 on axis 2, at 5000
 // units/s: one unit is a step of axis 1, so the path takes n / 50 s.

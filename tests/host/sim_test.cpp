@@ -15,6 +15,7 @@
 
 #include "engine_ref.h"
 #include "sim/port.hpp"
+#include "sim_env.hpp"
 #include "sim_writes.hpp"
 #include "x4step.h"
 #include "x4step.hpp"
@@ -25,31 +26,10 @@ using x4step::controller;
 
 namespace {
 
-// The tests set the variables they need; none comes in from the shell
-// that runs them (a machine file, a key script, X4STEP_SIM_KEYS=tty).
-// For all of sim_test: sim_path_test and sim_keys_test link in here.
-const bool environment_cleared = [] {
-  for (const char *v : {"X4STEP_SIM", "X4STEP_SIM_TIME", "X4STEP_SIM_VCD", "X4STEP_SIM_KEYS",
-                        "X4STEP_SIM_MACHINE", "X4STEP_SIM_INPUTS"})
-    unsetenv(v);
-  return true;
-}();
-
-class Sim : public ::testing::Test {
+class Sim : public SimEnv {
  protected:
-  void SetUp() override {
-    setenv("X4STEP_SIM_TIME", "virtual", 1);
-    unsetenv("X4STEP_SIM_VCD");
-    unsetenv("X4STEP_SIM");
-    unsetenv("X4STEP_SIM_MACHINE");
-    unsetenv("X4STEP_SIM_INPUTS");
-  }
   void TearDown() override {
-    unsetenv("X4STEP_SIM_TIME");
-    unsetenv("X4STEP_SIM_VCD");
-    unsetenv("X4STEP_SIM");
-    unsetenv("X4STEP_SIM_MACHINE");
-    unsetenv("X4STEP_SIM_INPUTS");
+    SimEnv::TearDown();
     if (!machine_file_.empty()) ::unlink(machine_file_.c_str());
   }
   // Writes a machine file and names it in X4STEP_SIM_MACHINE.
@@ -270,6 +250,63 @@ TEST_F(Sim, BadNamesAndSettingsSayWhatToFix) {
   EXPECT_FALSE(x4step::sim::port::find(0));  // nothing simulated
   setenv("X4STEP_SIM", "1", 1);
   EXPECT_EQ(X4Init(LPT1), X4ErrLPTNotFound);
+}
+
+// A name that starts with "sim" is a simulated port's: a misspelt one is
+// refused as such (not opened as a file here); X4STEP_SIM takes 1 or 0,
+// not a port number.
+TEST_F(Sim, MisspeltNamesAndOtherX4StepSimValuesAreRefused) {
+  for (const char *name : {"simx", "sim0", "sim:", "sim:4", "sim:00", "sim1:0"}) {
+    try {
+      controller c(name);
+      ADD_FAILURE() << "opened " << name;
+    } catch (const x4step::error &e) {
+      EXPECT_EQ(e.code(), x4step::errc::lpt_not_found);
+      EXPECT_NE(std::string(e.what()).find(std::string(name) +
+                                           ": no such simulated port: use sim (= sim:0) or sim:0 .. sim:3"),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_THROW(x4step::monitor m(name), x4step::error);
+  }
+  for (const char *v : {"2", "yes", "true", " 1"}) {
+    setenv("X4STEP_SIM", v, 1);
+    try {
+      controller c(1);
+      ADD_FAILURE() << "X4STEP_SIM=" << v << " taken";
+    } catch (const x4step::error &e) {
+      EXPECT_EQ(e.code(), x4step::errc::lpt_not_found);
+      EXPECT_NE(std::string(e.what()).find(std::string("X4STEP_SIM=") + v + ": use 1"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_EQ(X4Init(LPT1), X4ErrLPTNotFound);
+  }
+  EXPECT_FALSE(x4step::sim::port::find(0));  // nothing simulated
+  setenv("X4STEP_SIM", "1", 1);
+  ASSERT_EQ(X4Init(LPT2), X4NoErr);
+  EXPECT_TRUE(x4step::sim::port::find(1));
+  EXPECT_EQ(X4ReInit(), X4NoErr);
+}
+
+// A refused setting simulates nothing: not even the VCD file is made.
+TEST_F(Sim, RefusedSettingsWriteNoVcd) {
+  const std::string vcd = ::testing::TempDir() + "sim_test_refused.vcd";
+  ::unlink(vcd.c_str());
+  setenv("X4STEP_SIM_VCD", vcd.c_str(), 1);
+  const struct {
+    const char *variable, *value;
+  } bad[] = {{"X4STEP_SIM_TIME", "fast"}, {"X4STEP_SIM_KEYS", "3:esc"}, {"X4STEP_SIM_INPUTS", "soon"}};
+  for (const auto &b : bad) {
+    setenv(b.variable, b.value, 1);
+    EXPECT_THROW(controller("sim"), x4step::error) << b.variable;
+    unsetenv(b.variable);
+  }
+  setenv("X4STEP_SIM_TIME", "virtual", 1);
+  Machine("e+ 1 100 pin11 nc\ne- 1 500 pin12 nc\n");
+  EXPECT_THROW(controller("sim"), x4step::error);
+  EXPECT_THROW(controller("sim:4"), x4step::error);
+  EXPECT_NE(::access(vcd.c_str(), F_OK), 0) << vcd << " was written";
+  EXPECT_FALSE(x4step::sim::port::find(0));
 }
 
 TEST_F(Sim, VcdHasTheTraceSignalNamesAndEveryEdge) {

@@ -29,7 +29,7 @@ expect "x4ctl mode smc" "smc-phase smc-hold"
 expect "x4ctl help wa" "watch"
 expect "x4ctl halt --st" "--stop"
 expect "x4ctl halt --s" "--stop --sim"
-expect "x4ctl list -" "--json --help"
+expect "x4ctl list -" "--json --sim --help"
 expect "x4ctl --ver" "--version"
 # The operator's commands in machine units (issue 20).
 expect "x4ctl pa" "path panel"

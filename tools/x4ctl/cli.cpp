@@ -18,6 +18,7 @@
 
 #include "lang.hpp"
 #include "show.hpp"
+#include "sim.hpp"
 
 #ifndef X4CTL_VERSION
 #define X4CTL_VERSION "0.1.0"
@@ -854,7 +855,8 @@ const char *const port_help =
     "  -p, --port=LPT       parallel port 1..4 (/dev/x4step0..3), default 1\n"
     "  -d, --device=PATH    device node to use instead of --port\n"
     "      --sim            a simulated port in this process (sim:0..3 for LPT\n"
-    "                       1..4): no module, no root; X4STEP_SIM=1 does the same\n"
+    "                       1..4): no module, no root; X4STEP_SIM=1 does the same;\n"
+    "                       a fresh one in each x4ctl (README: without a port)\n"
     "  -h, --help           show this help\n";
 
 const char *const motion_help =
@@ -886,15 +888,29 @@ std::string message(x4step::errc e) { return x4step::make_error_code(e).message(
 
 int default_ramp_ms(int freq_hz) { return std::min(50, freq_hz); }
 
-// The simulated port of --sim (or X4STEP_SIM=1) is named sim:0..3.
+// The simulated port of --sim (or X4STEP_SIM=1) is named sim:0..3; so
+// is -d sim:N. X4STEP_SIM as the library takes it: 1, or 0 / empty.
 bool sim_wanted(const config &c) {
+  if (c.sim || is_sim_device(c.device)) return true;
   const char *env = std::getenv("X4STEP_SIM");
-  return c.sim || (env && *env && std::string(env) != "0");
+  if (!env || !*env || std::string(env) == "0") return false;
+  if (std::string(env) != "1")
+    throw usage_error(std::string("X4STEP_SIM=") + env +
+                      ": use 1 (the simulated ports sim:0..3 for LPT1..4) or 0; -p chooses the port");
+  return true;
 }
 
 std::string device_of(const config &c) {
   if (!c.device.empty()) return c.device;
   return sim_wanted(c) ? "sim:" + std::to_string(c.lpt - 1) : x4step::device_path(c.lpt);
+}
+
+// --sim with -d naming a device: the simulator never touches one.
+void check_sim(const config &c) {
+  if (c.sim && !c.device.empty() && !is_sim_device(c.device))
+    throw usage_error("--sim and -d " + c.device +
+                      ": a simulated port never opens a device; use -d sim:N (N 0..3), or -p, with --sim");
+  sim_wanted(c);  // a bad X4STEP_SIM
 }
 
 std::optional<subcommand> find_command(const std::string &name) {
@@ -927,6 +943,7 @@ config parse_args(const std::vector<std::string> &args) {
     if (const auto cmd = find_command(name); cmd && c.help) c.cmd = *cmd;
     return c;
   }
+  check_sim(c);
   if (r.operands.empty()) return c;  // interactive
   if (name.find_first_not_of("0123456789") == std::string::npos) {
     // TEST.EXE's "TEST 2": the test program on LPT2.
@@ -940,8 +957,12 @@ config parse_args(const std::vector<std::string> &args) {
   c.cmd = *cmd;
   const size_t at = args.size() - r.operands.size() + 1;  // after the subcommand's name
   parse_subcommand(c, args, at);
+  check_sim(c);
   // A simulated port lives in this process: no background holder.
-  if (sim_wanted(c)) c.wait = true;
+  if (sim_wanted(c)) {
+    c.wait = true;
+    c.no_wait = false;
+  }
   return c;
 }
 
@@ -1501,9 +1522,12 @@ std::string help_text(subcommand c) {
              "controller (its PID and name, where this user may see its process), another\n"
              "parport driver that has claimed it (lp, or ppdevN for a program using\n"
              "/dev/parportN), or nobody. The first line is the library's version.\n"
+             "With --sim (or X4STEP_SIM=1): the simulated ports sim:0..3 instead, which\n"
+             "live in the program that opens them (a fresh one in each).\n"
              "\n"
              "Options:\n"
              "  -j, --json           one JSON object instead of text\n"
+             "      --sim            the simulated ports\n"
              "  -h, --help           show this help\n"
              "\n"
              "JSON, of every command with --json: each object (one per line) starts with\n"

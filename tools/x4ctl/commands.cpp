@@ -26,6 +26,7 @@
 #include "panel.hpp"
 #include "path.hpp"
 #include "position.hpp"
+#include "sim.hpp"
 #include "term.hpp"
 
 namespace x4ctl {
@@ -72,6 +73,9 @@ int open_errno(const std::string &dev, bool write) {
 // The library's own text when it knows more (who holds a busy port, how to
 // get access), else its general one.
 failure open_failure(const std::string &dev, const x4step::error &e, bool write) {
+  // A simulated port: its name or a setting of the environment, which the
+  // library names with what to fix; no node to ask about.
+  if (is_sim_device(dev)) return failure(sim_error_text(e), EINVAL);
   const int err = open_errno(dev, write);
   if (e.what() != e.code().message()) return failure(e.what(), err);
   return failure(dev + ": " + e.code().message(), err);
@@ -81,9 +85,12 @@ failure open_failure(const std::string &dev, const x4step::error &e, bool write)
 
 x4step::controller open_controller(const std::string &dev) {
   try {
-    return x4step::controller(dev);
+    x4step::controller c(dev);
+    wire_machine_switches(c);
+    return c;
   } catch (const x4step::error &e) {
     if (e.code() != x4step::errc::lpt_not_found) throw;
+    if (is_sim_device(dev)) throw open_failure(dev, e, true);
     if (const auto h = find_controller(dev))
       throw failure(dev + ": port busy: PID " + std::to_string(h->pid) + " (" + h->name + ") controls it" +
                         (h->is_x4ctl() ? "; 'x4ctl brake' ends its move" : ""),
@@ -112,9 +119,17 @@ std::string describe_move(const x4step::move &m) {
          std::to_string(m.ramp.count()) + " ms";
 }
 
-deadline deadline_of(const config &c) {
-  if (!c.time) return std::nullopt;
-  return steady::now() + *c.time;
+deadline deadline_of(const config &c, const port &p) { return deadline_in(p, c.time); }
+
+// brake, stop, halt, monitor and watch act on another program's moves:
+// a simulated port has none (it lives in this x4ctl alone).
+void refuse_sim(const std::string &dev, const char *command) {
+  if (is_sim_device(dev)) throw failure(sim_elsewhere_text(dev, command), ENODEV);
+}
+
+// A one-shot setting on a simulated port: say that it ends with x4ctl.
+void note_sim_setting(const std::string &dev) {
+  if (is_sim_device(dev)) std::cerr << "x4ctl: " << sim_forgets_text(dev) << "\n";
 }
 
 // "move 3 of 3 not started", "moves 2 to 3 not started" (from: an index).
@@ -165,17 +180,18 @@ int cmd_move(const config &c) {
 int cmd_jog(const config &c) {
   controller_port p(open_controller(device_of(c)));
   std_console con(c.wait);
+  if (c.wait) check_endless_ends(p, con, c.time.has_value(), "jog", std::make_pair(c.axis, c.dir));
   std::cout << "jog: axis " << c.axis.number() << (c.dir == x4step::direction::positive ? " +" : " -")
             << " at " << c.move.freq_hz << " Hz, ramp " << c.move.ramp.count() << " ms"
             << (c.time ? ", for " + std::to_string(c.time->count()) + " ms" : "") << "\n"
             << std::flush;
   if (!c.wait) {
     start_endless(p, c.axis, c.dir, c.move.freq_hz, c.move.ramp);
-    const deadline until = deadline_of(c);
+    const deadline until = deadline_of(c, p);
     hold_in_background(p, [&](console &bg) { follow(p, bg, std::nullopt, until); });
     return 0;
   }
-  const outcome o = run_endless(p, con, c.axis, c.dir, c.move.freq_hz, c.move.ramp, deadline_of(c));
+  const outcome o = run_endless(p, con, c.axis, c.dir, c.move.freq_hz, c.move.ramp, deadline_of(c, p));
   std::cout << describe(o, std::nullopt) << "\n";
   return 0;
 }
@@ -199,6 +215,7 @@ void ask_holder(const std::string &dev, bool stop, x4step::axis_set axes) {
 // or hung holder). A module without the emergency halt: the request only.
 int cmd_halt(const config &c, bool stop) {
   const std::string dev = device_of(c);
+  refuse_sim(dev, stop ? "stop" : "brake");
   const x4step::monitor mon = open_monitor(dev);
   if (!mon.get_status().active) throw failure(message(x4step::errc::not_active));  // any move
   const auto h = find_controller(dev);
@@ -218,6 +235,7 @@ int cmd_halt(const config &c, bool stop) {
 
 int cmd_halt_axes(const config &c) {
   const std::string dev = device_of(c);
+  refuse_sim(dev, "halt");
   const x4step::monitor mon = open_monitor(dev);
   const x4step::axes_status a = mon.get_axes();
   bool running = false;
@@ -242,6 +260,9 @@ int cmd_status(const config &c) {
   const x4step::status s = mon.get_status();
   const x4step::axes_status a = mon.get_axes();
   std::cout << (c.json ? status_json(s, a, dev) + "\n" : status_text(s, a, dev));
+  if (is_sim_device(dev) && !c.json)
+    std::cerr << "x4ctl: note: " << dev
+              << " is a simulated port of this x4ctl alone: a fresh one, not that of another x4ctl --sim\n";
   return 0;
 }
 
@@ -252,6 +273,13 @@ class input_reader {
  public:
   input_reader(std::string dev, bool read_only)
       : dev_(std::move(dev)), read_only_(read_only), mon_(open_monitor(dev_)) {}
+
+  // A wait between two reads (paced as the wall clock: only Ctrl-C ends
+  // the watch); a simulated port in virtual time passes it too.
+  void pause(milliseconds d) {
+    nap(d);
+    if (ctl_ && !port_clock_runs(*ctl_)) port_pass(*ctl_, d);
+  }
 
   x4step::status read() {
     if (ctl_) return ctl_->get_status();
@@ -294,7 +322,7 @@ int cmd_in(const config &c) {
     else if (now != last)
       std::cout << now << "\n" << std::flush;
     last = now;
-    nap(milliseconds(100));
+    in.pause(milliseconds(100));
   }
   if (con.live()) std::cout << "\n";
   return 0;
@@ -302,20 +330,28 @@ int cmd_in(const config &c) {
 
 int cmd_out(const config &c) {
   controller_port p(open_controller(device_of(c)));
+  std_console con(false);
   p.set_output(c.signal, c.level);
   std::cout << "signal " << (c.signal == x4step::signal::one ? "1 (pin 1) " : "2 (pin 14) ")
             << (c.level ? "on" : "off") << "; holding the port "
             << (c.time ? "for " + std::to_string(c.time->count()) + " ms" : std::string("until Ctrl-C"))
             << "\n"
             << std::flush;
-  const deadline until = deadline_of(c);
-  while (take_signal() == key::none && !(until && steady::now() >= *until)) nap(milliseconds(50));
+  // On the port's clock: a simulated port in virtual time holds the level
+  // for --time of its own time at once; without --time, as the wall clock.
+  const deadline until = deadline_of(c, p);
+  for (auto now = p.now(); !(until && now >= *until); now = p.now()) {
+    const milliseconds step =
+        until ? std::min(std::chrono::ceil<milliseconds>(*until - now), milliseconds(50)) : milliseconds(50);
+    if (pause(p, con, step, !until) != key::none) break;
+  }
   std::cout << "released the port: the module drives the outputs low\n";
   return 0;
 }
 
 int cmd_keys(const config &c) {
   controller_port p(open_controller(device_of(c)));
+  note_sim_setting(device_of(c));
   p.set_brake_codes(c.codes);
   std::string list;
   for (int k : c.codes) list += " " + std::to_string(k);
@@ -337,6 +373,7 @@ int cmd_sweep(const config &c) {
 }
 
 int cmd_monitor(const config &c) {
+  refuse_sim(device_of(c), "monitor");
   const x4step::monitor mon = open_monitor(device_of(c));
   std_console con(false);
   x4step::status s = mon.get_status();
@@ -380,6 +417,7 @@ int cmd_monitor(const config &c) {
 
 // The port's events, one line each, until Ctrl-C or --count of them.
 int cmd_watch(const config &c) {
+  refuse_sim(device_of(c), "watch");
   const x4step::monitor mon = open_monitor(device_of(c));
   std::uint64_t next = 0;  // the seq expected next; 0: any
   long seen = 0;
@@ -402,8 +440,29 @@ int cmd_watch(const config &c) {
   return 0;
 }
 
+// The simulated ports: in this library, a fresh one in each program.
+int list_sim(const config &c) {
+  std::vector<port_entry> ports;
+  for (int n = 0; n < 4; n++) {
+    port_entry p;
+    p.device = "sim:" + std::to_string(n);
+    p.parport = n;
+    p.simulated = true;
+    try {
+      p.abi = open_monitor(p.device).abi_version();
+    } catch (const failure &e) {
+      p.error = e.what();
+      p.err = e.err();
+    }
+    ports.push_back(p);
+  }
+  std::cout << (c.json ? list_json(ports) + "\n" : list_text(ports));
+  return 0;
+}
+
 // Every port: its module's version and who holds it.
 int cmd_list(const config &c) {
+  if (is_sim_device(device_of(c))) return list_sim(c);
   std::vector<port_entry> ports;
   for (const std::string &dev : x4step_devices()) {
     port_entry p;
@@ -433,6 +492,9 @@ int cmd_list(const config &c) {
 int with_port(const config &c, void (*command)(port &, const config &, std::ostream &)) {
   controller_port p(open_controller(device_of(c)));
   command(p, c, std::cout);
+  const bool changes = c.pulse || c.space || c.dir_setup || c.dir_hold || c.mode || c.v0 || c.ve || c.vm ||
+                       c.a0 || c.ae || c.ref || c.plus || c.minus || c.nc || c.cmd == subcommand::zero;
+  if (changes) note_sim_setting(device_of(c));
   return 0;
 }
 

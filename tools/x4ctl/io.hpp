@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "sim.hpp"
 #include "x4step.hpp"
 
 namespace x4ctl {
@@ -49,6 +50,16 @@ class port {
   virtual x4step::axes_status get_axes() const = 0;
   /// True once none of the axes runs; false after timeout.
   virtual bool wait_axes(x4step::axis_set axes, milliseconds timeout) const = 0;
+  /// The port's clock, which the times of commands count on (jog --time,
+  /// out --time, M+ 500, W): a simulated port in virtual time has its own.
+  virtual std::chrono::steady_clock::time_point now() const { return std::chrono::steady_clock::now(); }
+  /// False for a simulated port in virtual time: its clock moves only in
+  /// the library's calls, and pass() moves it on.
+  virtual bool clock_runs() const { return true; }
+  /// Virtual time: lets d pass on the port (its moves run meanwhile).
+  virtual void pass(milliseconds d) { (void)d; }
+  /// A simulated port: it lives in this process, no other x4ctl reaches it.
+  virtual bool simulated() const { return false; }
 };
 
 /// A port that is a real x4step::controller.
@@ -86,6 +97,10 @@ class controller_port : public port {
   bool wait_axes(x4step::axis_set axes, milliseconds timeout) const override {
     return c_.wait_axes(axes, timeout);
   }
+  std::chrono::steady_clock::time_point now() const override { return port_now(c_); }
+  bool clock_runs() const override { return port_clock_runs(c_); }
+  void pass(milliseconds d) override { port_pass(c_, d); }
+  bool simulated() const override { return is_sim_device(c_.path()); }
 
  private:
   x4step::controller c_;

@@ -216,6 +216,16 @@ std::string language_help() {
          "terminal.\n";
 }
 
+namespace {
+
+// What brakes a move without a terminal: another x4ctl cannot reach a
+// simulated port.
+std::string brakes_text(const port &p) {
+  return p.simulated() ? "a brake key or Ctrl-C brakes" : "a brake key, Ctrl-C or 'x4ctl brake' brakes";
+}
+
+}  // namespace
+
 interpreter::interpreter(console &con, port *p, bool strict) : con_(con), port_(p), strict_(strict) {}
 
 std::string interpreter::prompt() const { return std::to_string(axis_) + "-> "; }
@@ -247,7 +257,7 @@ x4step::move interpreter::axis_move(long steps, int freq_hz) const {
 
 deadline interpreter::until(const command &c) const {
   if (!c.time_ms) return std::nullopt;
-  return steady::now() + milliseconds(*c.time_ms);
+  return port_->now() + milliseconds(*c.time_ms);
 }
 
 std::string interpreter::info() const {
@@ -358,11 +368,12 @@ void interpreter::endless(const command &c) {
     throw usage_error(std::string(name) + ": " + message(e) + " (axis " + std::to_string(axis_) + ": F" +
                       std::to_string(v.freq_hz) + " R" + std::to_string(v.ramp_ms) + ")");
   if (!port_) return;
+  check_endless_ends(*port_, con_, c.time_ms.has_value(), name, std::make_pair(x4step::axis(axis_), c.dir));
   con_.out() << name << ": axis " << axis_ << " endless at " << v.freq_hz << " Hz, ramp " << v.ramp_ms
              << " ms; "
              << (c.time_ms             ? "brakes after " + std::to_string(*c.time_ms) + " ms"
                  : con_.has_keyboard() ? "ESC brakes"
-                                       : "a brake key, Ctrl-C or 'x4ctl brake' brakes")
+                                       : brakes_text(*port_))
              << "\n"
              << std::flush;
   const outcome o =
@@ -392,7 +403,7 @@ void interpreter::cursor() {
     moving = 0;
   };
   for (;;) {
-    const key k = con_.read_key(milliseconds(20));
+    const key k = pause(*port_, con_, milliseconds(20), true);
     const auto now = steady::now();
     if (is_halt_key(k)) {
       if (k == key::stop_request)
@@ -469,12 +480,13 @@ void interpreter::toggle(const command &c) {
                       std::to_string(v.distance) + " F" + std::to_string(v.freq_hz) + " R" +
                       std::to_string(v.ramp_ms) + ")");
   if (!port_) return;
+  check_endless_ends(*port_, con_, c.time_ms.has_value(), "T");
   const x4step::move back = axis_move(-v.distance, v.freq_hz);
   con_.out() << "T: axis " << axis_ << " back and forth by " << v.distance << " steps at " << v.freq_hz
              << " Hz, ramp " << v.ramp_ms << " ms; "
              << (c.time_ms             ? "brakes after " + std::to_string(*c.time_ms) + " ms"
                  : con_.has_keyboard() ? "ESC brakes"
-                                       : "a brake key, Ctrl-C or 'x4ctl brake' brakes")
+                                       : brakes_text(*port_))
              << "\n"
              << std::flush;
   keys_guard keys(con_);  // raw for all the moves: an ESC between two moves counts too
@@ -486,7 +498,7 @@ void interpreter::toggle(const command &c) {
       con_.out() << "T: " << moves << " moves, then " << describe(o, steps_of(m)) << "\n";
       return;
     }
-    if (u && steady::now() >= *u) {
+    if (u && port_->now() >= *u) {
       con_.out() << "T: " << moves + 1 << " moves, time up\n";
       return;
     }
@@ -510,18 +522,18 @@ void interpreter::inputs(const command &c) {
     else if (now != last)
       con_.out() << now << "\n" << std::flush;  // only changes, when it is a log
     last = now;
-    if (is_halt_key(con_.read_key(milliseconds(100)))) break;
-    if (u && steady::now() >= *u) break;
+    if (is_halt_key(pause(*port_, con_, milliseconds(100), !u))) break;
+    if (u && port_->now() >= *u) break;
   }
   if (con_.live()) draw_live(con_, last + "\n");
 }
 
 void interpreter::wait(const command &c) {
   if (!port_) return;
-  const auto end = steady::now() + milliseconds(c.args[0]);
-  for (auto now = steady::now(); now < end; now = steady::now()) {
-    const auto left = std::chrono::duration_cast<milliseconds>(end - now);
-    if (is_halt_key(con_.read_key(std::min(left, milliseconds(100))))) throw failure("W: interrupted");
+  const auto end = port_->now() + milliseconds(c.args[0]);
+  for (auto now = port_->now(); now < end; now = port_->now()) {
+    const auto left = std::chrono::ceil<milliseconds>(end - now);
+    if (is_halt_key(pause(*port_, con_, std::min(left, milliseconds(100))))) throw failure("W: interrupted");
   }
 }
 

@@ -60,6 +60,7 @@ struct follow_ops {
   std::function<bool()> ended;                             // waits up to a tick: true once it ended
   std::function<void(x4step::axis_set axes)> brake, stop;  // of some of the axes
   std::function<std::string(bool braking)> live;           // the live line
+  std::function<steady::time_point()> now;                 // the port's clock, for the deadline
 };
 
 // Follows until ops.ended(): ESC, Ctrl-C, a brake request or the deadline
@@ -103,10 +104,22 @@ std::string follow_until(console &con, const follow_ops &ops, deadline until) {
       default:
         break;
     }
-    if (until && steady::now() >= *until) brake_for("time up", all_axes);
+    if (until && ops.now() >= *until) brake_for("time up", all_axes);
     if (con.live()) draw_live(con, ops.live(!halted.empty()));
   }
   return why;
+}
+
+// Why a move ended that nobody here halted: a limit switch that stopped
+// an axis, else someone else ('x4ctl brake', another reader's halt).
+std::string limit_stop(const x4step::axes_status &a) {
+  for (x4step::axis ax : all_axes) {
+    const unsigned e = a[ax].error;
+    if (e & (x4step::axis_error::limit_pos | x4step::axis_error::limit_neg))
+      return std::string("limit switch ") + (e & x4step::axis_error::limit_pos ? "E+" : "E-") + " of axis " +
+             std::to_string(ax.number());
+  }
+  return "braked elsewhere";
 }
 
 // ", braking" while braking, else what brakes.
@@ -179,6 +192,33 @@ void stop_quietly(port &p) {
   halt([&] { p.stop(); });
 }
 
+key pause(port &p, console &con, milliseconds d, bool paced) {
+  if (p.clock_runs()) return con.read_key(d);
+  const key k = con.read_key(paced ? d : milliseconds(0));
+  p.pass(d);
+  return k;
+}
+
+deadline deadline_in(const port &p, const std::optional<milliseconds> &t) {
+  if (!t) return std::nullopt;
+  return p.now() + *t;
+}
+
+void check_endless_ends(const port &p, const console &con, bool timed, const std::string &what,
+                        const std::optional<std::pair<x4step::axis, x4step::direction>> &toward) {
+  if (timed || p.clock_runs() || con.has_keyboard() || sim_keys_scripted()) return;
+  if (toward) {  // a limit switch ahead stops it there
+    const x4step::switches s = p.get_switches();
+    const auto i = static_cast<std::size_t>(toward->first.index());
+    if ((toward->second == x4step::direction::positive ? s.plus : s.minus)[i]) return;
+  }
+  throw usage_error(what +
+                    ": on a simulated port in virtual time nothing would end this endless move (no "
+                    "terminal, no brake key script, no limit switch ahead): give it a time, a key script "
+                    "(X4STEP_SIM_KEYS=500ms:esc), a machine with the limit (X4STEP_SIM_MACHINE) or real "
+                    "time (X4STEP_SIM_TIME=real)");
+}
+
 void draw_live(console &con, const std::string &line) { con.out() << '\r' << line << "\x1b[K" << std::flush; }
 
 step_counts steps_of(const x4step::move &m) {
@@ -196,13 +236,16 @@ int leader_index(const step_counts &steps) {
 
 outcome follow(port &p, console &con, const std::optional<step_counts> &target, deadline until) {
   const int lead = target ? leader_index(*target) : 0;
-  const follow_ops ops{all_axes, [&] { return p.wait(tick); }, [&](x4step::axis_set) { brake_quietly(p); },
+  const follow_ops ops{all_axes,
+                       [&] { return p.wait(tick); },
+                       [&](x4step::axis_set) { brake_quietly(p); },
                        [&](x4step::axis_set) { stop_quietly(p); },
                        [&](bool braking) {
                          const auto s = p.get_status();
                          if (target) return progress_line(s.steps, s.steps[lead], (*target)[lead]);
                          return "steps " + steps_text(s.steps) + live_hint(con, braking);
-                       }};
+                       },
+                       [&] { return p.now(); }};
   outcome o;
   o.halted_by = follow_until(con, ops, until);
   // First the outcome: the next move of a sequence starts on it.
@@ -212,7 +255,7 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
     o.late_halt = std::move(o.halted_by);  // a late brake request that found the move at its end
     o.halted_by.clear();
   } else if (o.halted_by.empty()) {
-    o.halted_by = o.end.last_brake_code ? key_name(o.end.last_brake_code) : "braked elsewhere";
+    o.halted_by = o.end.last_brake_code ? key_name(o.end.last_brake_code) : limit_stop(p.get_axes());
   }
   if (con.live()) draw_live(con, "");
   return o;
@@ -220,10 +263,12 @@ outcome follow(port &p, console &con, const std::optional<step_counts> &target, 
 
 axes_outcome follow_axes(port &p, console &con, x4step::axis_set axes, deadline until) {
   const follow_ops ops{
-      axes, [&] { return p.wait_axes(axes, tick); },
+      axes,
+      [&] { return p.wait_axes(axes, tick); },
       [&](x4step::axis_set some) { halt_quietly(p, some, x4step::halt_mode::brake); },
       [&](x4step::axis_set some) { halt_quietly(p, some, x4step::halt_mode::stop); },
-      [&](bool braking) { return positions_text(p.get_axes(), axes) + live_hint(con, braking); }};
+      [&](bool braking) { return positions_text(p.get_axes(), axes) + live_hint(con, braking); },
+      [&] { return p.now(); }};
   axes_outcome o;
   o.halted_by = follow_until(con, ops, until);
   o.end = p.get_axes();

@@ -10,6 +10,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "io.hpp"
@@ -91,6 +92,22 @@ std::string describe(const outcome &o, const std::optional<step_counts> &target)
 /// brake() and stop() that accept finding the move ended already.
 void brake_quietly(port &p);
 void stop_quietly(port &p);
+
+/// Waits up to d on the port's clock for a key or signal (key::none if
+/// none came). A simulated port in virtual time: d passes there at once,
+/// or, paced (a wait that only Ctrl-C ends), as on the wall clock.
+key pause(port &p, console &con, milliseconds d, bool paced = false);
+
+/// The deadline t from now on the port's clock; none without t.
+deadline deadline_in(const port &p, const std::optional<milliseconds> &t);
+
+/// An endless move (jog, M+, M-, T) that nothing would end, what (the
+/// command) names it: a simulated port in virtual time without a time,
+/// a terminal, a brake key script or (toward: the axis and direction of a
+/// jog) a limit switch input ahead. Throws usage_error naming the ways.
+void check_endless_ends(
+    const port &p, const console &con, bool timed, const std::string &what,
+    const std::optional<std::pair<x4step::axis, x4step::direction>> &toward = std::nullopt);
 
 /// Redraws the live line of a terminal.
 void draw_live(console &con, const std::string &line);

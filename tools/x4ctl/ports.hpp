@@ -19,9 +19,10 @@ struct holder {
 
 /// A line of `x4ctl list`: a port, its module, who holds it.
 struct port_entry {
-  std::string device;  ///< /dev/x4stepN
-  int parport = 0;     ///< N
-  unsigned abi = 0;    ///< the module's interface version; 0: not read
+  std::string device;      ///< /dev/x4stepN, or sim:N
+  int parport = 0;         ///< N
+  bool simulated = false;  ///< sim:N: libx4step's simulated port (LPT N+1)
+  unsigned abi = 0;        ///< the module's interface version; 0: not read
   bool controlled = false;
   std::optional<holder> controller;  ///< the process, when visible here
   std::string claimant;              ///< the parport driver that has the port, "" none

@@ -443,9 +443,14 @@ std::string list_text(const std::vector<port_entry> &ports) {
   std::ostringstream o;
   o << "library      libx4step " << x4step::version() << "\n";
   for (const port_entry &p : ports) {
-    o << p.device << "  parport" << p.parport << "  ";
+    if (p.simulated)
+      o << p.device << "  LPT" << p.parport + 1 << "  ";
+    else
+      o << p.device << "  parport" << p.parport << "  ";
     if (!p.error.empty())
       o << p.error << "\n";
+    else if (p.simulated)
+      o << "ABI " << p.abi << "  simulated: a fresh port in each program that opens it, held by none here\n";
     else
       o << "ABI " << p.abi << "  " << holder_text(p) << "\n";
   }
@@ -454,7 +459,11 @@ std::string list_text(const std::vector<port_entry> &ports) {
 
 std::string list_json(const std::vector<port_entry> &ports) {
   const std::string rows = json_array(ports.begin(), ports.end(), [](const port_entry &p) {
-    json_object o = json_object().add("device", p.device).add("parport", p.parport);
+    json_object o = json_object().add("device", p.device);
+    if (p.simulated)
+      o.add("lpt", p.parport + 1).add("simulated", true);
+    else
+      o.add("parport", p.parport);
     if (!p.error.empty()) return o.add("error", json_error_object(p.error, p.err)).str();
     o.add("abi", p.abi).add("controlled", p.controlled);
     if (p.controller)
