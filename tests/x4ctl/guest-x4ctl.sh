@@ -323,7 +323,7 @@ case "$steps" in \[-[1-9]*,0,0,0\]) pass jog-background-steps ;; *) fail jog-bac
 check bad-jog-dir 2 '' "jog: direction 'x': use + or -" x4ctl jog 1 x
 check bad-jog-axis 2 '' 'jog: axis 5 out of range: use 1 to 4' x4ctl jog 5 +
 check bad-jog-freq 2 '' 'jog: frequency too high' x4ctl jog 1 + --freq 20001
-check bad-jog-args 2 '' 'jog: missing arguments' x4ctl jog 1
+check bad-jog-args 2 '' "jog: '1': give an axis letter and a sign" x4ctl jog 1
 
 # ---- keys, out ------------------------------------------------------------------------
 check keys 0 '^brake keys: 28 156 and ESC$' '' x4ctl keys 28 156
