@@ -8,7 +8,8 @@
 #       --bin x4ctl tests/x4ctl/guest-x4ctl-keys.sh
 # Covers: the module's brake keys ending x4ctl's moves (ESC, a code set
 # with `x4ctl keys`), and an interactive session on the virtual console
-# /dev/tty1: M+ and T until ESC, C with the cursor keys, E, I, Q.
+# /dev/tty1: M+ and T until ESC, C with the cursor keys, E, I, Q; x4ctl gcode
+# there: space holds and resumes the path, ESC aborts it.
 # Prints PASS/FAIL lines, exits nonzero if anything failed.
 
 mod=${X4MOD:-/lib/x4}/x4step.ko
@@ -150,6 +151,64 @@ has interactive-C "$tmp/ia.out" 'C: axis 2 ended [1-9][0-9]* steps from where C 
 has interactive-E "$tmp/ia.out" 'E: pin15=[01] pin13=[01]'
 has interactive-I "$tmp/ia.out" '^> 2  *400  *500  *200  leader$'
 if [ -s "$tmp/ia.err" ]; then fail interactive-no-errors "$(show "$tmp/ia.err")"; else pass interactive-no-errors; fi
+settle 30
+
+# ---- x4ctl gcode on the virtual console: space holds and resumes, ESC aborts ----
+# (ESC also reaches the module's key handler, which holds the path first.)
+pos1() { x4ctl status --json | sed -n 's/.*"axis":1,"position":\(-*[0-9]*\).*/\1/p'; }
+cat >"$tmp/keys.ini" <<-EOF
+	[X4STEP]
+	PORT = LPT1
+	ARC_TOLERANCE = 0.01
+	JUNCTION_DEVIATION = 0.02
+	[TRAJ]
+	COORDINATES = X
+	LINEAR_UNITS = mm
+	[AXIS_X]
+	MIN_LIMIT = -1000
+	MAX_LIMIT = 1000
+	MAX_VELOCITY = 20
+	MAX_ACCELERATION = 200
+	[JOINT_0]
+	MOTOR = 1
+	SCALE = 100
+EOF
+printf 'G21 G91 G1 X40 F300\nM2\n' >"$tmp/keys.ngc" # 4000 steps at 500 steps/s
+p0=$(pos1)
+x4ctl gcode -m "$tmp/keys.ini" "$tmp/keys.ngc" </dev/tty1 >"$tmp/g.out" 2>"$tmp/g.err" &
+pid=$!
+sleep 2
+key spc 1000000
+p1=$(pos1)
+usleep 500000
+p2=$(pos1)
+if [ "$p1" = "$p2" ] && [ "$p1" -gt "$p0" ]; then pass gcode-space-holds; else
+	fail gcode-space-holds "at $p0, then $p1 and $p2 half a second apart"
+fi
+key spc 1000000
+p3=$(pos1)
+if [ "$p3" -gt "$p2" ]; then pass gcode-space-resumes; else fail gcode-space-resumes "at $p2, then $p3"; fi
+key esc 1000000
+n=0
+while kill -0 "$pid" 2>/dev/null && [ "$n" -lt 50 ]; do usleep 100000; n=$((n + 1)); done
+if kill -0 "$pid" 2>/dev/null; then
+	kill "$pid"
+	fail gcode-esc-aborts "x4ctl gcode still runs"
+else
+	wait "$pid"
+	rc=$?
+	if [ "$rc" = 1 ]; then pass gcode-esc-aborts; else fail gcode-esc-aborts "exit $rc"; fi
+fi
+has gcode-esc-message "$tmp/g.out" '^gcode: aborted, at X[0-9.]* (mm)$'
+p4=$(pos1)
+usleep 300000
+p5=$(pos1)
+if [ "$p4" = "$p5" ] && [ "$p4" -gt "$p3" ] && [ "$p4" -lt $((p0 + 4000)) ]; then
+	pass gcode-abort-stops-on-path
+else
+	fail gcode-abort-stops-on-path "from $p0 (end $((p0 + 4000))): $p3, then $p4 and $p5"
+fi
+if [ -s "$tmp/g.err" ]; then fail gcode-keys-no-errors "$(show "$tmp/g.err")"; else pass gcode-keys-no-errors; fi
 settle 30
 
 if [ "$failed" = 0 ]; then echo "x4ctl key tests: all passed"; else echo "x4ctl key tests: FAILED"; fi
