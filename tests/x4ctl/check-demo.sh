@@ -9,13 +9,8 @@
 #   check-demo.sh X4CTL SIM_CHECK SOURCE_DIR
 set -u
 x4ctl=$1 sim_check=$2 top=$3
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS X4STEP_SIM_VCD
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
 
 # The files the demo runs, as tools/demo.sh names them.
 machine=$(sed -n 's/^machine=\([^ ]*\)$/\1/p' "$top/tools/demo.sh")

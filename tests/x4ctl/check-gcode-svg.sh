@@ -6,14 +6,8 @@
 #   check-gcode-svg.sh X4CTL
 set -u
 x4ctl=$1
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS X4STEP_SIM_VCD
-export X4STEP_SIM_TIME=virtual
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
 # 100 steps/mm, Y reversed, arc tolerance 0.01 mm.
 cat >"$dir/m.ini" <<'INI'
 [X4STEP]

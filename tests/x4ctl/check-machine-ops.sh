@@ -9,14 +9,9 @@ set -u
 x4ctl=$1
 here=$(dirname "$0")
 machine=$here/test-mill.ini
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_KEYS X4STEP_SIM_INPUTS X4STEP_MACHINE
-export X4STEP_SIM_TIME=virtual X4STEP_SIM_MACHINE=$here/test-mill.sim
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
+export X4STEP_SIM_MACHINE=$here/test-mill.sim
 run() { # run VCD ARGS...: x4ctl --sim ARGS, output in $dir/out, status returned
 	local vcd=$1
 	shift

@@ -7,14 +7,8 @@
 #   check-mdi.sh X4CTL SIM_CHECK MACHINES_DIR
 set -u
 x4ctl=$1 sim_check=$2 machine=$3/x4step-4axis.ini
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS
-export X4STEP_SIM_TIME=virtual
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
 mdi() { # mdi VCD BLOCK...: x4ctl --sim mdi on the inch machine, output in $dir/out
 	local vcd=$1
 	shift

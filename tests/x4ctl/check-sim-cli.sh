@@ -11,14 +11,8 @@
 #   check-sim-cli.sh X4CTL MACHINES_DIR SIM_CAPI_PROBE
 set -u
 x4ctl=$1 machines=$2 probe=$3
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_VCD X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS
-export X4STEP_SIM_TIME=virtual
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
 vcd=$dir/run.vcd
 sim() { # sim ARGS...: x4ctl --sim ARGS with a fresh VCD; output in $dir/out, status in $st
 	rm -f "$vcd"

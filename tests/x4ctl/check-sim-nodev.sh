@@ -10,14 +10,8 @@
 #   check-sim-nodev.sh X4CTL SIM_CAPI_PROBE
 set -u
 x4ctl=$1 probe=$2
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS X4STEP_SIM_VCD
-export X4STEP_SIM_TIME=virtual
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
 if ! command -v strace >/dev/null; then
 	echo "FAIL strace is missing: install it (tools/deps.sh test, Debian package strace)"
 	exit 1

@@ -6,13 +6,8 @@
 #   check-sim-path.sh X4CTL
 set -u
 x4ctl=$1
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
-failed=0
-check() { # check NAME STATUS: PASS if STATUS is 0
-	if [ "$2" -eq 0 ]; then echo "PASS $1"; else echo "FAIL $1"; failed=1; fi
-}
-unset X4STEP_SIM X4STEP_SIM_VCD X4STEP_SIM_KEYS X4STEP_SIM_MACHINE X4STEP_SIM_INPUTS
+# shellcheck source=tests/x4ctl/check-lib.sh
+. "$(dirname "$0")/check-lib.sh"
 
 # 600 lines (more than the queue's 256): a 24-gon, 25 times round, 100 steps a side.
 awk 'BEGIN { for (i = 0; i < 600; i++) { a = i * 3.14159265 / 12;
