@@ -71,6 +71,7 @@ void planner::line_to(const gcode::pose &end, const speed &sp) {
     amax[mo] = ax.max_acceleration;
     any = any || delta[mo];
   }
+  const gcode::pose start = pos_;
   pos_ = end;
   if (!any) return;  // less than a step: the next point's rounding takes it up
 
@@ -146,8 +147,9 @@ void planner::line_to(const gcode::pose &end, const speed &sp) {
   sum_.seconds += len / v;
   for (size_t a = 0; a < gcode::n_axes; a++) {
     if (!m_.axes[a]) continue;
-    sum_.min[a] = sum_.moved ? std::min(sum_.min[a], end[a]) : end[a];
-    sum_.max[a] = sum_.moved ? std::max(sum_.max[a], end[a]) : end[a];
+    if (!sum_.moved) sum_.min[a] = sum_.max[a] = start[a];  // from where the motion begins
+    sum_.min[a] = std::min(sum_.min[a], end[a]);
+    sum_.max[a] = std::max(sum_.max[a], end[a]);
   }
   sum_.moved = true;
 }

@@ -78,7 +78,7 @@ struct plan_summary {
   long segments = 0;
   double length = 0;         ///< along the path, machine units
   double seconds = 0;        ///< at the segments' top speeds, plus dwells (no ramps)
-  gcode::pose min{}, max{};  ///< extents of the planned points, machine units
+  gcode::pose min{}, max{};  ///< extents of the planned points and the start, machine units
   bool moved = false;        ///< min/max hold something
   /// Each motor's step position after it (motor 1..4 at 0..3).
   std::array<long, x4step::axes> steps{};
