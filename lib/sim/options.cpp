@@ -9,6 +9,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "terminal.hpp"
 #include "x4step.hpp"
 
 namespace x4step::sim {
@@ -110,9 +111,13 @@ options options_from_env() {
   // mode while a move runs, which a program may not expect.
   if (const char *k = std::getenv("X4STEP_SIM_KEYS"); k && *k) {
     const std::string v(k);
-    if (v == "tty")
+    if (v == "tty") {
+      if (!terminal::available())
+        refuse(
+            "X4STEP_SIM_KEYS=tty: standard input is not a terminal: run the program on one, or give "
+            "the keys as TIME:KEY,... (e.g. 500ms:esc), or none");
       o.terminal_keys = true;
-    else if (v != "none")
+    } else if (v != "none")
       o.keys = parse_keys(v);
   }
   if (const char *m = std::getenv("X4STEP_SIM_MACHINE"); m && *m) {

@@ -44,7 +44,7 @@ port::port(int number, options o)
   x4_engine_configure(&eng_, &t, X4_MODE_CLOCK_DIR);
   eng_.budget = X4_WRITE_BUDGET;
   if (opt_.time == time_mode::real) thread_ = std::thread([this] { timer_thread(); });
-  if (opt_.terminal_keys && terminal::available())
+  if (opt_.terminal_keys)  // options_from_env(): stdin is a terminal
     tty_ = std::make_unique<terminal>(
         [this] {
           const lock l(m_);
