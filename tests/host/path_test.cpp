@@ -748,6 +748,50 @@ std::vector<uint64_t> RisesOf(const Recording &r, int axis) {
   return out;
 }
 
+// A path starts from rest as a move does: its directions go out when the
+// timer fires, and the setup time, with the whole path, counts from then,
+// not from the write() or resume that kicked it (the module plans the first
+// piece in between, and its timer may be late): every edge of a path whose
+// start fired 7 us late, and of its resume after a hold, comes exactly
+// 7 us after the punctual run's, so none follows its direction change
+// sooner than the setup time.
+TEST(PathSignals, LateStartShiftsTheWholePath) {
+  const std::vector<x4_segment> segs = {Seg(300, -100, 0, 0, 316, 8000, 200000, 0),
+                                        Seg(-100, 200, 50, 0, 229, 8000, 200000, 3000)};
+  Path punctual, late;
+  for (const x4_segment &s : segs) {
+    ASSERT_EQ(punctual.Push(s), X4_OK);
+    ASSERT_EQ(late.Push(s), X4_OK);
+  }
+  constexpr uint64_t kLate = 7000;
+  const auto run = [&](Path &p, uint64_t lateness, Recording &r) {
+    r.events.push_back(fire(p.e, x4_engine_due(&p.e) + lateness));  // SETUP
+    record(p.e, r, 150);                                            // into the first segment: hold there
+    EXPECT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    record(p.e, r);
+    const uint64_t t = kStart + 1000000000;  // 1 s: long after it stood
+    EXPECT_LT(r.events.back().t_ns, t);
+    EXPECT_EQ(x4_path_resume(&p.e, t), X4_OK);
+    r.events.push_back(fire(p.e, t + lateness));  // SETUP of the resume
+    record(p.e, r);
+  };
+  Recording a, b;
+  run(punctual, 0, a);
+  run(late, kLate, b);
+  punctual.ExpectAtTarget();
+  late.ExpectAtTarget();
+  late.ExpectPinsAtTarget(b);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (int axis = 0; axis < 3; axis++) {
+    const std::vector<uint64_t> ra = RisesOf(a, axis), rb = RisesOf(b, axis);
+    ASSERT_EQ(ra.size(), rb.size()) << "axis " << axis;
+    size_t shifted = 0;
+    for (size_t i = 0; i < ra.size(); i++) shifted += rb[i] == ra[i] + kLate;
+    EXPECT_EQ(shifted, ra.size()) << "axis " << axis << ": steps 7 us after the punctual run's";
+  }
+  EXPECT_GE(RisesOf(b, 0).front(), kStart + kLate + X4_DIR_SETUP_NS);
+}
+
 // A minor axis that reverses at a junction and steps right away (Y: half
 // the leader's steps, its first step one leader step after the joint, 50
 // us at 20000 steps/s) waits for its direction setup time (100 us), and
