@@ -172,6 +172,19 @@ p.send("gX200\r")
 f = p.wait(lambda f: "beyond the soft limit" in f)
 check("g X200: refused on the screen (X 206 beyond MAX_LIMIT 100), nothing moves",
       "X 206 is beyond the soft limit [AXIS_X] MAX_LIMIT 100" in f and axis(f, "X") == (-2, 4), f)
+# A signal during the prompt (what `x4ctl brake` sends) is no key: it once appended the last
+# character typed again (X1 became X11). It cancels the prompt; Enter after it goes nowhere.
+p.send("g")
+f = p.wait(lambda f: "go to (work coordinates" in f)
+p.send("X1")
+f = p.wait(lambda f: "go to (work coordinates" in f and "X1_" in f)
+os.kill(p.pid, signal.SIGUSR1)
+f = p.wait(lambda f: "go to (work coordinates" not in f or "X11" in f, 5)
+p.send("\r")
+p.run_for(1)
+f = p.frame()
+check("SIGUSR1 during the go-to prompt cancels it (no stale character), Enter after it moves nothing",
+      "X11" not in f and "go to (work coordinates" not in f and idle_at("X", 4)(f), f)
 p.send("q")
 out = p.finish()
 last = out.split("\x1b[?1049l")[-1].strip()

@@ -173,12 +173,17 @@ std::optional<std::string> panel::prompt(const std::string &question) {
     draw(true);
     const key k = con_.read_key(milliseconds(200));
     const char ch = con_.last_char();
-    if (k == key::none) continue;
-    if (k == key::esc || k == key::interrupt || quit_requested()) {
-      quit_ = k == key::interrupt || quit_requested();
+    if (k == key::none && !con_.gone()) continue;
+    // A signal (`x4ctl brake`, `x4ctl stop`), Ctrl-C or a hung-up terminal cancels the prompt:
+    // none of them is a character of the answer.
+    if (k == key::esc || k == key::interrupt || k == key::brake_request || k == key::stop_request ||
+        con_.gone() || quit_requested()) {
+      quit_ = k == key::interrupt || quit_requested() || con_.gone();
       message_.clear();
       return std::nullopt;
     }
+    const bool character = k == key::other || k == key::space || k == key::plus || k == key::minus;
+    if (!character) continue;  // arrows, page keys
     if (ch == '\r' || ch == '\n') return text;
     if ((ch == 0x7f || ch == '\b') && !text.empty())
       text.pop_back();
