@@ -78,6 +78,17 @@ class Panel:
                 break
         return self.frame()
 
+    def wait_out(self, pattern, timeout=20):
+        """Reads until the raw output matches the regular expression; the match."""
+        end = time.time() + timeout
+        while time.time() < end:
+            m = re.search(pattern, self.out.decode(errors="replace"))
+            if m:
+                return m
+            if self.read(0.2) is None:
+                break
+        return None
+
     def run_for(self, seconds):
         """Reads what comes for a while."""
         self.wait(lambda f: False, seconds)
@@ -232,7 +243,8 @@ check("and the motor stands where the panel says (%s steps)" % steps[0],
 # --- x4ctl jog on a terminal: any key brakes it too ---------------------------------------
 vcd = os.path.join(tmp, "jog.vcd")
 p = Panel(vcd, {}, command=("jog", "X+", "--machine", MACHINE, "--feed", "60"))
-p.run_for(0.8)
+# The space only once the jog has gone some way (a fixed wait could end before it started).
+p.wait_out(r"\rjog: X (?!0(\.0*)? mm)[0-9.]+ mm")
 p.send(" ")
 out = p.finish()
 m = re.search(r"jog: X at (-?[0-9.]+) mm \((-?[0-9]+) steps\), braked \(ESC\)", out)
