@@ -253,6 +253,24 @@ check("x4ctl jog X+ on a terminal: space brakes it, exit 0, where it says (%s st
       p.status == 0 and m and 0 < int(m.group(2)) < 16000 and steps[0] == int(m.group(2)) and
       "\rjog: X " in out, out[-300:])
 
+# --- a jog step below half a motor step: said, nothing moves ------------------------------
+coarse = os.path.join(tmp, "coarse.ini")
+with open(MACHINE) as src, open(coarse, "w") as dst:
+    dst.write(re.sub(r"^SCALE = 160$", "SCALE = 40", src.read(), count=1, flags=re.M))
+vcd = os.path.join(tmp, "coarse.vcd")
+p = Panel(vcd, {"X4STEP_SIM_TIME": "virtual"}, command=("panel", "--machine", coarse))
+p.wait(lambda f: "state: idle" in f)
+p.send("iii")
+p.wait(lambda f: "jog step: 0.01 mm" in f)
+p.send("\x1b[C")
+f = p.wait(lambda f: "half a motor step" in f, 5)
+check("X step 0.01 mm at SCALE 40 (0.4 steps): said on the message line, nothing moves",
+      "X+: the jog step 0.01 mm is less than half a motor step (SCALE 40): nothing moves" in f
+      and axis(f, "X") == (0, 0), f)
+p.send("q")
+p.finish()
+check("and the motor did not move", vcd_steps(vcd)[:1] in ([], [0]), repr(vcd_steps(vcd)))
+
 # --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
 p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})
 p.wait(lambda f: "state: idle" in f)

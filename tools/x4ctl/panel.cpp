@@ -161,6 +161,11 @@ void panel::jog(size_t a, bool positive) {
     message_ = name + ": at the soft limit " + (positive ? "MAX_LIMIT " : "MIN_LIMIT ") + number(limit);
     return;
   }
+  if (step_ != 0 && std::lround(to * ax.scale) == std::lround(from * ax.scale)) {
+    message_ = name + ": the jog step " + number(increment(a)) + " " + unit_of(mc_, a) +
+               " is less than half a motor step (SCALE " + number(ax.scale) + "): nothing moves";
+    return;
+  }
   machine_targets t;
   t[a] = to;
   move(t, "jog " + name);
@@ -316,8 +321,7 @@ void panel::run() {
           break;
       }
     } catch (const std::exception &e) {
-      const auto *x = dynamic_cast<const x4step::error *>(&e);
-      message_ = x && x->code().category() == x4step::category() ? x->code().message() : e.what();
+      message_ = e.what();
       state_ = "idle";
     }
   }
