@@ -282,6 +282,12 @@ void read_homing(reader &r, axis &a) {
   }
   h.latch_vel = r.required("HOME_LATCH_VEL", "the speed that finds the switch's edge, units/s (signed)");
   if (h.latch_vel == 0) r.fail("HOME_LATCH_VEL", "must not be 0 while HOME_SEARCH_VEL is set");
+  // LinuxCNC, given the same sign, backs off and latches where the switch trips on a second
+  // approach; x4step would latch where it releases, the cam's length further: refused.
+  if ((h.latch_vel > 0) == (h.search_vel > 0))
+    r.fail("HOME_LATCH_VEL",
+           "has the sign of HOME_SEARCH_VEL: x4step latches where the switch releases while moving away "
+           "from it, so give HOME_LATCH_VEL the opposite sign of HOME_SEARCH_VEL");
   if (!r.has("HOME_INPUT")) r.fail("HOME_INPUT", "missing: give the home switch's input, 1..5");
   h.input = static_cast<int>(*r.whole("HOME_INPUT", 1, 5));
   h.offset = r.number("HOME_OFFSET").value_or(0);

@@ -43,7 +43,7 @@ struct homing {
   bool enabled = false;
   int input = 0;          ///< the REF switch: input 1..5 (X4GetIn bit 0..4)
   double search_vel = 0;  ///< units/s, its sign the direction toward the switch
-  double latch_vel = 0;   ///< units/s, signed: the same sign latches moving on, else backing off
+  double latch_vel = 0;   ///< units/s, signed, opposite to search_vel: backs off the switch
   double offset = 0;      ///< the switch's position, machine units
   double home = 0;        ///< where the axis goes after homing, machine units
   int sequence = 0;       ///< order: lower first, equal together

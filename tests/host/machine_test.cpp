@@ -222,6 +222,10 @@ TEST(Machine, RefusesContradictions) {
                  "^m.ini:20: \\[JOINT_0\\] HOME_INPUT: no homing without HOME_SEARCH_VEL");
   EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 0\nHOME_INPUT = 1"),
                  "^m.ini:21: \\[JOINT_0\\] HOME_LATCH_VEL: must not be 0");
+  EXPECT_REFUSED(
+      replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = -1\nHOME_INPUT = 1"),
+      "^m.ini:21: \\[JOINT_0\\] HOME_LATCH_VEL: has the sign of HOME_SEARCH_VEL: x4step latches "
+      "where the switch releases while moving away from it, so give HOME_LATCH_VEL the opposite sign");
   EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -30\nHOME_LATCH_VEL = 1\nHOME_INPUT = 1"),
                  "^m.ini:20: \\[JOINT_0\\] HOME_SEARCH_VEL: faster than the axis' MAX_VELOCITY");
   EXPECT_REFUSED(replaced(19, "SCALE = 800\nHOME_SEARCH_VEL = -5\nHOME_LATCH_VEL = 0.001\nHOME_INPUT = 1"),

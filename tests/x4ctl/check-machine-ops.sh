@@ -53,6 +53,10 @@ run "$dir/homez.vcd" home --machine "$machine" z &&
 	grep -qx 'home: done, at Z-1 (mm)' "$dir/out" &&
 	[ "$(net "$dir/homez.vcd" 1) $(net "$dir/homez.vcd" 2) $(net "$dir/homez.vcd" 3)" = "0 0 499" ]
 check "home z: only Z moves" $?
+X4STEP_MACHINE=$machine run "$dir/homeenv.vcd" home &&
+	grep -qx 'home: done, at Z-1 X3 Y1 (mm)' "$dir/out" &&
+	[ "$(net "$dir/homeenv.vcd" 1) $(net "$dir/homeenv.vcd" 2) $(net "$dir/homeenv.vcd" 3)" = "-199 599 499" ]
+check "home with \$X4STEP_MACHINE and no -m or letters: all its axes (as panel and gcode)" $?
 
 # The shipped SMC1500 mill: every switch on input 1, homed one sequence
 # after the other, each axis off its switch (at HOME) before the next

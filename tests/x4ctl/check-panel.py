@@ -78,6 +78,17 @@ class Panel:
                 break
         return self.frame()
 
+    def wait_out(self, pattern, timeout=20):
+        """Reads until the raw output matches the regular expression; the match."""
+        end = time.time() + timeout
+        while time.time() < end:
+            m = re.search(pattern, self.out.decode(errors="replace"))
+            if m:
+                return m
+            if self.read(0.2) is None:
+                break
+        return None
+
     def run_for(self, seconds):
         """Reads what comes for a while."""
         self.wait(lambda f: False, seconds)
@@ -172,6 +183,19 @@ p.send("gX200\r")
 f = p.wait(lambda f: "beyond the soft limit" in f)
 check("g X200: refused on the screen (X 206 beyond MAX_LIMIT 100), nothing moves",
       "X 206 is beyond the soft limit [AXIS_X] MAX_LIMIT 100" in f and axis(f, "X") == (-2, 4), f)
+# A signal during the prompt (what `x4ctl brake` sends) is no key: it once appended the last
+# character typed again (X1 became X11). It cancels the prompt; Enter after it goes nowhere.
+p.send("g")
+f = p.wait(lambda f: "go to (work coordinates" in f)
+p.send("X1")
+f = p.wait(lambda f: "go to (work coordinates" in f and "X1_" in f)
+os.kill(p.pid, signal.SIGUSR1)
+f = p.wait(lambda f: "go to (work coordinates" not in f or "X11" in f, 5)
+p.send("\r")
+p.run_for(1)
+f = p.frame()
+check("SIGUSR1 during the go-to prompt cancels it (no stale character), Enter after it moves nothing",
+      "X11" not in f and "go to (work coordinates" not in f and idle_at("X", 4)(f), f)
 p.send("q")
 out = p.finish()
 last = out.split("\x1b[?1049l")[-1].strip()
@@ -219,7 +243,8 @@ check("and the motor stands where the panel says (%s steps)" % steps[0],
 # --- x4ctl jog on a terminal: any key brakes it too ---------------------------------------
 vcd = os.path.join(tmp, "jog.vcd")
 p = Panel(vcd, {}, command=("jog", "X+", "--machine", MACHINE, "--feed", "60"))
-p.run_for(0.8)
+# The space only once the jog has gone some way (a fixed wait could end before it started).
+p.wait_out(r"\rjog: X (?!0(\.0*)? mm)[0-9.]+ mm")
 p.send(" ")
 out = p.finish()
 m = re.search(r"jog: X at (-?[0-9.]+) mm \((-?[0-9]+) steps\), braked \(ESC\)", out)
@@ -227,6 +252,24 @@ steps = vcd_steps(vcd)
 check("x4ctl jog X+ on a terminal: space brakes it, exit 0, where it says (%s steps)" % steps[0],
       p.status == 0 and m and 0 < int(m.group(2)) < 16000 and steps[0] == int(m.group(2)) and
       "\rjog: X " in out, out[-300:])
+
+# --- a jog step below half a motor step: said, nothing moves ------------------------------
+coarse = os.path.join(tmp, "coarse.ini")
+with open(MACHINE) as src, open(coarse, "w") as dst:
+    dst.write(re.sub(r"^SCALE = 160$", "SCALE = 40", src.read(), count=1, flags=re.M))
+vcd = os.path.join(tmp, "coarse.vcd")
+p = Panel(vcd, {"X4STEP_SIM_TIME": "virtual"}, command=("panel", "--machine", coarse))
+p.wait(lambda f: "state: idle" in f)
+p.send("iii")
+p.wait(lambda f: "jog step: 0.01 mm" in f)
+p.send("\x1b[C")
+f = p.wait(lambda f: "half a motor step" in f, 5)
+check("X step 0.01 mm at SCALE 40 (0.4 steps): said on the message line, nothing moves",
+      "X+: the jog step 0.01 mm is less than half a motor step (SCALE 40): nothing moves" in f
+      and axis(f, "X") == (0, 0), f)
+p.send("q")
+p.finish()
+check("and the motor did not move", vcd_steps(vcd)[:1] in ([], [0]), repr(vcd_steps(vcd)))
 
 # --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
 p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})

@@ -784,7 +784,10 @@ void parse_subcommand(config &c, const std::vector<std::string> &args, size_t fr
       if (!ops.empty()) c.mode = parse_mode(ops[0], prefix);
       break;
     case subcommand::home:
-      // AXIS (1..4) without --machine: steps; axis letters or --machine: machine units.
+      // AXIS (1..4) without --machine: steps; axis letters or --machine: machine units. Nothing
+      // given with $X4STEP_MACHINE set: all its axes (as panel and gcode take it without -m).
+      if (c.machine.empty() && ops.empty())
+        if (const char *env = std::getenv("X4STEP_MACHINE"); env && *env) c.machine = env;
       if (!c.machine.empty() || (!ops.empty() && std::isalpha(static_cast<unsigned char>(ops[0][0])))) {
         for (const std::string &o : ops)
           for (char ch : o) {
@@ -1323,9 +1326,10 @@ std::string help_text(subcommand c) {
              "('x4ctl limits AXIS --ref INPUT'). Waits until the run ends; ESC or Ctrl-C\n"
              "brakes it.\n"
              "\n"
-             "With axis letters or --machine, the axes of a machine file (all that home,\n"
-             "or those named: 'home Z', 'home X Y') home as its [JOINT_n] HOME_* keys\n"
-             "say (machines/README.md), in HOME_SEQUENCE order, those of one sequence at\n"
+             "With axis letters or --machine, or nothing with $X4STEP_MACHINE set, the axes\n"
+             "of a machine file (all that home, or those named: 'home Z', 'home X Y')\n"
+             "home as its [JOINT_n] HOME_* keys say (machines/README.md), in HOME_SEQUENCE\n"
+             "order, those of one sequence at\n"
              "the same time: the reference run above on HOME_INPUT at HOME_SEARCH_VEL,\n"
              "then HOME_LATCH_VEL (units/s, times SCALE), each phase within 1.25 times\n"
              "the travel between the soft limits; there the axis' coordinate becomes\n"

@@ -78,6 +78,11 @@ std::vector<size_t> homing_axes(const m::machine &mc, const std::vector<size_t> 
   return r;
 }
 
+/// " halted (WHO)": what braked an axis short of its target; nobody named: braked elsewhere.
+std::string halted_text(const std::string &halted_by) {
+  return " halted (" + (halted_by.empty() ? std::string("braked elsewhere") : halted_by) + ")";
+}
+
 // What went wrong with the reference run of axis a, "" if it homed.
 std::string homing_problem(const m::machine &mc, size_t a, const x4step::axis_status &st,
                            const std::string &halted_by) {
@@ -89,8 +94,7 @@ std::string homing_problem(const m::machine &mc, size_t a, const x4step::axis_st
            number(double(max_travel(ax)) / std::fabs(ax.scale)) + " " + unit_of(mc, a) + " (it stands" + at +
            "): check HOME_INPUT, the sign of HOME_SEARCH_VEL and the switch ('x4ctl limits')";
   if (st.error) return letter(a) + ": " + errors_text(st.error) + at;
-  if (!st.synced)
-    return letter(a) + " halted (" + (halted_by.empty() ? "braked elsewhere" : halted_by) + ")" + at;
+  if (!st.synced) return letter(a) + halted_text(halted_by) + at;
   return "";
 }
 
@@ -210,8 +214,8 @@ void home_machine(port &p, console &con, const m::machine &mc, const std::vector
     const axes_outcome h = move_machine(p, con, mc, home, 0);
     for (size_t a : group)
       if (h.end[motor_of(*mc.axes[a])].position != steps_of(*mc.axes[a], mc.axes[a]->home.home))
-        throw failure(letter(a) + " halted (" + (h.halted_by.empty() ? "braked elsewhere" : h.halted_by) +
-                      ") on its way to HOME, at" + where_text(mc, {a}, h.end) + later);
+        throw failure(letter(a) + halted_text(h.halted_by) + " on its way to HOME, at" +
+                      where_text(mc, {a}, h.end) + later);
   }
   out << "home: done, at" << where_text(mc, homed, p.get_axes()) << "\n";
 }
@@ -283,9 +287,7 @@ int cmd_jog_machine(const config &c) {
       number(st.position / ax.scale) + " " + unit + " (" + std::to_string(st.position) + " steps)";
   if (st.error) throw failure(letter(a) + ": " + errors_text(st.error) + " at " + at);
   const bool arrived = st.position == steps_of(ax, *to[a]);
-  if (!arrived && c.distance)
-    throw failure(letter(a) + " halted (" + (o.halted_by.empty() ? "braked elsewhere" : o.halted_by) +
-                  ") at " + at);
+  if (!arrived && c.distance) throw failure(letter(a) + halted_text(o.halted_by) + " at " + at);
   std::cout << "jog: " << letter(a) << " at " << at
             << (arrived               ? ""
                 : o.halted_by.empty() ? ", braked elsewhere"

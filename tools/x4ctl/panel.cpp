@@ -161,6 +161,11 @@ void panel::jog(size_t a, bool positive) {
     message_ = name + ": at the soft limit " + (positive ? "MAX_LIMIT " : "MIN_LIMIT ") + number(limit);
     return;
   }
+  if (step_ != 0 && std::lround(to * ax.scale) == std::lround(from * ax.scale)) {
+    message_ = name + ": the jog step " + number(increment(a)) + " " + unit_of(mc_, a) +
+               " is less than half a motor step (SCALE " + number(ax.scale) + "): nothing moves";
+    return;
+  }
   machine_targets t;
   t[a] = to;
   move(t, "jog " + name);
@@ -173,12 +178,17 @@ std::optional<std::string> panel::prompt(const std::string &question) {
     draw(true);
     const key k = con_.read_key(milliseconds(200));
     const char ch = con_.last_char();
-    if (k == key::none) continue;
-    if (k == key::esc || k == key::interrupt || quit_requested()) {
-      quit_ = k == key::interrupt || quit_requested();
+    if (k == key::none && !con_.gone()) continue;
+    // A signal (`x4ctl brake`, `x4ctl stop`), Ctrl-C or a hung-up terminal cancels the prompt:
+    // none of them is a character of the answer.
+    if (k == key::esc || k == key::interrupt || k == key::brake_request || k == key::stop_request ||
+        con_.gone() || quit_requested()) {
+      quit_ = k == key::interrupt || quit_requested() || con_.gone();
       message_.clear();
       return std::nullopt;
     }
+    const bool character = k == key::other || k == key::space || k == key::plus || k == key::minus;
+    if (!character) continue;  // arrows, page keys
     if (ch == '\r' || ch == '\n') return text;
     if ((ch == 0x7f || ch == '\b') && !text.empty())
       text.pop_back();
@@ -311,8 +321,7 @@ void panel::run() {
           break;
       }
     } catch (const std::exception &e) {
-      const auto *x = dynamic_cast<const x4step::error *>(&e);
-      message_ = x && x->code().category() == x4step::category() ? x->code().message() : e.what();
+      message_ = e.what();
       state_ = "idle";
     }
   }

@@ -165,6 +165,7 @@ void std_console::keys_off() {
 }
 
 key std_console::read_key(milliseconds timeout) {
+  last_char_ = 0;  // a signal, a timeout or a hang-up reads no character
   if (const key s = take_signal(); s != key::none) return s;
   if (!raw_ || gone_) {
     nap(timeout);
