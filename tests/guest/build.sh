@@ -65,6 +65,7 @@ job $cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -I"$top/lib"
 	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"
 job $cxx -I"$stage/include" -o "$out/phase_test" "$top/tests/guest/phase_test.cpp" "$lib"
 job $cxx -I"$stage/include" -o "$out/positioning_test" "$top/tests/guest/positioning_test.cpp" "$lib"
+job $cxx -I"$stage/include" -I"$top/include/uapi" -o "$out/brake_test" "$top/tests/guest/brake_test.cpp" "$lib"
 job $cxx -I"$stage/include" -o "$out/faith_moves" "$top/tests/faith/faith_moves.cpp" "$lib"
 job gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/kmod/x4vctl.c"
 for f in "$top"/tests/guest/manual/*.c; do

@@ -141,6 +141,33 @@ expect compare-dropped status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-drop.tr
 sed 's/^305000 d 0x03/305000 d 0x02/' "$tmp/m.trace" >"$tmp/m-dir.trace"
 expect compare-order status_is 1 "$bin" compare "$tmp/m.trace" "$tmp/m-dir.trace"
 
+# moves: steps per AKTIV-framed move and the leader's steps at its end with
+# BOOST (pin 16) high: 2 after a brake along the ramp, 0 for a cut cruise.
+cat >"$tmp/b.trace" <<'EOF2'
+1000 c 0x08
+1000 d 0x00
+2000 c 0x04
+3000 d 0x03
+3500 d 0x01
+4000 c 0x00
+5000 d 0x03
+5500 d 0x01
+6000 c 0x04
+7000 d 0x03
+7500 d 0x01
+8000 d 0x03
+8500 d 0x01
+9000 c 0x08
+10000 c 0x00
+11000 d 0x03
+11500 d 0x01
+12000 c 0x08
+EOF2
+printf '%s\n' "MOVE 1 steps 4 0 0 0 dirchanges 0 rampend 2 signal1 1" \
+	"MOVE 2 steps 1 0 0 0 dirchanges 0 rampend 0 signal1 1" >"$tmp/b.want"
+"$bin" moves "$tmp/b.trace" >"$tmp/b.got"
+expect moves-rampend diff -u "$tmp/b.want" "$tmp/b.got"
+
 # Errors: bad usage is status 2, unreadable input status 1.
 expect usage status_is 2 "$bin"
 expect unreadable status_is 1 "$bin" summary "$tmp/missing.log"

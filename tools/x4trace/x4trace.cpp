@@ -394,19 +394,21 @@ std::string level_str(int level, const char *none) {
 // ---------------------------------------------------------------- moves
 
 // One line per move, a move being AKTIV (pin 17) high until low:
-//   MOVE <i> steps <s1> <s2> <s3> <s4> dirchanges <n> decel <0|1> signal1 <level>
+//   MOVE <i> steps <s1> <s2> <s3> <s4> dirchanges <n> rampend <r> signal1 <level>
 // steps are rising clock edges, positive when the direction pin is HIGH;
-// dirchanges counts direction edges after the move's first step; decel is
-// 1 when the leader's last step interval is over 3 times its median one
-// (the move ended on a ramp, not cut), a trailing burst of intervals under a
-// quarter of the median (QEMU catching up after a host stall) not counted;
+// dirchanges counts direction edges after the move's first step; rampend
+// counts the leader's last steps in a row made with BOOST (pin 16, high
+// while the engine is on a ramp) high: a move that ended on a ramp (a
+// brake along it) ends with rampend > 0, one cut in its cruise with 0.
+// Levels and counts only, no time: the trace's timestamps are host time.
 // signal1 is pin 1 at the move's end.
 void print_moves(const Trace &tr) {
   struct Move {
     long steps[kAxes] = {};
     long dir_changes = 0;
     bool stepped = false;
-    std::vector<int64_t> rises[kAxes];
+    long rises[kAxes] = {};
+    long ramp_rises[kAxes] = {};  // the last rises in a row with BOOST high
   };
   int level[kNumPins];
   std::fill(level, level + kNumPins, -1);
@@ -415,25 +417,10 @@ void print_moves(const Trace &tr) {
   auto emit = [&](const Move &m) {
     int lead = 0;
     for (int a = 1; a < kAxes; a++)
-      if (m.rises[a].size() > m.rises[lead].size()) lead = a;
-    int decel = 0;
-    const auto &r = m.rises[lead];
-    if (r.size() >= 4) {
-      std::vector<int64_t> iv;
-      for (size_t i = 1; i < r.size(); i++) iv.push_back(r[i] - r[i - 1]);
-      std::vector<int64_t> sorted = iv;
-      std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-      const int64_t median = sorted[sorted.size() / 2];
-      // The timestamps are host time: when QEMU was not scheduled for a
-      // while, the steps it owed come in a burst after a gap. A trailing
-      // burst is not the move's end: the interval before it is.
-      int64_t last = iv.back();
-      for (size_t i = iv.size(); i > 1 && iv[i - 1] < median / 4; i--) last = iv[i - 2];
-      decel = last > 3 * median;
-    }
+      if (m.rises[a] > m.rises[lead]) lead = a;
     std::cout << "MOVE " << ++n << " steps";
     for (long s : m.steps) std::cout << ' ' << s;
-    std::cout << " dirchanges " << m.dir_changes << " decel " << decel << " signal1 "
+    std::cout << " dirchanges " << m.dir_changes << " rampend " << m.ramp_rises[lead] << " signal1 "
               << level_str(level[pin_index(1)], "?") << "\n";
   };
   for_each_change(tr, [&](const Change &c) {
@@ -452,7 +439,8 @@ void print_moves(const Trace &tr) {
       if (number == dir_pin(a) && cur->stepped) cur->dir_changes++;
       if (number == clk_pin(a) && c.level) {
         cur->steps[a] += level[pin_index(dir_pin(a))] ? 1 : -1;
-        cur->rises[a].push_back(c.t_ns);
+        cur->rises[a]++;
+        cur->ramp_rises[a] = level[pin_index(16)] == 1 ? cur->ramp_rises[a] + 1 : 0;
         cur->stepped = true;
       }
     }
