@@ -82,9 +82,26 @@ void TestExampleAndPreload(int fd) {
   Check(Ioctl(fd, X4STEP_START) == ENODATA, "start with nothing loaded: ENODATA (NotLoaded)");
 }
 
+// Counts the tests wait for before braking or stopping (not fixed sleeps:
+// without -icount a loaded host lets the guest do less in its time).
+bool Moved(int fd, int axis, long long past) {
+  return guest::WaitFor([&] {
+    const long long s = Status(fd).steps[axis];
+    return past < 0 ? s < past : s > past;
+  });
+}
+
+// Axis `axis` (0-based) at `hz` steps/s, read on any descriptor.
+bool AtSpeed(int fd, int axis, unsigned hz) {
+  return guest::WaitFor([&] {
+    x4step_axes a{};
+    return ioctl(fd, X4STEP_GET_AXES, &a) == 0 && a.axis[axis].velocity >= hz;
+  });
+}
+
 void TestBrakeAndStop(int fd) {
   Check(Endless(fd, 2, 1, 2000, 100) == 0, "endless axis 2");
-  usleep(400000);
+  Check(Moved(fd, 1, 100), "endless axis 2 makes 100 steps");
   Check(Ioctl(fd, X4STEP_BRAKE) == 0, "brake");
   WaitIdle(fd);
   x4step_status st = Status(fd);
@@ -93,7 +110,7 @@ void TestBrakeAndStop(int fd) {
   Check(Ioctl(fd, X4STEP_BRAKE) == ESRCH, "brake while idle: ESRCH (NotActive)");
 
   Check(Endless(fd, 3, -1, 1000, 0) == 0, "endless axis 3 negative");
-  usleep(300000);
+  Check(Moved(fd, 2, -10), "endless axis 3 makes 10 steps");
   Check(Ioctl(fd, X4STEP_STOP) == 0, "stop");
   st = Status(fd);
   Check(!(st.flags & X4STEP_ST_ACTIVE), "idle right after stop");
@@ -205,14 +222,25 @@ void TestOutputs(int fd) {
 
 // A controller killed mid-move: the module brakes the motor, then lets go
 // of the port (close() does not wait for the brake: poll() says when).
+// Killed at speed (1000 steps/s, after the 200 ms ramp): the move started
+// (the child says so) and its speed seen on a read-only descriptor, not a
+// fixed sleep.
 void TestKilledController() {
+  int started[2];
+  if (pipe(started)) return;
   const pid_t child = fork();
   if (child == 0) {
     const int fd = OpenCtl();
-    if (fd < 0 || Endless(fd, 1, 1, 1000, 200)) _exit(1);
+    if (fd < 0 || Endless(fd, 1, 1, 1000, 200) || write(started[1], "s", 1) != 1) _exit(1);
     for (;;) pause();
   }
-  usleep(600000);
+  close(started[1]);
+  char c = 0;
+  const bool running = read(started[0], &c, 1) == 1;
+  close(started[0]);
+  const int ro = open(dev_path, O_RDONLY | O_CLOEXEC);
+  Check(running && ro >= 0 && AtSpeed(ro, 0, 990), "the controller's endless move runs at 1000 steps/s");
+  if (ro >= 0) close(ro);
   kill(child, SIGKILL);
   int status = 0;
   waitpid(child, &status, 0);
