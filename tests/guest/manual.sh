@@ -48,6 +48,7 @@ with_key() { # SECONDS KEY PROGRAM
 		usleep 100000
 		n=$((n + 1))
 	done
+	move_started && echo "manual: $3: its move started" || echo "manual: $3: no move start seen in 10 s"
 	kill "$mon"
 	sleep "$1"
 	echo "X4MON sendkey $2"
