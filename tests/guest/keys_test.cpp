@@ -52,7 +52,8 @@ void Endless(int fd) {
   if (ioctl(fd, X4STEP_MOVE_ENDLESS, &e)) std::perror("MOVE_ENDLESS");
   const bool at_speed = guest::WaitFor([&] {
     x4step_axes a{};
-    return ioctl(fd, X4STEP_GET_AXES, &a) == 0 && a.axis[0].velocity >= 990 &&  // 1e9 / interval may round down
+    return ioctl(fd, X4STEP_GET_AXES, &a) == 0 &&
+           a.axis[0].velocity >= 990 &&  // 1e9 / interval may round down
            Status(fd).steps[0] >= 125;
   });
   if (!at_speed) Check(false, "endless move at 1000 steps/s, 125 steps");

@@ -91,7 +91,6 @@ bool Moved(int fd, int axis, long long past) {
   });
 }
 
-
 void TestBrakeAndStop(int fd) {
   Check(Endless(fd, 2, 1, 2000, 100) == 0, "endless axis 2");
   Check(Moved(fd, 1, 700), "endless axis 2 makes 700 steps (its ramp, then at speed; 400 ms)");

@@ -318,9 +318,10 @@ void CloseDuringLongBrake() {
         "long brake: a monitor's open, GET_STATUS (active), GET_AXES, GET_CONFIG, GET_STEP_TIMING meanwhile: "
         "at once, the brake still running (" +
             Ms(mon_ms) + ")");
-  Check(rw_err == EBUSY && rw_braking, "long brake: a controller's open meanwhile: EBUSY at once, the brake "
-                                       "still running (" +
-                                           std::string(std::strerror(rw_err)) + ", " + Ms(rw_ms) + ")");
+  Check(rw_err == EBUSY && rw_braking,
+        "long brake: a controller's open meanwhile: EBUSY at once, the brake "
+        "still running (" +
+            std::string(std::strerror(rw_err)) + ", " + Ms(rw_ms) + ")");
 
   usleep(500000);
   const x4step_axis a1 = Axis1(ro);
