@@ -76,6 +76,21 @@ inline double MsSince(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Waits until pred() holds, polling every 2 ms, up to timeout_ms; false on
+// timeout. For a state or a count a test needs before its next step (a
+// move at speed, some steps made), instead of a fixed sleep: without
+// -icount the guest's time follows the host's clock, and a loaded host
+// lets the guest do less in it.
+template <typename Pred>
+inline bool WaitFor(Pred pred, int timeout_ms = 10000) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (!pred()) {
+    if (MsSince(t0) > timeout_ms) return false;
+    usleep(2000);
+  }
+  return true;
+}
+
 // A file's whole text (debugfs and sysfs files); empty if unreadable.
 inline std::string Slurp(const std::string &path) {
   std::string s;

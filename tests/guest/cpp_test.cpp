@@ -40,11 +40,19 @@ std::string OpenError(const std::string &path) {
   return "";
 }
 
-// Axis 1 at 9000 steps/s braking at 1500 steps/s^2: a 6 s brake.
-void StartLongBrakeMove(x4step::controller &c) {
+// Axis 1 at 9000 steps/s braking at 1500 steps/s^2: a 6 s brake once at
+// speed, which it returns at (after 405 steps, 90 ms; and 3000 steps, some
+// 300 ms of it: what 400 ms gave): waited for by the axis' speed and
+// position, not a fixed sleep (without -icount the guest's time follows the
+// host's clock, and a loaded host lets the guest do less in it).
+bool StartLongBrakeMove(x4step::controller &c) {
   c.set_profile(x4step::axis{1}, x4step::profile{}.top_speed(9000).accel(100000).decel(1500));
   c.zero(x4step::axis{1});
   c.move_by(x4step::axis{1}, 1000000);
+  return guest::WaitFor([&] {
+    const x4step::axis_status a = c.get_axis(x4step::axis{1});
+    return a.velocity >= 8910 && a.position >= 3000;  // 99 %: 1e9 / interval may round down
+  });
 }
 
 // close() waits for the whole brake, however long it takes (here 6 s, more
@@ -52,8 +60,9 @@ void StartLongBrakeMove(x4step::controller &c) {
 // opens at once, and the axis stays synchronized (braked, not stopped).
 void CloseWaitsForTheBrake() {
   x4step::controller c(1);
-  StartLongBrakeMove(c);
-  std::this_thread::sleep_for(400ms);
+  Check(StartLongBrakeMove(c), "axis 1 at 9000 steps/s");
+  // The brake from there lasts 6 s of guest time at least (a late timer
+  // only stretches it): close() taking over 5.5 s is implied by waiting.
   const auto t = Clock::now();
   c.close();
   const double s = guest::MsSince(t) / 1000;
@@ -104,9 +113,9 @@ void PortGoesAwayInDestructor() {
   if (child == 0) {
     {
       x4step::controller v{std::string(dev)};
-      StartLongBrakeMove(v);
-      std::this_thread::sleep_for(300ms);  // at speed: braking takes 6 s
-      if (!v.get_axis(x4step::axis{1}).running || write(started[1], "s", 1) != 1) _exit(2);
+      // at speed: braking takes 6 s
+      if (!StartLongBrakeMove(v) || !v.get_axis(x4step::axis{1}).running || write(started[1], "s", 1) != 1)
+        _exit(2);
     }  // the destructor brakes and waits: the port vanishes meanwhile
     _exit(0);
   }
@@ -227,7 +236,9 @@ void PathAppendWhileHeld() {
   p.resume();
   p.append(std::vector<x4step::segment>(rest.begin() + long(more), rest.end()));
   const x4step::path_status st = p.status();
-  const bool ended = p.wait(10s);
+  // 3000 steps at 2000 steps/s: 1.5 s; 60 s only bounds a path that never
+  // ends (without -icount a loaded host stretches the guest's moves).
+  const bool ended = p.wait(60s);
   const auto done = p.status().done - done0;
   const long moved = c.get_axes()[x4step::axis::x].position - x0;
   const x4step::path_status end = p.status();
@@ -280,7 +291,9 @@ int main() {
     Check(Throws([&] { c.start(); }) == errc::init_not_done, "moved-from controller: init_not_done");
     moved.move_endless(x4step::axis{4}, x4step::direction::negative, 3000, 30ms);
     Check(moved.active(), "endless move runs");
-    std::this_thread::sleep_for(300ms);
+    // Steps made before the destructor (800: what 300 ms gave): a count
+    // waited for, not a fixed sleep.
+    Check(guest::WaitFor([&] { return moved.get_status().steps[3] < -800; }), "endless move: 800 steps");
   }  // destructor brakes, waits, releases
   {
     x4step::controller again(1);

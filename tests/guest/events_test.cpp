@@ -154,6 +154,12 @@ x4step_axes Axes(int fd) {
   return a;
 }
 
+// Waits (guest::WaitFor, up to 10 s) until axis i (0-based) satisfies `ok`.
+template <typename Pred>
+bool WaitAxis(int fd, int i, Pred ok) {
+  return guest::WaitFor([&] { return ok(Axes(fd).axis[i]); });
+}
+
 int Endless(int fd, int axis, int dir, int freq, int ramp) {
   x4step_endless e{axis, dir, freq, ramp, 0, -1, {0, 0}};
   return Ioctl(fd, X4STEP_MOVE_ENDLESS, &e);
@@ -284,7 +290,11 @@ void Moves(Stream &mon, int c) {
   Check(Match(ev, {{X4STEP_EV_CONTROLLER, X4STEP_CTL_OPENED, 0}}), "controller opened: " + Str(ev));
   Zero(c);
 
-  x4step_move m{{200, 0, 0, 0}, 5000, 0, 0, -1};
+  // 400 ms at 500 steps/s: the polls below come a few ms after the start,
+  // and must see the move running; the guest's time follows the host's
+  // clock (plain TCG), so a loaded host may delay them: the move is asked
+  // to be running still after them (else the polls saw nothing to test).
+  x4step_move m{{200, 0, 0, 0}, 500, 0, 0, -1};
   Ioctl(c, X4STEP_LOAD, &m);
   Ioctl(c, X4STEP_START);
   usleep(5000);
@@ -293,8 +303,10 @@ void Moves(Stream &mon, int c) {
   const int in = poll(&p, 1, 0);
   pollfd pp{mon.fd, POLLPRI, 0};
   const int pri = poll(&pp, 1, 0);
-  Check(in == 0 && pri == 1 && pp.revents == POLLPRI,
-        F("move running, event pending: poll(POLLIN) %d, poll(POLLPRI) %d (0x%x)", in, pri, pp.revents));
+  const bool still = Axes(c).axis[0].state & X4STEP_AX_RUN;
+  Check(in == 0 && pri == 1 && pp.revents == POLLPRI && still,
+        F("move running, event pending: poll(POLLIN) %d, poll(POLLPRI) %d (0x%x), the move %s", in, pri,
+          pp.revents, still ? "still running" : "already ended"));
   ev = mon.Until(EndOf(1));
   Check(Match(ev, {{X4STEP_EV_MOVE_STARTED, X4STEP_KIND_LOADED, 1},
                    {X4STEP_EV_MOVE_ENDED, X4STEP_END_COMPLETED, 1}}) &&
@@ -302,7 +314,8 @@ void Moves(Stream &mon, int c) {
         "X4Step move: started (at 0), completed (at 200): " + Str(ev));
 
   Endless(c, 2, 1, 2000, 100);
-  usleep(150000);
+  Check(WaitAxis(c, 1, [](const x4step_axis &a) { return a.position > 50; }),
+        "endless move of axis 2: past 50 steps");
   Ioctl(c, X4STEP_BRAKE);
   ev = mon.Until(EndOf(2));
   Check(Match(ev, {{X4STEP_EV_MOVE_STARTED, X4STEP_KIND_ENDLESS, 2},
@@ -476,11 +489,17 @@ void EmergencyHaltAfterClose(Stream &mon) {
   const int ro = open(dev.c_str(), O_RDONLY | O_CLOEXEC);
   const int c2 = OpenCtl();
   Check(c2 >= 0, "a controller opens again");
+  // At 600 steps/s or more the close's brake takes 600 ms or more (of guest
+  // time; late timers only stretch it): waited for by the axis' speed, and
+  // the ESTOP follows once the axis is seen braking, not after fixed times
+  // (the guest's time is the loaded host's under plain TCG).
   Endless(c2, 3, 1, 1000, 1000);
-  usleep(600000);  // 600 steps/s: the close's brake takes 600 ms
+  Check(WaitAxis(ro, 2, [](const x4step_axis &a) { return a.velocity >= 600; }),
+        "the endless move reaches 600 steps/s");
   close(c2);
-  usleep(50000);
-  Check(EStop(ro, X4STEP_HALT_STOP) == 0, "ESTOP stops the module's brake of a closed controller's move");
+  const bool braking = WaitAxis(ro, 2, [](const x4step_axis &a) { return (a.state & X4STEP_AX_DECEL) != 0; });
+  Check(braking && EStop(ro, X4STEP_HALT_STOP) == 0,
+        "ESTOP stops the module's brake of a closed controller's move");
   const auto ev = mon.Until(
       [](const x4step_event &e) { return e.type == X4STEP_EV_CONTROLLER && e.how == X4STEP_CTL_RELEASED; },
       3000);

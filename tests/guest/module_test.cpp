@@ -82,9 +82,18 @@ void TestExampleAndPreload(int fd) {
   Check(Ioctl(fd, X4STEP_START) == ENODATA, "start with nothing loaded: ENODATA (NotLoaded)");
 }
 
+// Counts the tests wait for before braking or stopping (not fixed sleeps:
+// without -icount a loaded host lets the guest do less in its time).
+bool Moved(int fd, int axis, long long past) {
+  return guest::WaitFor([&] {
+    const long long s = Status(fd).steps[axis];
+    return past < 0 ? s < past : s > past;
+  });
+}
+
 void TestBrakeAndStop(int fd) {
   Check(Endless(fd, 2, 1, 2000, 100) == 0, "endless axis 2");
-  usleep(400000);
+  Check(Moved(fd, 1, 700), "endless axis 2 makes 700 steps (its ramp, then at speed; 400 ms)");
   Check(Ioctl(fd, X4STEP_BRAKE) == 0, "brake");
   WaitIdle(fd);
   x4step_status st = Status(fd);
@@ -93,7 +102,7 @@ void TestBrakeAndStop(int fd) {
   Check(Ioctl(fd, X4STEP_BRAKE) == ESRCH, "brake while idle: ESRCH (NotActive)");
 
   Check(Endless(fd, 3, -1, 1000, 0) == 0, "endless axis 3 negative");
-  usleep(300000);
+  Check(Moved(fd, 2, -300), "endless axis 3 makes 300 steps (300 ms)");
   Check(Ioctl(fd, X4STEP_STOP) == 0, "stop");
   st = Status(fd);
   Check(!(st.flags & X4STEP_ST_ACTIVE), "idle right after stop");
@@ -205,14 +214,25 @@ void TestOutputs(int fd) {
 
 // A controller killed mid-move: the module brakes the motor, then lets go
 // of the port (close() does not wait for the brake: poll() says when).
+// Killed at speed (1000 steps/s, after the 200 ms ramp, at 500 steps: what
+// 600 ms gave): the move started (the child says so) and its steps seen on
+// a read-only descriptor, not a fixed sleep.
 void TestKilledController() {
+  int started[2];
+  if (pipe(started)) return;
   const pid_t child = fork();
   if (child == 0) {
     const int fd = OpenCtl();
-    if (fd < 0 || Endless(fd, 1, 1, 1000, 200)) _exit(1);
+    if (fd < 0 || Endless(fd, 1, 1, 1000, 200) || write(started[1], "s", 1) != 1) _exit(1);
     for (;;) pause();
   }
-  usleep(600000);
+  close(started[1]);
+  char c = 0;
+  const bool running = read(started[0], &c, 1) == 1;
+  close(started[0]);
+  const int ro = open(dev_path, O_RDONLY | O_CLOEXEC);
+  Check(running && ro >= 0 && Moved(ro, 0, 500), "the controller's endless move makes 500 steps");
+  if (ro >= 0) close(ro);
   kill(child, SIGKILL);
   int status = 0;
   waitpid(child, &status, 0);

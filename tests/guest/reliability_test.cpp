@@ -163,9 +163,12 @@ void Stress() {
       floods += 2;
     }
   });
+  // 1 s of steps; 120 s only bounds a move that never ends (without
+  // -icount a loaded host stretches the guest's moves, more so at 20 kHz
+  // beside two busy threads).
   x4step_move m{{20000, -20000, 15000, -5000}, 20000, 20, 0, 0};
   pollfd p{fd, POLLIN, 0};
-  const bool ok = ioctl(fd, X4STEP_LOAD, &m) == 0 && ioctl(fd, X4STEP_START) == 0 && poll(&p, 1, 30000) == 1;
+  const bool ok = ioctl(fd, X4STEP_LOAD, &m) == 0 && ioctl(fd, X4STEP_START) == 0 && poll(&p, 1, 120000) == 1;
   done = true;
   monitor.join();
   flood.join();
@@ -239,6 +242,10 @@ x4step_axis Axis1(int fd) {
   return a.axis[0];
 }
 
+// The axis still moves (not at rest). Right after close() it may not show
+// X4STEP_AX_DECEL yet: the engine takes up the brake at its next step.
+bool Moving(const x4step_axis &a) { return (a.state & X4STEP_AX_RUN) && a.velocity > 0; }
+
 std::string Ms(double ms) { return std::to_string(static_cast<long>(ms + 0.5)) + " ms"; }
 
 // A controller closes during a long brake: axis 1 at 10000 steps/s with a
@@ -261,13 +268,23 @@ void CloseDuringLongBrake() {
     if (ro >= 0) close(ro);
     return;
   }
-  usleep(400000);
+  // At speed after 500 steps (0.1 s at 100000 steps/s^2): waited for by the
+  // axis' speed, not a fixed time, which a loaded host's guest may need more of.
+  const auto t_cruise = Clock::now();
+  while (Axis1(ro).velocity < 9900 && MsSince(t_cruise) < 10000) usleep(10000);
   Check(Axis1(ro).velocity >= 9900, "long brake: cruising at 10000 steps/s");
 
   // Another thread, while or right after the controller closes: a monitor's
   // calls (GET_CONFIG and GET_STEP_TIMING take the port's mutex) and a
   // controller's open.
-  bool mon_ok = false;
+  //
+  // "At once" is asserted as "while the brake still runs", by the axis'
+  // state right after each call returned (still moving), not by a time: the
+  // brake takes 4 s of guest time (the timer is never early, a late one only
+  // stretches it), a call that waited for it finds the axis at rest, while a
+  // millisecond bound fails whenever a loaded host stalls the guest (plain
+  // TCG: guest time follows the host's clock). The times are printed.
+  bool mon_ok = false, mon_moving = false, rw_moving = false;
   double mon_ms = 0, rw_ms = 0;
   int rw_err = 0;
   const x4step_axis at_close = Axis1(ro);
@@ -282,26 +299,30 @@ void CloseDuringLongBrake() {
     mon_ok = m >= 0 && ioctl(m, X4STEP_GET_STATUS, &st) == 0 && ioctl(m, X4STEP_GET_AXES, &ax) == 0 &&
              ioctl(m, X4STEP_GET_CONFIG, &cfg) == 0 && ioctl(m, X4STEP_GET_STEP_TIMING, &stt) == 0 &&
              (st.flags & X4STEP_ST_ACTIVE);
+    mon_moving = Moving(Axis1(ro));
     mon_ms = MsSince(t);
     if (m >= 0) close(m);
     t = Clock::now();
     const int c = open(kDev, O_RDWR);
     rw_err = c < 0 ? errno : 0;
+    rw_moving = Moving(Axis1(ro));
     rw_ms = MsSince(t);
     if (c >= 0) close(c);
   });
   const auto t0 = Clock::now();
   close(fd);
+  const bool close_moving = Moving(Axis1(ro));
   const double close_ms = MsSince(t0);
   other.join();
-  Check(close_ms < 100, "long brake: close() returns at once (" + Ms(close_ms) + ")");
-  Check(mon_ok && mon_ms < 100,
+  Check(close_moving, "long brake: close() returns at once, the axis still moving (" + Ms(close_ms) + ")");
+  Check(mon_ok && mon_moving,
         "long brake: a monitor's open, GET_STATUS (active), GET_AXES, GET_CONFIG, GET_STEP_TIMING meanwhile: "
-        "at "
-        "once (" +
+        "at once, the axis still moving (" +
             Ms(mon_ms) + ")");
-  Check(rw_err == EBUSY && rw_ms < 100, "long brake: a controller's open meanwhile: EBUSY at once (" +
-                                            std::string(std::strerror(rw_err)) + ", " + Ms(rw_ms) + ")");
+  Check(rw_err == EBUSY && rw_moving,
+        "long brake: a controller's open meanwhile: EBUSY at once, the axis "
+        "still moving (" +
+            std::string(std::strerror(rw_err)) + ", " + Ms(rw_ms) + ")");
 
   usleep(500000);
   const x4step_axis a1 = Axis1(ro);
@@ -319,8 +340,10 @@ void CloseDuringLongBrake() {
   Check(busy < 0 && busy_err == EBUSY, "long brake: a controller's open 1.5 s into the brake: EBUSY");
   if (busy >= 0) close(busy);
 
+  // 2.5 s of the brake are left: 60 s only bounds a brake that never ends
+  // (on a loaded host late timers stretch it).
   pollfd p{ro, POLLIN, 0};
-  const bool ended = poll(&p, 1, 15000) == 1 && (p.revents & POLLIN);
+  const bool ended = poll(&p, 1, 60000) == 1 && (p.revents & POLLIN);
   const double brake_ms = MsSince(t0);
   const x4step_axis end = Axis1(ro);
   const int next = open(kDev, O_RDWR);
@@ -359,11 +382,14 @@ void ParportSharing() {
     std::string holder;
     std::ifstream("/proc/sys/dev/parport/parport0/devices/active") >> holder;
     Check(holder.rfind("ppdev", 0) == 0, "the parport core names the holder: " + holder);
+    // A blocking open would wait for ppdev's release, which comes only after
+    // this check: it would never return. The bound is far above a loaded
+    // guest's scheduling delays (plain TCG: guest time is the host's).
     const auto t = Clock::now();
     const int fd = open(kDev, O_RDWR);
     const int err = errno;
     const double ms = MsSince(t);
-    Check(fd < 0 && err == EBUSY && ms < 100,
+    Check(fd < 0 && err == EBUSY && ms < 5000,
           "x4step controller open while ppdev holds the port: EBUSY at once (" +
               std::string(fd < 0 ? std::strerror(err) : "opened") + ", " + Ms(ms) + ")");
     if (fd >= 0) close(fd);

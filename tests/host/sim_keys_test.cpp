@@ -103,10 +103,11 @@ TEST_F(SimKeys, RealTimeKeyComesAtItsTime) {
   controller c("sim");
   const auto t = std::chrono::steady_clock::now();
   c.move_endless(axis(1), x4step::direction::negative, 2000, 0ms);
-  ASSERT_TRUE(c.wait(3s));
+  // Host time: not before the key's time; how much later a loaded host
+  // makes it is not bounded (30 s: an endless move the key never ends).
+  ASSERT_TRUE(c.wait(30s));
   const auto took = std::chrono::steady_clock::now() - t;
   EXPECT_GE(took, 140ms);
-  EXPECT_LT(took, 1s);
   EXPECT_EQ(c.get_status().last_brake_code, 1);
 }
 

@@ -73,7 +73,10 @@ TEST_F(SimPath, StreamedPathRunsToItsEnd) {
   const auto t = std::chrono::steady_clock::now();
   path.append(line(1000));  // the queue holds 256
   ASSERT_TRUE(path.wait(60s));
-  EXPECT_LT(std::chrono::steady_clock::now() - t, 5s);  // 20 s of motion, virtual
+  // 20 s of motion in virtual time: host time, so bounded by what a run in
+  // real time cannot beat (the motion's own 20 s), not by what a loaded
+  // host may stretch.
+  EXPECT_LT(std::chrono::steady_clock::now() - t, 20s);
   const x4step::path_status s = path.status();
   EXPECT_EQ(s.state, path_state::idle);
   EXPECT_EQ(s.queued, 0u);

