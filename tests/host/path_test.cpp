@@ -16,6 +16,10 @@
 #include <vector>
 
 #include "engine_ref.h"
+extern "C" {
+#include "x4_req.h"
+#include "x4_track.h"
+}
 
 using namespace x4test;
 
@@ -1084,3 +1088,56 @@ INSTANTIATE_TEST_SUITE_P(Modes, PathSettle, ::testing::Values(int(X4_MODE_CLOCK_
                          [](const ::testing::TestParamInfo<int> &i) {
                            return std::string(i.param ? "SmcPhase" : "ClockDir");
                          });
+
+// ---- who aborts a path, and what the event stream says (issue 28) ----------
+
+// Item 8: an emergency brake aborts a path, as a close does; a brake key
+// only with X4STEP_PATH_KEYS_ABORT; X4STEP_BRAKE and HALT only hold it.
+TEST(PathAbort, EmergencyBrakeAbortsAsACloseDoes) {
+  EXPECT_TRUE(x4_req_brake_aborts_path(X4STEP_SRC_ESTOP, 0));
+  EXPECT_TRUE(x4_req_brake_aborts_path(X4STEP_SRC_CLOSE, 0));
+  EXPECT_FALSE(x4_req_brake_aborts_path(X4STEP_SRC_KEY, 0));
+  EXPECT_TRUE(x4_req_brake_aborts_path(X4STEP_SRC_KEY, X4STEP_PATH_KEYS_ABORT));
+  EXPECT_FALSE(x4_req_brake_aborts_path(X4STEP_SRC_IOCTL, X4STEP_PATH_KEYS_ABORT));
+}
+
+namespace {
+
+struct Pushed {
+  uint32_t type, axes, how;
+};
+std::vector<Pushed> pushed;
+
+void PushEvent(x4_track *, u32 type, u32 axes, u32 how, u32, u32) { pushed.push_back({type, axes, how}); }
+
+}  // namespace
+
+// Item 9: the abort of a held path (no channel runs it) ends it in the
+// event stream at once; a running path's abort is told by its end; the
+// abort of no path marks nothing (the next path's end would say ABORTED).
+TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r, 200);
+  x4_track t{};
+  t.push = PushEvent;
+  pushed.clear();
+  x4_track_path_abort(&t, &p.e, false);  // running: its end tells
+  EXPECT_TRUE(t.path_aborting);
+  EXPECT_TRUE(pushed.empty());
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  record(p.e, r);
+  ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+  t.path_aborting = false;
+  ASSERT_EQ(x4_path_hold(&p.e, true), X4_OK);
+  x4_track_path_abort(&t, &p.e, true);
+  ASSERT_EQ(pushed.size(), 1u);
+  EXPECT_EQ(pushed[0].type, uint32_t(X4STEP_EV_MOVE_ENDED));
+  EXPECT_EQ(pushed[0].how, uint32_t(X4STEP_END_ABORTED));
+  EXPECT_EQ(pushed[0].axes, 1u);
+  pushed.clear();
+  x4_track_path_abort(&t, &p.e, false);  // no path: nothing to tell
+  EXPECT_FALSE(t.path_aborting);
+  EXPECT_TRUE(pushed.empty());
+}
