@@ -146,7 +146,8 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 		      const char __user *buf, size_t count);
 __poll_t x4_path_poll(struct x4_port *x4, struct file *file);
 void x4_path_room_locked(struct x4_port *x4);
-void x4_path_brake_locked(struct x4_port *x4, u32 source);
+bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source);
+bool x4_path_brake_locked(struct x4_port *x4, u32 source);
 int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg);
 int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
 		       void __user *uarg);

@@ -449,6 +449,7 @@ static int x4_ioctl_set_position(struct x4_port *x4,
 	ret = x4_engine_set_position(&x4->eng, (u8)up.axes, up.position);
 	x4_port_halted_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	wake_up_all(&x4->wait); /* a path writer or poller: its queue is gone */
 	return x4_errno(ret);
 }
 

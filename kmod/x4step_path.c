@@ -198,15 +198,33 @@ void x4_path_room_locked(struct x4_port *x4)
 	}
 }
 
-/* Brake a path: hold it, and flush it too for `source` (slock held). */
-void x4_path_brake_locked(struct x4_port *x4, u32 source)
+/* Abort the path: hold, then flush; the event stream tells (slock held). */
+static int x4_path_abort_locked(struct x4_port *x4)
+{
+	bool held = x4->eng.path.state == X4_PATH_HELD;
+	int ret = x4_path_hold(&x4->eng, true);
+
+	if (!ret)
+		x4_track_path_abort(&x4->ev, &x4->eng, held);
+	return ret;
+}
+
+/* Whether a brake by `source` aborts the path: there is one (slock held). */
+bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source)
 {
 	lockdep_assert_held(&x4->slock);
-	if (x4_req_brake_aborts_path(source, READ_ONCE(x4->path_cfg_flags)) &&
-	    x4_path_active(&x4->eng)) {
-		x4->ev.path_aborting = true;
-		x4_path_hold(&x4->eng, true);
-	}
+	return x4_req_brake_aborts_path(source, READ_ONCE(x4->path_cfg_flags)) &&
+	       x4_path_active(&x4->eng);
+}
+
+/*
+ * Brake a path: hold it, and flush it too for `source`, held or running
+ * (slock held). True: it aborted the path.
+ */
+bool x4_path_brake_locked(struct x4_port *x4, u32 source)
+{
+	return x4_path_brake_aborts_locked(x4, source) &&
+	       !x4_path_abort_locked(x4);
 }
 
 static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
@@ -221,9 +239,10 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 	case X4STEP_PATH_HOLD:
 	case X4STEP_PATH_ABORT:
 		raw_spin_lock_irqsave(&x4->slock, flags);
-		ret = x4_path_hold(e, c->cmd == X4STEP_PATH_ABORT);
-		if (!ret && c->cmd == X4STEP_PATH_ABORT && x4_path_active(e))
-			x4->ev.path_aborting = true; /* its end says so */
+		if (c->cmd == X4STEP_PATH_ABORT)
+			ret = x4_path_abort_locked(x4);
+		else
+			ret = x4_path_hold(e, false);
 		raw_spin_unlock_irqrestore(&x4->slock, flags);
 		wake_up_all(&x4->wait); /* a writer waiting for room: flushed */
 		return x4_errno(ret);

@@ -425,22 +425,24 @@ void x4_port_halted_locked(struct x4_port *x4)
 /*
  * Brake the moves of the axes in `axes` (and their partners) along their
  * ramps, asked for by `source` (X4STEP_SRC_*; a key: its `code`). An
- * X4Step result: X4_ERR_NOT_ACTIVE if none of them moves.
+ * X4Step result: X4_ERR_NOT_ACTIVE if none of them moves and no path was
+ * aborted (a held one is, by the sources that abort paths).
  */
 int x4_port_brake_locked(struct x4_port *x4, u8 axes, u32 source, u32 code)
 {
 	u8 chans = x4_events_chans_locked(x4, axes);
+	bool aborted;
 	int ret;
 
 	lockdep_assert_held(&x4->slock);
-	x4_path_brake_locked(x4, source);
+	aborted = x4_path_brake_locked(x4, source);
 	ret = x4_engine_halt(&x4->eng, axes, false);
 	if (ret == X4_OK) {
 		x4->brake_time_ns = ktime_get_ns();
 		x4_events_brake_locked(x4, chans, source, code);
 	}
 	x4_port_halted_locked(x4);
-	return ret;
+	return aborted ? X4_OK : ret;
 }
 
 /* Stop the moves of the axes in `axes` (and their partners) at once. */
@@ -466,7 +468,9 @@ bool x4_port_brake_key(struct x4_port *x4, u32 code)
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	for (i = 0; i < x4->n_brake_codes && !hit; i++)
 		hit = x4->brake_codes[i] == code;
-	hit = hit && x4_engine_busy(&x4->eng);
+	/* A key brakes moves, and aborts a held path if keys abort paths. */
+	hit = hit && (x4_engine_busy(&x4->eng) ||
+		      x4_path_brake_aborts_locked(x4, X4STEP_SRC_KEY));
 	if (hit && x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_KEY, code) == X4_OK)
 		x4->last_brake_code = code;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);

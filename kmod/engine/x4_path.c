@@ -417,9 +417,13 @@ u64 x4_path_end_half(const struct x4_engine *e, u64 half_ns)
 }
 
 /*
- * The path's channel came to rest: why decides what follows. True: it ran
- * dry, and segments came while it ended (after its last step, the
- * direction hold): the caller starts it again (x4_path_kick()).
+ * The path's channel came to rest: why decides what follows. A hold (or
+ * an abort) stands HELD (flushed) wherever it came to rest: at the
+ * queue's end too, or asked for while the channel ended (after its last
+ * step, the direction hold or a phase mode's settle time). True: the
+ * path goes on from there, as segments came while it ended after running
+ * dry, or a resume undid the hold meanwhile: the caller starts it again
+ * (x4_path_kick()).
  */
 bool x4_path_ended(struct x4_engine *e, struct x4_chan *c)
 {
@@ -430,17 +434,18 @@ bool x4_path_ended(struct x4_engine *e, struct x4_chan *c)
 		flush(e);
 		return false;
 	}
-	if (pa->rest == X4_REST_HELD) {
+	if (pa->state == X4_PATH_HOLDING) { /* the hold came to rest */
 		pa->state = X4_PATH_HELD;
 		if (pa->abort)
 			flush(e);
 		return false;
 	}
-	pa->state = X4_PATH_IDLE; /* dry: a push kicks it again */
+	pa->state = X4_PATH_IDLE; /* a push kicks it again */
 	pa->abort = false;
 	if (pa->head == x4_load_acquire(&pa->tail))
 		return false;
-	pa->starved++; /* it stood for want of them */
+	if (pa->rest == X4_REST_DRY)
+		pa->starved++; /* it stood for want of them */
 	return true;
 }
 

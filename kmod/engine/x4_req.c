@@ -268,6 +268,6 @@ void x4_req_path_status(const struct x4_path_status *s, u32 flags,
 
 bool x4_req_brake_aborts_path(u32 source, u32 path_flags)
 {
-	return source == X4STEP_SRC_CLOSE ||
+	return source == X4STEP_SRC_CLOSE || source == X4STEP_SRC_ESTOP ||
 	       (source == X4STEP_SRC_KEY && path_flags & X4STEP_PATH_KEYS_ABORT);
 }

@@ -36,6 +36,12 @@ void x4_track_brake(struct x4_track *t, const struct x4_engine *e, u8 chans,
 /* The moves of channels `chans` are being stopped at once. */
 void x4_track_stop(struct x4_track *t, u8 chans);
 /*
+ * A path's abort was asked for, the path `held` before it: a held path
+ * (no channel runs it) ends now, a running one when its channel ends.
+ */
+void x4_track_path_abort(struct x4_track *t, const struct x4_engine *e,
+			 bool held);
+/*
  * After the engine changed: what the changes mean. `c`: the engine fired
  * an event of channel c (its reference phase is worth a look), else -1;
  * `kind`: the moves that start now are of this X4STEP_KIND_*.

@@ -441,14 +441,14 @@ void port::halted_locked() {
 // x4_port_brake_locked().
 int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
   const std::uint8_t chans = x4_track_chans(&eng_, axes);
-  path_brake_locked(source);
+  const bool aborted = path_brake_locked(source);
   const int ret = x4_engine_halt(&eng_, axes, false);
   if (ret == X4_OK) {
     brake_time_ns_ = steady_ns_locked();
     x4_track_brake(&track_, &eng_, chans, source, code);
   }
   halted_locked();
-  return ret;
+  return aborted ? X4_OK : ret;
 }
 
 // x4_port_stop_locked().
@@ -491,7 +491,7 @@ void port::keys_due_locked(std::uint64_t t_ns) {
 bool port::key_locked(unsigned code) {
   bool hit = code == 1;
   for (std::uint32_t i = 0; i < n_brake_codes_ && !hit; i++) hit = brake_codes_[i] == code;
-  hit = hit && x4_engine_busy(&eng_);
+  hit = hit && (x4_engine_busy(&eng_) || path_brake_aborts_locked(X4STEP_SRC_KEY));
   if (hit && brake_locked(0x0f, X4STEP_SRC_KEY, code) == X4_OK) last_brake_code_ = code;
   return hit;
 }

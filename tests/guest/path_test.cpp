@@ -1250,6 +1250,276 @@ void TestSustained(int fd) {
 
 // ---- outside: QEMU's parport ----------------------------------------------
 
+// ---- 11: the corners of hold and abort (issue 28) --------------------------
+
+// X's steps since `m0`, by the virtual machine.
+long long MovedX(const std::array<long long, 4> &m0) { return Machine()[0] - m0[0]; }
+
+// Write one record; true if it was queued whole.
+bool WriteSeg(int fd, const Seg &s) { return ::write(fd, &s, sizeof s) == ssize_t(sizeof s); }
+
+// Spin until X moved `steps` since m0 (or 5 s passed): the hold's instant.
+bool SpinToX(const std::array<long long, 4> &m0, long long steps) {
+  const uint64_t t_end = Now() + 5'000'000'000ull;
+  while (MovedX(m0) < steps)
+    if (Now() > t_end) return false;
+  return true;
+}
+
+// Item 1, scenario A: a hold (then an abort) during a lone segment's final
+// brake comes to rest at the queue's end: the path stands HELD, and a
+// segment written then waits for a resume; the abort flushes (ECANCELED).
+void TestHoldAtTheEnd(int fd) {
+  std::printf("== a hold, an abort in the final brake at the queue's end\n");
+  const int mon = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK);
+  Events(mon);
+  const Seg lone = MakeSeg(2000, 0, 0, 0, 2000, 4000, 40000, 0, 1);
+  const Seg more = MakeSeg(3000, 0, 0, 0, 3000, 4000, 40000, 0, 2);
+  auto m0 = Machine();
+  // 4000 steps/s after 200 steps, braking from step 1800 on.
+  const bool spun = WriteSeg(fd, lone) && SpinToX(m0, 1850);
+  const int hold = Ctl(fd, X4STEP_PATH_HOLD);
+  const long long at = MovedX(m0);
+  Check(spun && hold == 0 && at < 2000,
+        F("PATH_CTL HOLD in the final brake (step %lld of 2000): %d", at, hold));
+  Check(WaitIdle(fd, 5000), "the hold comes to rest");
+  x4step_path_status s = PathStatus(fd);
+  Check(s.state == X4STEP_PATH_HELD && s.queued == 0 && MovedX(m0) == 2000,
+        F("it stands HELD at the queue's end: state %u, %u queued, at %lld", s.state, s.queued, MovedX(m0)));
+  Check(WriteSeg(fd, more), "a segment written to the held path is queued");
+  SleepMs(200);
+  s = PathStatus(fd);
+  Check(s.state == X4STEP_PATH_HELD && s.queued == 1 && MovedX(m0) == 2000,
+        F("it waits for a resume: state %u, %u queued, at %lld", s.state, s.queued, MovedX(m0)));
+  const bool resumed = Ctl(fd, X4STEP_PATH_RESUME) == 0 && WaitIdle(fd, 10000);
+  const long long end = MovedX(m0);
+  Check(resumed && end == 5000 && PathStatus(fd).state == X4STEP_PATH_IDLE,
+        F("RESUME runs it: at %lld of 5000, idle", end));
+  auto ev = Events(mon);
+  Check(Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_HELD) && Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_COMPLETED),
+        "events: HELD, then COMPLETED:" + EventList(ev));
+
+  m0 = Machine();
+  const bool spun2 = WriteSeg(fd, lone) && SpinToX(m0, 1850);
+  const int abort = Ctl(fd, X4STEP_PATH_ABORT);
+  Check(spun2 && abort == 0 && MovedX(m0) < 2000, F("PATH_CTL ABORT in the final brake: %d", abort));
+  Check(WaitIdle(fd, 5000), "the abort comes to rest");
+  s = PathStatus(fd);
+  Check(s.state == X4STEP_PATH_IDLE && s.queued == 0 && MovedX(m0) == 2000,
+        F("it is flushed at the queue's end: state %u, %u queued, at %lld", s.state, s.queued, MovedX(m0)));
+  errno = 0;
+  const bool refused = ::write(fd, &more, sizeof more) < 0 && errno == ECANCELED;
+  Check(refused, F("write() after the abort: ECANCELED until CLEAR (%s)", std::strerror(errno)));
+  SleepMs(100);
+  Check(MovedX(m0) == 2000, F("nothing ran on: at %lld", MovedX(m0)));
+  ev = Events(mon);
+  Check(Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED) &&
+            !Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_COMPLETED),
+        "events: ABORTED:" + EventList(ev));
+  Ctl(fd, X4STEP_PATH_CLEAR);
+  ::close(mon);
+}
+
+// n segments of 10 X steps at 2000 steps/s (5 ms each), the first from rest.
+std::vector<Seg> Slow(size_t n) {
+  std::vector<Seg> s;
+  for (size_t k = 0; k < n; k++) s.push_back(MakeSeg(10, 0, 0, 0, 10, 2000, 20000, k ? 2000 : 0, k + 1));
+  return s;
+}
+
+// Write, hold, wait until it stands HELD.
+bool Held(int fd, const std::vector<Seg> &segs) {
+  const ssize_t n = ssize_t(segs.size() * sizeof(Seg));
+  if (::write(fd, segs.data(), size_t(n)) != n) return false;
+  SleepMs(50);
+  return Ctl(fd, X4STEP_PATH_HOLD) == 0 && WaitIdle(fd, 5000) && PathStatus(fd).state == X4STEP_PATH_HELD;
+}
+
+// Item 8: an emergency brake aborts a path, running or held: flushed,
+// no resume, ECANCELED until CLEAR, and the event stream tells.
+void TestEmergencyBrakeAborts(int fd) {
+  std::printf("== an emergency brake aborts a path\n");
+  const int mon = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK);
+  Events(mon);
+  const auto segs = Slow(200);
+  x4step_estop es{};
+  es.how = X4STEP_HALT_BRAKE;
+  const bool wrote =
+      ::write(fd, segs.data(), segs.size() * sizeof(Seg)) == ssize_t(segs.size() * sizeof(Seg));
+  SleepMs(100);
+  Check(wrote && PathStatus(fd).state == X4STEP_PATH_RUN && Ioctl(mon, X4STEP_ESTOP, &es) == 0,
+        "ESTOP (brake) of a running path, from a read-only descriptor");
+  Check(WaitIdle(fd, 5000), "it comes to rest");
+  x4step_path_status s = PathStatus(fd);
+  Check(s.state == X4STEP_PATH_IDLE && s.queued == 0,
+        F("the path was aborted: state %u, %u queued (it was only held)", s.state, s.queued));
+  Check(Ctl(fd, X4STEP_PATH_RESUME) != 0, "RESUME finds nothing to resume");
+  errno = 0;
+  const bool refused = ::write(fd, segs.data(), sizeof(Seg)) < 0 && errno == ECANCELED;
+  Check(refused, F("write() after it: ECANCELED (%s)", std::strerror(errno)));
+  auto ev = Events(mon);
+  Check(Has(ev, X4STEP_EV_BRAKE, X4STEP_SRC_ESTOP) && Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED) &&
+            !Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_HELD),
+        "events: the emergency brake, the path ended ABORTED:" + EventList(ev));
+  Ctl(fd, X4STEP_PATH_CLEAR);
+
+  Check(Held(fd, segs), "a path held");
+  Events(mon);
+  Check(Ioctl(mon, X4STEP_ESTOP, &es) == 0, "ESTOP (brake) of the held path");
+  s = PathStatus(fd);
+  ev = Events(mon);
+  Check(s.state == X4STEP_PATH_IDLE && s.queued == 0 && Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED),
+        F("the held path was aborted: state %u, %u queued, events:", s.state, s.queued) + EventList(ev));
+  Ctl(fd, X4STEP_PATH_CLEAR);
+  ::close(mon);
+}
+
+// Item 7: SET_POSITION flushes a held path; the writer blocked on its full
+// queue returns ECANCELED, a POLLOUT poller wakes.
+void TestSetPositionWakes(int fd) {
+  std::printf("== SET_POSITION of a held path wakes its writer and its pollers\n");
+  Check(SetDepth(fd, 256) == 0, "queue depth 256");
+  const auto segs = Slow(600);
+  const x4step_path_status s0 = PathStatus(fd);
+  const pid_t writer = fork();
+  if (writer == 0) {  // writes until the flush fails it
+    size_t i = 0;
+    while (i < segs.size()) {
+      const ssize_t w = ::write(fd, &segs[i], (segs.size() - i) * sizeof(Seg));
+      if (w < 0) _exit(errno == ECANCELED ? 0 : 1);
+      i += size_t(w) / sizeof(Seg);
+    }
+    _exit(2);
+  }
+  const uint64_t t_end = Now() + 5'000'000'000ull;
+  while (PathStatus(fd).done - s0.done < 5 && Now() < t_end) SleepMs(2);
+  Check(Ctl(fd, X4STEP_PATH_HOLD) == 0 && WaitIdle(fd, 5000) && PathStatus(fd).state == X4STEP_PATH_HELD,
+        "the streamed path held");
+  const pid_t poller = fork();
+  if (poller == 0) {
+    pollfd p{fd, POLLOUT, 0};
+    _exit(poll(&p, 1, 3000) == 1 && (p.revents & POLLOUT) ? 0 : 1);
+  }
+  SleepMs(200);
+  const x4step_path_status s = PathStatus(fd);
+  int st = 0;
+  Check(s.queued == 256 && waitpid(writer, &st, WNOHANG) == 0 && waitpid(poller, &st, WNOHANG) == 0,
+        F("the queue is full (%u), its writer and a POLLOUT poller wait", s.queued));
+  x4step_position up{};
+  up.axes = 1;
+  const uint64_t t0 = Now();
+  Check(Ioctl(fd, X4STEP_SET_POSITION, &up) == 0 && PathStatus(fd).queued == 0, "SET_POSITION flushes it");
+  auto reaped = [&](pid_t pid, int &status) {
+    while (Now() - t0 < 1'000'000'000ull) {
+      if (waitpid(pid, &status, WNOHANG) == pid) return true;
+      SleepMs(5);
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    return false;
+  };
+  int ws = 0, ps = 0;
+  const bool w_ok = reaped(writer, ws), p_ok = reaped(poller, ps);
+  Check(w_ok && WIFEXITED(ws) && WEXITSTATUS(ws) == 0,
+        F("the blocked writer returned ECANCELED within 1 s (%s)", w_ok ? "exited" : "still asleep"));
+  Check(p_ok && WIFEXITED(ps) && WEXITSTATUS(ps) == 0,
+        F("the poller saw POLLOUT within 1 s (%s)", p_ok ? "exited" : "still asleep"));
+  Ctl(fd, X4STEP_PATH_CLEAR);
+}
+
+// Item 9: PATH_CTL ABORT of a held path ends it in the event stream; a
+// brake key aborts a held path with X4STEP_PATH_KEYS_ABORT.
+void TestHeldAborts(int fd) {
+  std::printf("== aborts of a held path: PATH_CTL ABORT, a brake key\n");
+  const int mon = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK);
+  const auto segs = Slow(100);
+  Check(Held(fd, segs), "a path held");
+  Events(mon);
+  Check(Ctl(fd, X4STEP_PATH_ABORT) == 0 && PathStatus(fd).queued == 0, "PATH_CTL ABORT flushes it");
+  SleepMs(10);
+  auto ev = Events(mon);
+  Check(ev.size() == 1 && Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED),
+        "events: the path ended ABORTED:" + EventList(ev));
+  Ctl(fd, X4STEP_PATH_CLEAR);
+
+  guest::Keyboard kb;
+  Check(kb.ok(), "a uinput keyboard");
+  if (!kb.ok()) return;
+  Check(SetDepth(fd, 0, X4STEP_PATH_KEYS_ABORT) == 0 && Held(fd, segs), "keys abort paths; a path held");
+  Events(mon);
+  kb.Key(KEY_ESC, 1);
+  kb.Key(KEY_ESC, 0);
+  const uint64_t t_end = Now() + 2'000'000'000ull;
+  while (PathStatus(fd).state != X4STEP_PATH_IDLE && Now() < t_end) SleepMs(2);
+  const x4step_path_status s = PathStatus(fd);
+  SleepMs(10);
+  ev = Events(mon);
+  Check(s.state == X4STEP_PATH_IDLE && s.queued == 0 && Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED),
+        F("ESC aborted the held path: state %u, %u queued, events:", s.state, s.queued) + EventList(ev));
+  Ctl(fd, X4STEP_PATH_CLEAR);
+  SetDepth(fd, 0, 0);
+  ::close(mon);
+}
+
+// Item 1, scenario B: the queue ran dry, a segment came in the direction
+// hold after the last step, then the controller closed: the path must
+// never move again. A 1 ms hold is the window; a try that missed it (the
+// path completed first) is tried again.
+void TestCloseInTheHoldWindow() {
+  std::printf("== close() in the direction hold after a dry end\n");
+  const int mon = ::open(dev.c_str(), O_RDONLY | O_NONBLOCK);
+  const Seg a = MakeSeg(50, 0, 0, 0, 50, 2000, 20000, 0, 1),
+            b = MakeSeg(3000, 0, 0, 0, 3000, 2000, 20000, 0, 2);
+  x4step_step_timing st0{};
+  bool tried = false;
+  for (int attempt = 0; attempt < 5 && !tried; attempt++) {
+    int fd = ::open(dev.c_str(), O_RDWR);
+    if (fd < 0 || Ioctl(fd, X4STEP_GET_STEP_TIMING, &st0)) break;
+    x4step_step_timing st = st0;
+    st.dir_hold_ns = 1000000;
+    if (Ioctl(fd, X4STEP_SET_STEP_TIMING, &st)) break;
+    Events(mon);
+    const auto m0 = Machine();
+    bool window = WriteSeg(fd, a);
+    const uint64_t t_end = Now() + 5'000'000'000ull;
+    for (;;) {
+      const x4step_path_status s = PathStatus(fd);
+      if (s.state == X4STEP_PATH_RUN && s.queued == 0) break;
+      if (s.state == X4STEP_PATH_IDLE || Now() > t_end) {
+        window = false;
+        break;
+      }
+    }
+    const bool wrote = window && WriteSeg(fd, b);
+    ::close(fd);
+    const bool free = guest::WaitFree(dev.c_str(), 10000);
+    const auto ev = Events(mon);
+    const long long moved = MovedX(m0);
+    fd = ::open(dev.c_str(), O_RDWR);  // the step timing as it was
+    if (fd >= 0) {
+      Ioctl(fd, X4STEP_SET_STEP_TIMING, &st0);
+      Ctl(fd, X4STEP_PATH_CLEAR);
+      ::close(fd);
+    }
+    if (!wrote || Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_COMPLETED)) {
+      std::printf("info: try %d missed the 1 ms window (moved %lld):%s\n", attempt + 1, moved,
+                  EventList(ev).c_str());
+      guest::WaitFree(dev.c_str(), 10000);
+      continue;
+    }
+    tried = true;
+    const x4step_path_status s = PathStatus(mon);
+    Check(free && moved == 50 && s.state == X4STEP_PATH_IDLE && s.queued == 0,
+          F("a segment written in the hold, then close(): nothing ran after the close (moved %lld of 50), "
+            "state %u, %u queued",
+            moved, s.state, s.queued));
+    Check(Has(ev, X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED),
+          "events: the path ended ABORTED:" + EventList(ev));
+  }
+  Check(tried, "close() landed in the direction hold window");
+  ::close(mon);
+}
+
 void TestOutside() {
   std::printf("== a streamed path on QEMU's parport\n");
   const int fd = ::open("/dev/x4step0", O_RDWR);
@@ -1312,7 +1582,12 @@ int main(int argc, char **argv) {
   std::printf("info: guest time: brake keys %.2f s, limit %.2f s, circle benchmark %.2f s\n",
               (t1 - t0) * 1e-9, (t2 - t1) * 1e-9, (Now() - t3) * 1e-9);
   TestSustained(fd);
+  TestHoldAtTheEnd(fd);
+  TestEmergencyBrakeAborts(fd);
+  TestSetPositionWakes(fd);
+  TestHeldAborts(fd);
   ::close(fd);
+  TestCloseInTheHoldWindow();
   TestOutside();
   return guest::Finish("path_test");
 }

@@ -16,6 +16,10 @@
 #include <vector>
 
 #include "engine_ref.h"
+extern "C" {
+#include "x4_req.h"
+#include "x4_track.h"
+}
 
 using namespace x4test;
 
@@ -931,4 +935,209 @@ TEST(PathRun, ThousandPiecesKeepThePace) {
   const size_t i = 1000, j = 6500;  // both in the cruise at 3000 steps/s
   const double ideal = (j - i) * 1e9 / 3000;
   EXPECT_NEAR(double(t[j] - t[i]), ideal, 2.0);
+}
+
+// ---- a hold is never forgotten (issue 28) ----------------------------------
+
+namespace {
+
+int32_t PosX(const Path &p) { return int32_t(p.e.pos_base[0] + uint32_t(p.e.steps[0])); }
+
+// Records until axis X made `steps` steps (or the engine rests).
+void RecordToStep(Path &p, Recording &r, size_t steps) {
+  while (x4_engine_busy(&p.e) && size_t(PosX(p)) < steps) record(p.e, r, 1);
+}
+
+// Until the channel ends a path whose queue ran dry, or held: the settle
+// window (dir_hold_ns, or a phase mode's last step period) after its last step.
+void RecordToEnd(Path &p, Recording &r) {
+  while (x4_engine_busy(&p.e) && p.e.ch[0].phase != X4_END) record(p.e, r, 1);
+}
+
+void Configure(Path &p, int mode) {
+  x4_timing t = p.e.timing;
+  if (mode == X4_MODE_CLOCK_DIR) t.dir_hold_ns = 40000;
+  ASSERT_EQ(x4_engine_configure(&p.e, &t, mode), X4_OK);
+}
+
+}  // namespace
+
+// Scenario A: a hold (or an abort) during a lone segment's final brake.
+// The path comes to rest at the queue's end: it stands HELD (an abort:
+// flushed), and a segment written then waits for a resume.
+TEST(PathHoldAtTheEnd, HoldInTheFinalBrakeEndsHeld) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+  Recording r;
+  RecordToStep(p, r, 1900);
+  ASSERT_EQ(PosX(p), 1900);
+  const uint32_t flushes = p.e.path.flushes;
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 2000);
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+  EXPECT_EQ(p.e.path.flushes, flushes);
+  ASSERT_EQ(p.Push(Seg(3000, 0, 0, 0, 3000, 4000, 40000, 0), r.events.back().t_ns + 1000), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 2000) << "a held path ran on without a resume";
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+  ASSERT_EQ(x4_path_resume(&p.e, r.events.back().t_ns + 1000000), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 5000);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+}
+
+TEST(PathHoldAtTheEnd, AbortInTheFinalBrakeFlushes) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+  Recording r;
+  RecordToStep(p, r, 1900);
+  const uint32_t flushes = p.e.path.flushes;
+  ASSERT_EQ(x4_path_hold(&p.e, true), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 2000);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  EXPECT_EQ(p.e.path.flushes, flushes + 1) << "an abort at the queue's end flushed nothing";
+}
+
+// Scenario B: the queue ran dry, a segment came in the settle window after
+// the last step, then the controller went away (the glue's hold with
+// abort, x4_path_brake_locked()): the path never moves again. A mere hold
+// there stands HELD with the segment queued.
+class PathSettle : public ::testing::TestWithParam<int> {};
+
+TEST_P(PathSettle, AbortAfterARefillInTheSettleWindowFlushes) {
+  Path p(16);
+  Configure(p, GetParam());
+  ASSERT_EQ(p.Push(Seg(50, 0, 0, 0, 50, 2000, 20000, 0)), X4_OK);
+  Recording r;
+  RecordToEnd(p, r);
+  ASSERT_TRUE(x4_engine_busy(&p.e));
+  ASSERT_EQ(p.e.path.head, p.e.path.tail);
+  ASSERT_EQ(p.Push(Seg(3000, 0, 0, 0, 3000, 2000, 20000, 0), x4_engine_due(&p.e) - 1), X4_OK);
+  const uint32_t flushes = p.e.path.flushes;
+  ASSERT_EQ(x4_path_hold(&p.e, true), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 50) << "the path ran on after its controller was gone";
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  EXPECT_EQ(p.Status().queued, 0u);
+  EXPECT_EQ(p.e.path.flushes, flushes + 1);
+}
+
+TEST_P(PathSettle, HoldAfterARefillInTheSettleWindowEndsHeld) {
+  Path p(16);
+  Configure(p, GetParam());
+  ASSERT_EQ(p.Push(Seg(50, 0, 0, 0, 50, 2000, 20000, 0)), X4_OK);
+  Recording r;
+  RecordToEnd(p, r);
+  ASSERT_TRUE(x4_engine_busy(&p.e));
+  ASSERT_EQ(p.Push(Seg(300, 0, 0, 0, 300, 2000, 20000, 0), x4_engine_due(&p.e) - 1), X4_OK);
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 50);
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+  EXPECT_EQ(p.Status().queued, 1u);
+  ASSERT_EQ(x4_path_resume(&p.e, r.events.back().t_ns + 1000000), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 350);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+}
+
+// Item 3: a resume in the settle window after a hold's last step goes on
+// (mid-queue: the path runs to its end; at the queue's end: it is idle).
+TEST_P(PathSettle, ResumeWhileAHoldEndsGoesOn) {
+  Path p(16);
+  Configure(p, GetParam());
+  ASSERT_EQ(p.Push(Seg(400, 0, 0, 0, 400, 2000, 20000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(400, 0, 0, 0, 400, 2000, 20000, 2000)), X4_OK);
+  Recording r;
+  RecordToStep(p, r, 200);
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  RecordToEnd(p, r);
+  ASSERT_TRUE(x4_engine_busy(&p.e));
+  ASSERT_LT(PosX(p), 800);
+  ASSERT_EQ(x4_path_resume(&p.e, x4_engine_due(&p.e) - 1), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 800);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE) << "a resume in the settle window was lost";
+  EXPECT_EQ(p.Status().queued, 0u);
+  EXPECT_EQ(p.Status().starved, 0u) << "a hold is no want of segments";
+  p.ExpectAtTarget();
+  if (GetParam() == X4_MODE_CLOCK_DIR) {
+    p.ExpectPinsAtTarget(r);
+    CheckPhysics(LeaderSteps(r, p.sent), p.sent);
+  }
+}
+
+TEST_P(PathSettle, ResumeWhileAHoldEndsAtTheQueuesEnd) {
+  Path p(16);
+  Configure(p, GetParam());
+  ASSERT_EQ(p.Push(Seg(400, 0, 0, 0, 400, 2000, 20000, 0)), X4_OK);
+  Recording r;
+  RecordToStep(p, r, 380);
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  RecordToEnd(p, r);
+  ASSERT_TRUE(x4_engine_busy(&p.e));
+  ASSERT_EQ(x4_path_resume(&p.e, x4_engine_due(&p.e) - 1), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(PosX(p), 400);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, PathSettle, ::testing::Values(int(X4_MODE_CLOCK_DIR), int(X4_MODE_SMC_PHASE)),
+                         [](const ::testing::TestParamInfo<int> &i) {
+                           return std::string(i.param ? "SmcPhase" : "ClockDir");
+                         });
+
+// ---- who aborts a path, and what the event stream says (issue 28) ----------
+
+// Item 8: an emergency brake aborts a path, as a close does; a brake key
+// only with X4STEP_PATH_KEYS_ABORT; X4STEP_BRAKE and HALT only hold it.
+TEST(PathAbort, EmergencyBrakeAbortsAsACloseDoes) {
+  EXPECT_TRUE(x4_req_brake_aborts_path(X4STEP_SRC_ESTOP, 0));
+  EXPECT_TRUE(x4_req_brake_aborts_path(X4STEP_SRC_CLOSE, 0));
+  EXPECT_FALSE(x4_req_brake_aborts_path(X4STEP_SRC_KEY, 0));
+  EXPECT_TRUE(x4_req_brake_aborts_path(X4STEP_SRC_KEY, X4STEP_PATH_KEYS_ABORT));
+  EXPECT_FALSE(x4_req_brake_aborts_path(X4STEP_SRC_IOCTL, X4STEP_PATH_KEYS_ABORT));
+}
+
+namespace {
+
+struct Pushed {
+  uint32_t type, axes, how;
+};
+std::vector<Pushed> pushed;
+
+void PushEvent(x4_track *, u32 type, u32 axes, u32 how, u32, u32) { pushed.push_back({type, axes, how}); }
+
+}  // namespace
+
+// Item 9: the abort of a held path (no channel runs it) ends it in the
+// event stream at once; a running path's abort is told by its end; the
+// abort of no path marks nothing (the next path's end would say ABORTED).
+TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+  Recording r;
+  record(p.e, r, 200);
+  x4_track t{};
+  t.push = PushEvent;
+  pushed.clear();
+  x4_track_path_abort(&t, &p.e, false);  // running: its end tells
+  EXPECT_TRUE(t.path_aborting);
+  EXPECT_TRUE(pushed.empty());
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  record(p.e, r);
+  ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+  t.path_aborting = false;
+  ASSERT_EQ(x4_path_hold(&p.e, true), X4_OK);
+  x4_track_path_abort(&t, &p.e, true);
+  ASSERT_EQ(pushed.size(), 1u);
+  EXPECT_EQ(pushed[0].type, uint32_t(X4STEP_EV_MOVE_ENDED));
+  EXPECT_EQ(pushed[0].how, uint32_t(X4STEP_END_ABORTED));
+  EXPECT_EQ(pushed[0].axes, 1u);
+  pushed.clear();
+  x4_track_path_abort(&t, &p.e, false);  // no path: nothing to tell
+  EXPECT_FALSE(t.path_aborting);
+  EXPECT_TRUE(pushed.empty());
 }

@@ -97,6 +97,50 @@ TEST_F(SimKeys, ScriptedKeyHoldsAPathOrAbortsIt) {
   EXPECT_THROW(path.append(line(1)), x4step::error);  // flushed: clear() first
 }
 
+// Issue 28, item 9: with X4STEP_PATH_KEYS_ABORT a brake key aborts a
+// path that stands held too (held by PATH_CTL HOLD), and the event stream
+// tells its end.
+TEST_F(SimKeys, KeyAbortsAHeldPath) {
+  controller c("sim");
+  x4step::monitor m("sim");
+  c.set_brake_codes({57});
+  auto p = x4step::sim::port::find(0);
+  x4step::path path(c);
+  path.configure(x4step::path_config().keys_abort(true));
+  path.append(line(100));
+  p->run_until(p->engine_now() + 500000000u);
+  path.hold();
+  ASSERT_TRUE(path.wait(10s));
+  ASSERT_EQ(path.status().state, x4step::path_state::held);
+  while (m.read_event(0ms)) {
+  }
+  EXPECT_TRUE(p->key(57));
+  const x4step::path_status s = path.status();
+  EXPECT_EQ(s.state, x4step::path_state::idle);
+  EXPECT_EQ(s.queued, 0u);
+  EXPECT_EQ(c.get_status().last_brake_code, 57);
+  EXPECT_THROW(path.append(line(1)), x4step::error);  // flushed: clear() first
+  std::vector<x4step::event> ev;
+  while (auto e = m.read_event(0ms)) ev.push_back(*e);
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_EQ(ev[0].type, x4step::event_type::move_ended);
+  EXPECT_EQ(ev[0].how, unsigned(X4STEP_END_ABORTED));
+}
+
+// Without X4STEP_PATH_KEYS_ABORT a key leaves a held path held.
+TEST_F(SimKeys, KeyLeavesAHeldPathHeld) {
+  controller c("sim");
+  c.set_brake_codes({57});
+  auto p = x4step::sim::port::find(0);
+  x4step::path path(c);
+  path.append(line(100));
+  p->run_until(p->engine_now() + 500000000u);
+  path.hold();
+  ASSERT_TRUE(path.wait(10s));
+  EXPECT_FALSE(p->key(57));
+  EXPECT_EQ(path.status().state, x4step::path_state::held);
+}
+
 TEST_F(SimKeys, RealTimeKeyComesAtItsTime) {
   setenv("X4STEP_SIM_TIME", "real", 1);
   setenv("X4STEP_SIM_KEYS", "150ms:esc", 1);

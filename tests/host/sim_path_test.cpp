@@ -167,10 +167,11 @@ TEST_F(SimPath, AbortAfterHoldFlushes) {
   EXPECT_EQ(path.status().queued, 0u);
   EXPECT_LT(pos(c, 1), at + 200 + 5000);
   const auto ev = events(m);
-  // The held path's end said HELD; the abort of it moved nothing.
+  // The held path's end said HELD; the abort of it moved nothing, and
+  // said ABORTED (issue 28), as the abort of the running path did.
   EXPECT_EQ(count(ev, x4step::event_type::move_ended, X4STEP_END_HELD), 1u);
   EXPECT_EQ(count(ev, x4step::event_type::move_ended, X4STEP_END_COMPLETED), 1u);
-  EXPECT_EQ(count(ev, x4step::event_type::move_ended, X4STEP_END_ABORTED), 1u);
+  EXPECT_EQ(count(ev, x4step::event_type::move_ended, X4STEP_END_ABORTED), 2u);
 }
 
 // The requests themselves, as the module answers them: a bad record or
@@ -286,4 +287,66 @@ TEST_F(SimPath, CApiStreamsAPathToItsEnd) {
   bad.length = 0;
   EXPECT_EQ(X4PathAppend(&bad, 1), X4ErrParamFail);
   EXPECT_EQ(X4ReInit(), X4NoErr);
+}
+
+// Issue 28, item 8: an emergency brake aborts a path (hold, then flush):
+// the controller cannot resume it, and the streamer learns of it.
+TEST_F(SimPath, EmergencyBrakeAbortsThePath) {
+  controller c("sim");
+  x4step::monitor m("sim");
+  auto p = x4step::sim::port::find(0);
+  x4step::path path(c);
+  path.append(line(200));
+  p->run_until(p->engine_now() + 1000000000u);
+  ASSERT_EQ(path.status().state, path_state::running);
+  m.emergency_halt(x4step::halt_mode::brake);
+  ASSERT_TRUE(path.wait(10s));
+  const x4step::path_status s = path.status();
+  EXPECT_EQ(s.state, path_state::idle);
+  EXPECT_EQ(s.queued, 0u);
+  EXPECT_THROW(path.resume(), x4step::error);
+  EXPECT_THROW(path.append(line(1)), x4step::error);  // flushed: clear() first
+  const auto ev = events(m);
+  EXPECT_EQ(count(ev, x4step::event_type::move_ended, X4STEP_END_ABORTED), 1u);
+  EXPECT_EQ(count(ev, x4step::event_type::move_ended, X4STEP_END_HELD), 0u);
+  EXPECT_EQ(count(ev, x4step::event_type::brake, X4STEP_SRC_ESTOP), 1u);
+}
+
+// ... and of a held path too: at once, with its end in the event stream.
+TEST_F(SimPath, EmergencyBrakeAbortsAHeldPath) {
+  controller c("sim");
+  x4step::monitor m("sim");
+  auto p = x4step::sim::port::find(0);
+  x4step::path path(c);
+  path.append(line(200));
+  p->run_until(p->engine_now() + 1000000000u);
+  path.hold();
+  ASSERT_TRUE(path.wait(10s));
+  ASSERT_EQ(path.status().state, path_state::held);
+  events(m);
+  m.emergency_halt(x4step::halt_mode::brake);
+  const x4step::path_status s = path.status();
+  EXPECT_EQ(s.state, path_state::idle);
+  EXPECT_EQ(s.queued, 0u);
+  EXPECT_THROW(path.append(line(1)), x4step::error);
+  EXPECT_EQ(count(events(m), x4step::event_type::move_ended, X4STEP_END_ABORTED), 1u);
+}
+
+// Issue 28, item 9: PATH_CTL ABORT of a held path tells its end.
+TEST_F(SimPath, AbortOfAHeldPathIsAnEvent) {
+  controller c("sim");
+  x4step::monitor m("sim");
+  auto p = x4step::sim::port::find(0);
+  x4step::path path(c);
+  path.append(line(200));
+  p->run_until(p->engine_now() + 1000000000u);
+  path.hold();
+  ASSERT_TRUE(path.wait(10s));
+  ASSERT_EQ(path.status().state, path_state::held);
+  ASSERT_EQ(count(events(m), x4step::event_type::move_ended, X4STEP_END_HELD), 1u);
+  path.abort();
+  const auto ev = events(m);
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_EQ(ev[0].type, x4step::event_type::move_ended);
+  EXPECT_EQ(ev[0].how, unsigned(X4STEP_END_ABORTED));
 }

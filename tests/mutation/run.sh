@@ -45,7 +45,7 @@ search=$(printf "$engdir/%s\n" $files)
 CC=${CC:-gcc}
 CXX=${CXX:-g++}
 cflags="-std=c11 -O1 -Dnoinline=__attribute__((noinline)) -I$top/include/uapi"
-cxxflags="-std=c++17 -O1 $(pkg-config --cflags gtest_main 2>/dev/null)"
+cxxflags="-std=c++17 -O1 -I$top/include/uapi $(pkg-config --cflags gtest_main 2>/dev/null)"
 ldlibs=$(pkg-config --libs gtest_main gtest 2>/dev/null || echo "-lgtest_main -lgtest -pthread")
 
 # The baseline's directories; each mutation worker has its own $mut (the

@@ -469,8 +469,9 @@ struct x4step_event {
  * ramps) or X4STEP_HALT_STOP (at once: the axes lose their
  * synchronization). The event stream shows an X4STEP_EV_BRAKE with
  * how X4STEP_SRC_ESTOP and value `how`, then the ends of the moves.
- * EINVAL for another `how` or non-zero flags or reserved words; ESRCH if
- * no move runs; ENODEV once the port is gone. Modules before this
+ * A path is aborted (held, then flushed; a held one at once). EINVAL for
+ * another `how` or non-zero flags or reserved words; ESRCH if no move
+ * runs and no path stands held; ENODEV once the port is gone. Modules before this
  * ioctl answer ENOTTY.
  */
 struct x4step_estop {
@@ -550,8 +551,12 @@ struct x4step_estop {
  *
  * Starts and ends show in the event stream: MOVE_STARTED (KIND_PATH), and
  * MOVE_ENDED with COMPLETED (the queue ran empty), HELD, ABORTED, STOPPED
- * or LIMIT. X4STEP_BRAKE and brake keys hold a path (keys: then abort,
- * with X4STEP_PATH_KEYS_ABORT); X4STEP_STOP stops it at once and flushes.
+ * or LIMIT; the abort of a held path ends it (ABORTED) at once. A hold
+ * stands HELD wherever it comes to rest, at the queue's end too: what is
+ * written then waits for a resume. X4STEP_BRAKE and brake keys hold a
+ * path (keys: then abort, with X4STEP_PATH_KEYS_ABORT, a held path too);
+ * X4STEP_ESTOP's brake and the controller's close abort it; X4STEP_STOP
+ * stops it at once and flushes.
  */
 struct x4step_segment {
 	__s32 steps[X4STEP_AXES]; /* |steps| <= 16777216, at least one non-zero */
