@@ -523,8 +523,9 @@ static void cut_piece(struct x4_engine *e)
  * The running segment's exit follows the plan: new segments came, or the
  * plan raised the entry of the one after it (a higher override), or
  * lowered it (a lower one: obeyed before the next segment where there is
- * room, plan_piece() brakes at the limit where there is not). Its next
- * piece, from the pending step, goes to the new exit speed instead.
+ * room, plan_piece() brakes at the limit where there is not). Running,
+ * its next piece, from the pending step, goes to the new exit speed;
+ * holding or held, the resume does.
  */
 static void follow_exit(struct x4_engine *e)
 {
@@ -538,18 +539,20 @@ static void follow_exit(struct x4_engine *e)
 		     x4_load_acquire(&slot_of(pa, pa->head + 1)->entry));
 	if (v == pa->exit)
 		return;
-	if (pa->lonely && c->n >= c->run.n_decel)
+	if (pa->state == X4_PATH_RUN && pa->lonely &&
+	    c->n >= c->run.n_decel)
 		pa->starved++; /* it began to brake for want of segments */
 	pa->lonely = false;
 	pa->exit = (u32)v;
-	cut_piece(e);
+	if (pa->state == X4_PATH_RUN)
+		cut_piece(e);
 }
 
 void x4_path_kick(struct x4_engine *e, u64 now_ns)
 {
 	struct x4_path *pa = &e->path;
 
-	if (pa->state == X4_PATH_RUN && pa->started && e->ch[0].path)
+	if (pa->state != X4_PATH_IDLE && pa->started)
 		follow_exit(e);
 	if (pa->state != X4_PATH_IDLE || pa->head == pa->tail)
 		return;

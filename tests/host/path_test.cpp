@@ -1085,3 +1085,34 @@ TEST(PathOverride, DropWithRoomIsObeyedBeforeTheNextSegment) {
   std::printf("[ override ] 10 %% with room to obey: fastest after the junction %.1f (top 200)\n", fastest);
   EXPECT_LT(fastest, 200 * 1.001 + 3);
 }
+
+// Issue 28, item 4: a segment that started alone (exit: rest) is held; a
+// segment appended while it holds or stands is part of the plan when it
+// resumes: the path passes the junction at the plan's 4000, not at rest.
+TEST(PathHold, ResumeTakesTheSegmentAppendedMeanwhile) {
+  for (bool held : {true, false}) {
+    Path p;
+    ASSERT_EQ(p.Push(Seg(4000, 0, 0, 0, 4000, 4000, 40000, 0)), X4_OK);
+    Recording r;
+    record(p.e, r, 2000);  // cruising at 4000
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    if (held) {
+      record(p.e, r);
+      ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+    } else {
+      record(p.e, r, 50);
+      ASSERT_EQ(p.Status().state, X4_PATH_HOLDING);
+    }
+    const uint64_t now = held ? r.events.back().t_ns + 1000000 : x4_engine_due(&p.e);
+    ASSERT_EQ(p.Push(Seg(4000, 0, 0, 0, 4000, 4000, 40000, 4000), now), X4_OK);
+    ASSERT_EQ(x4_path_resume(&p.e, now), X4_OK);
+    const auto st = RunToEnd(p, r);
+    ASSERT_GT(st.size(), 4001u);
+    ASSERT_EQ(st[4000].seg, 1u);
+    const double v = (st[4000].s - st[3999].s) / (st[4000].t - st[3999].t);
+    std::printf("[ resume   ] appended while %s: %.0f steps/s at the junction\n", held ? "held" : "holding", v);
+    EXPECT_GT(v, 3950) << (held ? "appended while held" : "appended while holding");
+    EXPECT_EQ(p.Status().starved, 0u) << "it stood for the hold, not for want of segments";
+  }
+}
+
