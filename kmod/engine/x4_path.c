@@ -303,9 +303,12 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 }
 
 /*
- * Start the segment at head, entering at path speed v_in: its axes and
- * Bresenham, its switches, and its exit speed, read once from the plan
- * (or rest when nothing follows it yet).
+ * Start the segment at head, entering at path speed v_in / pa->leader
+ * (v_in: the segment before's end speed in its leader steps/s times its
+ * length): its axes and Bresenham, its switches, and its exit speed, read
+ * once from the plan (or rest when nothing follows it yet). The entry
+ * speed goes over in leader steps, rounded down once: not through whole
+ * units/s, which a unit coarser than a step would make a speed step.
  */
 static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 {
@@ -313,8 +316,16 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	struct x4_path_slot *s = slot_of(pa, pa->head);
 	u32 tail = x4_load_acquire(&pa->tail);
 	s64 steps[X4_AXES];
-	u64 v_exit = 0;
+	u64 v_exit = 0, q = 0, r = 0;
 	int i;
+
+	if (v_in) {
+		/* v_in * s->leader / (pa->leader * length) within 64 bits */
+		q = x4_div(v_in, pa->leader);
+		r = v_in - q * pa->leader;
+		q = x4_div(q * s->leader + x4_div(r * s->leader, pa->leader),
+			   s->seg.length);
+	}
 
 	for (i = 0; i < X4_AXES; i++)
 		steps[i] = s->seg.steps[i];
@@ -330,7 +341,7 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	pa->exit = (u32)to_steps(s, v_exit);
 	pa->pos = 0;
 	pa->piece = 0;
-	pa->v_end = (u32)to_steps(s, v_in);
+	pa->v_end = (u32)q;
 }
 
 /* Flush the queue: the path is idle. */
@@ -386,7 +397,7 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 	pa->pos += pa->piece;
 	pa->piece = 0;
 	if (pa->pos >= pa->leader) {
-		u64 v = to_path(slot_of(pa, pa->head), pa->v_end);
+		u64 v = (u64)pa->v_end * slot_of(pa, pa->head)->seg.length;
 
 		pa->done++;
 		pa->started = false;
