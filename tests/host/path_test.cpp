@@ -1061,7 +1061,8 @@ TEST(PathOverride, DropOnEveryQueueShapeKeepsTheAcceleration) {
         }
       }
     }
-    std::printf("[ override ] %-32s %3zu drops: largest acceleration %.3f of the limit\n", shape.name, runs, worst);
+    std::printf("[ override ] %-32s %3zu drops: largest acceleration %.3f of the limit\n", shape.name, runs,
+                worst);
   }
 }
 
@@ -1110,7 +1111,8 @@ TEST(PathHold, ResumeTakesTheSegmentAppendedMeanwhile) {
     ASSERT_GT(st.size(), 4001u);
     ASSERT_EQ(st[4000].seg, 1u);
     const double v = (st[4000].s - st[3999].s) / (st[4000].t - st[3999].t);
-    std::printf("[ resume   ] appended while %s: %.0f steps/s at the junction\n", held ? "held" : "holding", v);
+    std::printf("[ resume   ] appended while %s: %.0f steps/s at the junction\n", held ? "held" : "holding",
+                v);
     EXPECT_GT(v, 3950) << (held ? "appended while held" : "appended while holding");
     EXPECT_EQ(p.Status().starved, 0u) << "it stood for the hold, not for want of segments";
   }
@@ -1123,7 +1125,8 @@ TEST(PathHold, ResumeTakesTheSegmentAppendedMeanwhile) {
 TEST(PathRun, CoarseUnitsKeepTheSpeedAtJunctions) {
   Path p;
   for (int k = 0; k < 40; k++)
-    ASSERT_EQ(p.Push(k % 2 ? Seg(160, 0, 0, 0, 2, 100, 200, 100) : Seg(240, 240, 0, 0, 4, 100, 200, 100)), X4_OK);
+    ASSERT_EQ(p.Push(k % 2 ? Seg(160, 0, 0, 0, 2, 100, 200, 100) : Seg(240, 240, 0, 0, 4, 100, 200, 100)),
+              X4_OK);
   Recording r;
   double worst = 0;
   RunToEnd(p, r, SIZE_MAX, &worst);
