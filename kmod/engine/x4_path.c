@@ -245,7 +245,9 @@ static u64 cruise(const struct x4_engine *e)
  * speed pa->v_end: brake to the cruise speed first where it is lower,
  * else up to it and down to the exit speed. Every end speed is one the
  * ramp reaches in the piece; rounding never makes a speed jump of more
- * than a step/s.
+ * than a step/s. An exit lower than the ramp can reach (the override
+ * dropped after the plan fixed this segment's entry) is not: the piece
+ * brakes all the way, and the next segment goes on braking from there.
  */
 static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 {
@@ -254,10 +256,15 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 	u64 vc = cruise(e), ve = min_u64(pa->exit, vc), d = rest;
 	struct x4_profile f = { 0 };
 
-	if (v0 > vc) {
-		/* Brake to vc, or as far as the segment lets. */
-		d = x4_div(v0 * v0 - vc * vc + 2 * a - 1, 2 * a);
-		if (d < rest) {
+	if (v0 > vc || v0 * v0 > ve * ve + 2 * a * rest) {
+		/*
+		 * Brake to vc, or as far as the segment lets; all the way
+		 * where vc leaves too little room to brake to the exit after
+		 * (d is rounded up: the last part of a step).
+		 */
+		d = v0 > vc ? x4_div(v0 * v0 - vc * vc + 2 * a - 1, 2 * a) :
+			      rest;
+		if (d < rest && vc * vc <= ve * ve + 2 * a * (rest - d)) {
 			ve = vc;
 		} else {
 			/*
@@ -296,9 +303,12 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 }
 
 /*
- * Start the segment at head, entering at path speed v_in: its axes and
- * Bresenham, its switches, and its exit speed, read once from the plan
- * (or rest when nothing follows it yet).
+ * Start the segment at head, entering at path speed v_in / pa->leader
+ * (v_in: the segment before's end speed in its leader steps/s times its
+ * length): its axes and Bresenham, its switches, and its exit speed, read
+ * once from the plan (or rest when nothing follows it yet). The entry
+ * speed goes over in leader steps, rounded down once: not through whole
+ * units/s, which a unit coarser than a step would make a speed step.
  */
 static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 {
@@ -306,8 +316,16 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	struct x4_path_slot *s = slot_of(pa, pa->head);
 	u32 tail = x4_load_acquire(&pa->tail);
 	s64 steps[X4_AXES];
-	u64 v_exit = 0;
+	u64 v_exit = 0, q = 0, r = 0;
 	int i;
+
+	if (v_in) {
+		/* v_in * s->leader / (pa->leader * length) within 64 bits */
+		q = x4_div(v_in, pa->leader);
+		r = v_in - q * pa->leader;
+		q = x4_div(q * s->leader + x4_div(r * s->leader, pa->leader),
+			   s->seg.length);
+	}
 
 	for (i = 0; i < X4_AXES; i++)
 		steps[i] = s->seg.steps[i];
@@ -323,7 +341,7 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	pa->exit = (u32)to_steps(s, v_exit);
 	pa->pos = 0;
 	pa->piece = 0;
-	pa->v_end = (u32)to_steps(s, v_in);
+	pa->v_end = (u32)q;
 }
 
 /* Flush the queue: the path is idle. */
@@ -379,7 +397,7 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 	pa->pos += pa->piece;
 	pa->piece = 0;
 	if (pa->pos >= pa->leader) {
-		u64 v = to_path(slot_of(pa, pa->head), pa->v_end);
+		u64 v = (u64)pa->v_end * slot_of(pa, pa->head)->seg.length;
 
 		pa->done++;
 		pa->started = false;
@@ -518,11 +536,14 @@ static void cut_piece(struct x4_engine *e)
 }
 
 /*
- * The running segment may end faster than it started out to: new segments
- * came, or the plan raised the entry of the one after it. Its next piece,
- * from the pending step, brakes to the new exit speed instead.
+ * The running segment's exit follows the plan: new segments came, or the
+ * plan raised the entry of the one after it (a higher override), or
+ * lowered it (a lower one: obeyed before the next segment where there is
+ * room, plan_piece() brakes at the limit where there is not). Running,
+ * its next piece, from the pending step, goes to the new exit speed;
+ * holding or held, the resume does.
  */
-static void raise_exit(struct x4_engine *e)
+static void follow_exit(struct x4_engine *e)
 {
 	struct x4_path *pa = &e->path;
 	struct x4_chan *c = &e->ch[0];
@@ -532,21 +553,23 @@ static void raise_exit(struct x4_engine *e)
 		return;
 	v = to_steps(slot_of(pa, pa->head),
 		     x4_load_acquire(&slot_of(pa, pa->head + 1)->entry));
-	if (v <= pa->exit)
+	if (v == pa->exit)
 		return;
-	if (pa->lonely && c->n >= c->run.n_decel)
+	if (pa->state == X4_PATH_RUN && pa->lonely &&
+	    c->n >= c->run.n_decel)
 		pa->starved++; /* it began to brake for want of segments */
 	pa->lonely = false;
 	pa->exit = (u32)v;
-	cut_piece(e);
+	if (pa->state == X4_PATH_RUN)
+		cut_piece(e);
 }
 
 void x4_path_kick(struct x4_engine *e, u64 now_ns)
 {
 	struct x4_path *pa = &e->path;
 
-	if (pa->state == X4_PATH_RUN && pa->started && e->ch[0].path)
-		raise_exit(e);
+	if (pa->state != X4_PATH_IDLE && pa->started)
+		follow_exit(e);
 	if (pa->state != X4_PATH_IDLE || pa->head == pa->tail)
 		return;
 	begin_path(e, now_ns);

@@ -11,10 +11,12 @@
  *    segment from which the rest of the queue can still stop;
  *  - the timer (x4_engine_fire(), under the engine's lock) runs the segment
  *    at `head` and frees it by advancing `head`.
- * The timer reads a planned entry speed once, when the segment before it
- * starts, and clamps it to what that segment can reach: so every single
- * value the writer stores keeps the plan safe, whatever the timer reads
- * while a pass runs, and no loop over the queue runs under the lock.
+ * The timer reads a planned entry speed when the segment before it starts
+ * (and again at a kick), and clamps it to what that segment's ramps can
+ * reach, up and down: so every single value the writer stores keeps the
+ * plan safe, whatever the timer reads while a pass runs (a lower override
+ * the path is too fast to obey at once is braked toward at the limit),
+ * and no loop over the queue runs under the lock.
  */
 #ifndef X4_PATH_H
 #define X4_PATH_H

@@ -1141,3 +1141,204 @@ TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
   EXPECT_FALSE(t.path_aborting);
   EXPECT_TRUE(pushed.empty());
 }
+
+// ---- issue 28: an override never jumps, a resume keeps the plan, junctions in steps
+
+namespace {
+
+// Runs the queue `segs` (units = steps unless the segments say otherwise)
+// for `events` events, sets the override to pct (as PATH_CTL does: set,
+// replan, kick), runs it to its end and returns CheckPhysics' largest
+// acceleration as a fraction of the limit (RunToEnd's checks apply).
+double DropAt(const std::vector<x4_segment> &segs, size_t events, uint32_t pct, Recording &r, Path &p) {
+  for (const auto &s : segs) EXPECT_EQ(p.Push(s), X4_OK);
+  record(p.e, r, events);
+  EXPECT_EQ(x4_path_set_override(&p.e, pct), X4_OK);
+  x4_path_replan(&p.e);
+  x4_path_kick(&p.e, x4_engine_due(&p.e));
+  double worst = 0;
+  RunToEnd(p, r, SIZE_MAX, &worst);
+  return worst;
+}
+
+// The issue's queue: a long fast segment, a 20-step one entered at 1000,
+// two slow ones. Lengths in steps, acceleration 10 000 steps/s^2.
+std::vector<x4_segment> LongShortSlow() {
+  return {Seg(20000, 0, 0, 0, 20000, 10000, 10000, 0), Seg(20, 0, 0, 0, 20, 10000, 10000, 1000),
+          Seg(4000, 0, 0, 0, 4000, 2000, 10000, 2000), Seg(4000, 0, 0, 0, 4000, 2000, 10000, 2000)};
+}
+
+}  // namespace
+
+// Issue 28, item 2: the override drops to 10 % at leader step 20 000 (the
+// long segment's end, the 20-step segment's entry already fixed at 1000):
+// the 20-step segment cannot brake to the slow segments' new entry (200),
+// and must not start lower than it is entered; it brakes at the limit and
+// the slow segment goes on braking.
+TEST(PathOverride, DropBeforeAShortSegmentBrakesAtTheLimit) {
+  double worst_all = 0;
+  for (size_t back = 0; back < 6; back++) {
+    Path p;
+    for (const auto &s : LongShortSlow()) ASSERT_EQ(p.Push(s), X4_OK);
+    Recording r;
+    while (r.rises[0].size() + back < 20000) record(p.e, r, 1);
+    ASSERT_EQ(x4_path_set_override(&p.e, 10), X4_OK);
+    x4_path_replan(&p.e);
+    x4_path_kick(&p.e, x4_engine_due(&p.e));
+    double worst = 0;
+    RunToEnd(p, r, SIZE_MAX, &worst);
+    worst_all = std::max(worst_all, worst);
+    if (HasFailure()) {
+      ADD_FAILURE() << "override dropped " << back << " steps before leader step 20000";
+      break;
+    }
+  }
+  std::printf("[ override ] drop to 10 %% before a 20-step segment: largest acceleration %.3f of the limit\n",
+              worst_all);
+  EXPECT_LE(worst_all, 1.0);
+}
+
+namespace {
+
+// The event indices at which to drop the override on `segs`: a coarse
+// sweep over the whole run and, where `junctions`, the last events before
+// every junction (where the running segment's exit is already fixed).
+std::vector<size_t> Moments(const std::vector<x4_segment> &segs, size_t coarse, bool junctions) {
+  Path p(1024);
+  for (const auto &s : segs) EXPECT_EQ(p.Push(s), X4_OK);
+  Recording r;
+  record(p.e, r);
+  std::vector<size_t> out;
+  const size_t n = r.events.size();
+  for (size_t k = 1; k < n; k += std::max<size_t>(1, n / coarse)) out.push_back(k);
+  if (!junctions) return out;
+  size_t idx[X4_AXES] = {0, 0, 0, 0};
+  for (size_t k = 0; k + 1 < segs.size(); k++) {
+    const int lead = Leader(segs[k]);
+    for (int i = 0; i < X4_AXES; i++) idx[i] += std::abs(segs[k].steps[i]);
+    const uint64_t t = r.rises[lead][idx[lead] - 1];  // the segment's last leader step
+    const auto it = std::lower_bound(r.events.begin(), r.events.end(), t,
+                                     [](const x4_event &ev, uint64_t v) { return ev.t_ns < v; });
+    const size_t e = size_t(it - r.events.begin());
+    for (size_t d = 0; d < 12 && d < e; d++) out.push_back(e - d);
+    out.push_back(e + 1);
+  }
+  return out;
+}
+
+}  // namespace
+
+// Issue 28, item 2, on every queue shape: an override dropped at any moment
+// (a coarse sweep, and the events around each junction) to 50, 10 or 1 %
+// is approached at the acceleration limit, never by a velocity step. The
+// chain: short segments whose cruise stays above their entry at 50 %, too
+// short together to brake from the long segment's exit to the slow one's
+// new top speed.
+TEST(PathOverride, DropOnEveryQueueShapeKeepsTheAcceleration) {
+  std::vector<x4_segment> chain = {Seg(6000, 0, 0, 0, 6000, 8000, 10000, 0)};
+  for (int k = 0; k < 8; k++) chain.push_back(Seg(15, 5, 0, 0, 16, 20000, 10000, 8000));
+  chain.push_back(Seg(3000, 0, 0, 0, 3000, 1500, 10000, 1500));
+  chain.push_back(Seg(0, 3000, 0, 0, 3000, 1500, 10000, 300));
+  std::vector<x4_segment> mixed;
+  for (int k = 0; k < 30; k++)
+    mixed.push_back(k % 3 == 2 ? Seg(40, 40, 0, 0, 57, 4000 + 500 * (k % 4), 20000, 1000 * (k % 5))
+                               : Seg(-7 * (k % 2), 60 + k, 0, 0, 60 + k, 3000 + 300 * (k % 7), 20000, 4000));
+  const struct {
+    const char *name;
+    std::vector<x4_segment> segs;
+    size_t coarse;
+    bool junctions;
+  } shapes[] = {
+      {"long, short, slow", LongShortSlow(), 20, true},
+      {"long, 8 short, slow, corner", chain, 20, true},
+      {"line of 10-step pieces", Line(80, 20000), 60, false},
+      {"circle of 36 chords", Circle(2000, 36, 20000, 100000, 20000), 60, false},
+      {"mixed lengths, speeds, corners", mixed, 30, true},
+  };
+  for (const auto &shape : shapes) {
+    double worst = 0;
+    size_t runs = 0;
+    for (uint32_t pct : {50u, 10u, 1u}) {
+      for (size_t k : Moments(shape.segs, shape.coarse, shape.junctions)) {
+        Path p(1024);
+        Recording r;
+        worst = std::max(worst, DropAt(shape.segs, k, pct, r, p));
+        runs++;
+        if (HasFailure()) {
+          ADD_FAILURE() << shape.name << ": override " << pct << " % at event " << k;
+          return;
+        }
+      }
+    }
+    std::printf("[ override ] %-32s %3zu drops: largest acceleration %.3f of the limit\n", shape.name, runs,
+                worst);
+  }
+}
+
+// Issue 28, item 2: a drop the running segment has room to obey is obeyed
+// before the next segment: the long segment brakes to the slow segment's
+// new top speed (200) before it, not only to its own (1000).
+TEST(PathOverride, DropWithRoomIsObeyedBeforeTheNextSegment) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(20000, 0, 0, 0, 20000, 10000, 10000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(4000, 0, 0, 0, 4000, 2000, 10000, 2000)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(0, 4000, 0, 0, 4000, 2000, 10000, 2000)), X4_OK);
+  Recording r;
+  while (r.rises[0].size() < 10000) record(p.e, r, 1);  // cruising at 10 000
+  ASSERT_EQ(x4_path_set_override(&p.e, 10), X4_OK);
+  x4_path_replan(&p.e);
+  x4_path_kick(&p.e, x4_engine_due(&p.e));
+  const auto st = RunToEnd(p, r);
+  double fastest = 0;
+  for (size_t k = 20001; k < st.size(); k++)
+    fastest = std::max(fastest, (st[k].s - st[k - 1].s) / (st[k].t - st[k - 1].t));
+  std::printf("[ override ] 10 %% with room to obey: fastest after the junction %.1f (top 200)\n", fastest);
+  EXPECT_LT(fastest, 200 * 1.001 + 3);
+}
+
+// Issue 28, item 4: a segment that started alone (exit: rest) is held; a
+// segment appended while it holds or stands is part of the plan when it
+// resumes: the path passes the junction at the plan's 4000, not at rest.
+TEST(PathHold, ResumeTakesTheSegmentAppendedMeanwhile) {
+  for (bool held : {true, false}) {
+    Path p;
+    ASSERT_EQ(p.Push(Seg(4000, 0, 0, 0, 4000, 4000, 40000, 0)), X4_OK);
+    Recording r;
+    record(p.e, r, 2000);  // cruising at 4000
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    if (held) {
+      record(p.e, r);
+      ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+    } else {
+      record(p.e, r, 50);
+      ASSERT_EQ(p.Status().state, X4_PATH_HOLDING);
+    }
+    const uint64_t now = held ? r.events.back().t_ns + 1000000 : x4_engine_due(&p.e);
+    ASSERT_EQ(p.Push(Seg(4000, 0, 0, 0, 4000, 4000, 40000, 4000), now), X4_OK);
+    ASSERT_EQ(x4_path_resume(&p.e, now), X4_OK);
+    const auto st = RunToEnd(p, r);
+    ASSERT_GT(st.size(), 4001u);
+    ASSERT_EQ(st[4000].seg, 1u);
+    const double v = (st[4000].s - st[3999].s) / (st[4000].t - st[3999].t);
+    std::printf("[ resume   ] appended while %s: %.0f steps/s at the junction\n", held ? "held" : "holding",
+                v);
+    EXPECT_GT(v, 3950) << (held ? "appended while held" : "appended while holding");
+    EXPECT_EQ(p.Status().starved, 0u) << "it stood for the hold, not for want of segments";
+  }
+}
+
+// Issue 28, item 5: units coarser than a step (mm at 80 steps/mm, as
+// through the raw API): a path accelerating across junctions must not lose
+// up to 79 steps/s at each (to whole mm/s); straight and diagonal pieces,
+// so that the leader's steps per unit change at the junctions too.
+TEST(PathRun, CoarseUnitsKeepTheSpeedAtJunctions) {
+  Path p;
+  for (int k = 0; k < 40; k++)
+    ASSERT_EQ(p.Push(k % 2 ? Seg(160, 0, 0, 0, 2, 100, 200, 100) : Seg(240, 240, 0, 0, 4, 100, 200, 100)),
+              X4_OK);
+  Recording r;
+  double worst = 0;
+  RunToEnd(p, r, SIZE_MAX, &worst);
+  std::printf("[ units    ] 80 steps/mm, 40 junctions: largest acceleration %.3f of the limit\n", worst);
+  EXPECT_LE(worst, 1.0);
+}

@@ -530,7 +530,9 @@ struct x4step_estop {
  * whole struct x4step_segment records (EINVAL for another size). A segment
  * moves the axes by `steps` (Bresenham, as X4STEP_LOAD's moves) along
  * `length` units of the path (a unit user space chooses: the leader axis'
- * steps lie at equal distances), at path speeds in units/s. The module
+ * steps lie at equal distances), at path speeds in units/s. A unit may be
+ * coarser than a step (mm): speeds are planned in whole units/s, and run
+ * and carried from segment to segment in steps. The module
  * plans ahead over its queue, so that the queue as planned always ends at
  * rest: if the writer is late, the path slows down and stops on it; when a
  * controller closes or dies, the path holds and its queue is flushed.
