@@ -198,17 +198,6 @@ void x4_path_room_locked(struct x4_port *x4)
 	}
 }
 
-/* Abort the path: hold, then flush; the event stream tells (slock held). */
-static int x4_path_abort_locked(struct x4_port *x4)
-{
-	bool held = x4->eng.path.state == X4_PATH_HELD;
-	int ret = x4_path_hold(&x4->eng, true);
-
-	if (!ret)
-		x4_track_path_abort(&x4->ev, &x4->eng, held);
-	return ret;
-}
-
 /* Whether a brake by `source` aborts the path: there is one (slock held). */
 bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source)
 {
@@ -224,7 +213,7 @@ bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source)
 bool x4_path_brake_locked(struct x4_port *x4, u32 source)
 {
 	return x4_path_brake_aborts_locked(x4, source) &&
-	       !x4_path_abort_locked(x4);
+	       !x4_track_path_abort(&x4->ev, &x4->eng);
 }
 
 static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
@@ -240,7 +229,7 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 	case X4STEP_PATH_ABORT:
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		if (c->cmd == X4STEP_PATH_ABORT)
-			ret = x4_path_abort_locked(x4);
+			ret = x4_track_path_abort(&x4->ev, e);
 		else
 			ret = x4_path_hold(e, false);
 		raw_spin_unlock_irqrestore(&x4->slock, flags);

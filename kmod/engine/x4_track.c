@@ -50,14 +50,19 @@ void x4_track_stop(struct x4_track *t, u8 chans)
 	t->stopped |= chans;
 }
 
-void x4_track_path_abort(struct x4_track *t, const struct x4_engine *e,
-			 bool held)
+int x4_track_path_abort(struct x4_track *t, struct x4_engine *e)
 {
+	bool held = e->path.state == X4_PATH_HELD;
+	int ret = x4_path_hold(e, true);
+
+	if (ret)
+		return ret;
 	if (held)
 		t->push(t, X4STEP_EV_MOVE_ENDED, e->ch[0].run.axes,
 			X4STEP_END_ABORTED, 0, 0);
 	else if (x4_path_active(e))
 		t->path_aborting = true; /* its end says so */
+	return X4_OK;
 }
 
 /* The channel that runs axis i, or -1. */

@@ -36,11 +36,11 @@ void x4_track_brake(struct x4_track *t, const struct x4_engine *e, u8 chans,
 /* The moves of channels `chans` are being stopped at once. */
 void x4_track_stop(struct x4_track *t, u8 chans);
 /*
- * A path's abort was asked for, the path `held` before it: a held path
- * (no channel runs it) ends now, a running one when its channel ends.
+ * Abort the path (hold, then flush: x4_path_hold()) and tell it: a held
+ * path (no channel runs it) ends now, a running one when its channel
+ * ends. The result of x4_path_hold().
  */
-void x4_track_path_abort(struct x4_track *t, const struct x4_engine *e,
-			 bool held);
+int x4_track_path_abort(struct x4_track *t, struct x4_engine *e);
 /*
  * After the engine changed: what the changes mean. `c`: the engine fired
  * an event of channel c (its reference phase is worth a look), else -1;

@@ -48,14 +48,6 @@ int port::path_go_locked() {
   return 0;
 }
 
-// x4_path_abort_locked(): hold, then flush; the event stream tells.
-int port::path_abort_locked() {
-  const bool held = eng_.path.state == X4_PATH_HELD;
-  const int ret = x4_path_hold(&eng_, true);
-  if (!ret) x4_track_path_abort(&track_, &eng_, held);
-  return ret;
-}
-
 // x4_path_brake_aborts_locked(): whether a brake by `source` aborts the path.
 bool port::path_brake_aborts_locked(unsigned source) const {
   return x4_req_brake_aborts_path(source, path_cfg_flags_) && x4_path_active(&eng_);
@@ -64,7 +56,7 @@ bool port::path_brake_aborts_locked(unsigned source) const {
 // x4_path_brake_locked(): hold a path, and flush it too for `source`;
 // true: it aborted the path.
 bool port::path_brake_locked(unsigned source) {
-  return path_brake_aborts_locked(source) && !path_abort_locked();
+  return path_brake_aborts_locked(source) && !x4_track_path_abort(&track_, &eng_);
 }
 
 // x4_path_write() on an O_NONBLOCK descriptor.
@@ -116,7 +108,8 @@ int port::path_ctl_locked(const x4step_path_ctl &c) {
   switch (c.cmd) {
     case X4STEP_PATH_HOLD:
     case X4STEP_PATH_ABORT: {
-      const int ret = c.cmd == X4STEP_PATH_ABORT ? path_abort_locked() : x4_path_hold(&eng_, false);
+      const int ret =
+          c.cmd == X4STEP_PATH_ABORT ? x4_track_path_abort(&track_, &eng_) : x4_path_hold(&eng_, false);
       changed_locked();
       return x4_errno(ret);
     }

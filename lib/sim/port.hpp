@@ -146,7 +146,6 @@ class port {
   int path_resize_locked(std::uint32_t depth);
   bool path_flushed_locked() const { return eng_.path.flushes != path_flushes_seen_; }
   int path_go_locked();
-  int path_abort_locked();
   bool path_brake_aborts_locked(unsigned source) const;
   bool path_brake_locked(unsigned source);
   int path_ctl_locked(const x4step_path_ctl &c);

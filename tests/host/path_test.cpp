@@ -1116,28 +1116,41 @@ void PushEvent(x4_track *, u32 type, u32 axes, u32 how, u32, u32) { pushed.push_
 // event stream at once; a running path's abort is told by its end; the
 // abort of no path marks nothing (the next path's end would say ABORTED).
 TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
+  x4_track t{};
+  t.push = PushEvent;
+  pushed.clear();
+  {
+    Path p;
+    ASSERT_EQ(p.Push(Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+    Recording r;
+    record(p.e, r, 200);
+    ASSERT_EQ(x4_track_path_abort(&t, &p.e), X4_OK);  // running: its end tells
+    EXPECT_TRUE(t.path_aborting);
+    EXPECT_TRUE(pushed.empty());
+  }
+  t.path_aborting = false;
   Path p;
   ASSERT_EQ(p.Push(Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
   Recording r;
   record(p.e, r, 200);
-  x4_track t{};
-  t.push = PushEvent;
-  pushed.clear();
-  x4_track_path_abort(&t, &p.e, false);  // running: its end tells
-  EXPECT_TRUE(t.path_aborting);
-  EXPECT_TRUE(pushed.empty());
   ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
   record(p.e, r);
   ASSERT_EQ(p.Status().state, X4_PATH_HELD);
-  t.path_aborting = false;
-  ASSERT_EQ(x4_path_hold(&p.e, true), X4_OK);
-  x4_track_path_abort(&t, &p.e, true);
+  ASSERT_EQ(x4_track_path_abort(&t, &p.e), X4_OK);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].type, uint32_t(X4STEP_EV_MOVE_ENDED));
   EXPECT_EQ(pushed[0].how, uint32_t(X4STEP_END_ABORTED));
   EXPECT_EQ(pushed[0].axes, 1u);
   pushed.clear();
-  x4_track_path_abort(&t, &p.e, false);  // no path: nothing to tell
+  EXPECT_NE(x4_track_path_abort(&t, &p.e), X4_OK);  // no path: nothing to tell
+  EXPECT_FALSE(t.path_aborting);
+  EXPECT_TRUE(pushed.empty());
+  // Segments queued, the path not started: flushed, and nothing to tell.
+  const x4_segment s = Seg(2000, 0, 0, 0, 2000, 4000, 40000, 0);
+  x4_path_push(&p.e, &s);
+  ASSERT_EQ(x4_track_path_abort(&t, &p.e), X4_OK);
+  EXPECT_EQ(p.Status().queued, 0u);
   EXPECT_FALSE(t.path_aborting);
   EXPECT_TRUE(pushed.empty());
 }
