@@ -1,21 +1,16 @@
 // SPDX-License-Identifier: GPL-2.0
 // What the guest benchmarks share (timing_bench.cpp, speed_bench.cpp):
-// guest time, a spinner that measures the CPU left to user space, and
+// a spinner that measures the CPU left to user space, and
 // percentiles of the step timer's lateness (X4STEP_GET_TIMING).
 #pragma once
 
 #include <linux/x4step.h>
-#include <time.h>
 
 #include <cstdint>
 
-namespace guest {
+#include "check.hpp"
 
-inline uint64_t NowNs() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
+namespace guest {
 
 // Loops of a user-space spinner in `ns` of guest time: what the CPU has
 // left for everything but the step timer.

@@ -40,6 +40,7 @@
 
 #include "check.hpp"
 #include "keyboard.hpp"
+#include "vport.hpp"
 #include "x4step.h"
 
 namespace {
@@ -47,38 +48,13 @@ namespace {
 using guest::Check;
 using guest::CheckTiming;
 using guest::F;
+using guest::kV;
+using guest::NowNs;
 using guest::Put;
 using guest::Slurp;
 
-const std::string kV = "/sys/kernel/debug/x4vport/";
 std::string dev;  // /dev/x4stepN of the virtual port
 int lpt;          // its X4Init number, N + 1
-
-uint64_t Now() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
-
-// The rising clock edges of each axis in the trace since the last clear.
-std::array<std::vector<uint64_t>, 4> Rises() {
-  std::array<std::vector<uint64_t>, 4> r;
-  std::istringstream in(Slurp(kV + "trace"));
-  unsigned long long t;
-  char reg;
-  std::string val;
-  unsigned prev = 0;
-  while (in >> t >> reg >> val) {
-    if (reg != 'd') continue;
-    const unsigned v = std::strtoul(val.c_str(), nullptr, 16);
-    for (int a = 0; a < 4; a++) {
-      const unsigned clk = 2u << (2 * a);
-      if ((v & clk) && !(prev & clk)) r[a].push_back(t);
-    }
-    prev = v;
-  }
-  return r;
-}
 
 x4step_status Status(int fd) {
   x4step_status st{};
@@ -108,12 +84,14 @@ void CheckBrake(const std::string &what, const std::vector<uint64_t> &r, double 
   size_t q = 0;
   while (q + 1 < r.size() && r[q + 1] <= t_request) q++;
   if (q < 3 || r.size() < q + 3) {
-    Check(false, F("%s: %zu steps in the trace, %zu before the brake request", what.c_str(), r.size(), q + 1));
+    Check(false,
+          F("%s: %zu steps in the trace, %zu before the brake request", what.c_str(), r.size(), q + 1));
     return;
   }
   const double cruise = double(r[q] - r[q - 1]);
-  CheckTiming(std::fabs(cruise - period) < 0.002 * period,
-              F("%s: cruising at %.0f Hz before the brake (interval %.1f us)", what.c_str(), f_hz, cruise / 1e3));
+  CheckTiming(
+      std::fabs(cruise - period) < 0.002 * period,
+      F("%s: cruising at %.0f Hz before the brake (interval %.1f us)", what.c_str(), f_hz, cruise / 1e3));
   // The last cruise step: the last one whose interval is still the cruise's.
   size_t k = q;
   while (k + 1 < r.size() && double(r[k + 1] - r[k]) < cruise * 1.001 + 200) k++;
@@ -142,14 +120,15 @@ void CheckBrake(const std::string &what, const std::vector<uint64_t> &r, double 
   const size_t first = k + 1, last = r.size() - 1;
   const double overall = (speed(first) - speed(last)) / (mid(last) - mid(first));
   std::vector<double> local;
-  for (size_t i = first; i + 2 <= last; i++) local.push_back((speed(i) - speed(i + 2)) / (mid(i + 2) - mid(i)));
+  for (size_t i = first; i + 2 <= last; i++)
+    local.push_back((speed(i) - speed(i + 2)) / (mid(i + 2) - mid(i)));
   std::nth_element(local.begin(), local.begin() + local.size() / 2, local.end());
   const double median = local.empty() ? 0 : local[local.size() / 2];
   std::printf("%s: deceleration %.0f steps/s^2 over the ramp, %.0f in the median of three steps (a = %.0f)\n",
               what.c_str(), overall, median, a);
   CheckTiming(std::fabs(overall - a) < 0.03 * a,
-              F("%s: decelerates at %.0f steps/s^2 from first to last braked step (a = %.0f +-3%%)", what.c_str(),
-                overall, a));
+              F("%s: decelerates at %.0f steps/s^2 from first to last braked step (a = %.0f +-3%%)",
+                what.c_str(), overall, a));
   CheckTiming(!local.empty() && std::fabs(median - a) < 0.03 * a,
               F("%s: decelerates at %.0f steps/s^2 in the median of every three steps (a = %.0f +-3%%)",
                 what.c_str(), median, a));
@@ -164,10 +143,10 @@ void ManualBrake() {
   Clear();
   Check(X4MovePos(1, 1000, 50) == X4NoErr, "X4MovePos(1, 1000, 50)");
   WaitSteps(1, 100);
-  const uint64_t t = Now();
+  const uint64_t t = NowNs();
   Check(X4Brake() == X4NoErr, "X4Brake()");
   while (X4GetState()) usleep(1000);
-  CheckBrake("X4Brake", Rises()[0], 1000, 1000 / 0.050, t);
+  CheckBrake("X4Brake", guest::Clocks()[0].rises, 1000, 1000 / 0.050, t);
 
   // An interpolated move of three axes, braked in its cruise: the minor
   // axes come to rest with the leader (their last steps no later).
@@ -175,16 +154,18 @@ void ManualBrake() {
   Check(X4Load(4000, -2000, 1000, 0, 2000, 100) == X4NoErr && X4Start() == X4NoErr,
         "X4Load(4000, -2000, 1000, 0, 2000, 100), X4Start()");
   WaitSteps(1, 400);
-  const uint64_t t2 = Now();
+  const uint64_t t2 = NowNs();
   Check(X4Brake() == X4NoErr, "X4Brake() of the interpolated move");
   while (X4GetState()) usleep(1000);
-  const auto r = Rises();
+  const auto clocks = guest::Clocks();
+  std::array<std::vector<uint64_t>, 3> r;
+  for (int i = 0; i < 3; i++) r[i] = clocks[i].rises;
   CheckBrake("X4Brake of X4Load", r[0], 2000, 2000 / 0.100, t2);
   Check(!r[1].empty() && !r[2].empty() && r[1].back() <= r[0].back() && r[2].back() <= r[0].back() &&
             std::labs(long(r[1].size()) - long(r[0].size()) / 2) <= 1 &&
             std::labs(long(r[2].size()) - long(r[0].size()) / 4) <= 1,
-        F("X4Brake of X4Load: the minor axes braked with the leader (%zu, %zu, %zu steps)", r[0].size(), r[1].size(),
-          r[2].size()));
+        F("X4Brake of X4Load: the minor axes braked with the leader (%zu, %zu, %zu steps)", r[0].size(),
+          r[1].size(), r[2].size()));
   X4ReInit();
 }
 
@@ -201,7 +182,7 @@ void KeyBrake() {
   kb.Key(KEY_ESC, 0);
   while (Status(fd).flags & X4STEP_ST_ACTIVE) usleep(1000);
   Check(Status(fd).last_brake_code == 1, "ESC braked it (last brake code 1)");
-  CheckBrake("brake key ESC", Rises()[1], 3000, 3000 / 0.030, t);
+  CheckBrake("brake key ESC", guest::Clocks()[1].rises, 3000, 3000 / 0.030, t);
   close(fd);
 }
 
@@ -212,10 +193,10 @@ void HaltBrake() {
   Clear();
   c.move_by(x4step::axis{3}, 20000);
   WaitSteps(3, 300);
-  const uint64_t t = Now();
+  const uint64_t t = NowNs();
   c.halt(x4step::axis{3}, x4step::halt_mode::brake);
   c.wait_axes(x4step::axis{3});
-  CheckBrake("X4STEP_HALT (brake) of a positioning move", Rises()[2], 2500, 25000, t);
+  CheckBrake("X4STEP_HALT (brake) of a positioning move", guest::Clocks()[2].rises, 2500, 25000, t);
 }
 
 // The C++ controller's destructor brakes what runs, then releases the port.
@@ -226,9 +207,9 @@ void DestructorBrake() {
     x4step::controller c(dev);
     c.move_endless(x4step::axis{4}, x4step::direction::positive, 1500, std::chrono::milliseconds(75));
     WaitSteps(4, 200);
-    t = Now();
+    t = NowNs();
   }
-  CheckBrake("the C++ controller's destructor", Rises()[3], 1500, 1500 / 0.075, t);
+  CheckBrake("the C++ controller's destructor", guest::Clocks()[3].rises, 1500, 1500 / 0.075, t);
 }
 
 // A controller that closes its descriptor, or whose process is killed,
@@ -260,16 +241,16 @@ void CloseBrake(bool kill_it) {
   uint64_t t;
   if (kill_it) {
     WaitSteps(1, 300);
-    t = Now();
+    t = NowNs();
     kill(child, SIGKILL);
   } else {
     Check(read(ready[0], &c, 1) == 1 && c == 't', F("%s: the child closes", what));
-    t = Now();  // the child closes right after writing: within the same step
+    t = NowNs();  // the child closes right after writing: within the same step
   }
   waitpid(child, nullptr, 0);
   close(ready[0]);
   Check(guest::WaitFree(dev.c_str(), 5000), F("%s: the port is free after the brake", what));
-  CheckBrake(what, Rises()[0], 2000, 2000 / 0.040, t);
+  CheckBrake(what, guest::Clocks()[0].rises, 2000, 2000 / 0.040, t);
 }
 
 }  // namespace
@@ -282,13 +263,10 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "usage: brake_test [--no-timing]\n");
     return 2;
   }
-  const std::string port = Slurp(kV + "port");
-  if (port.empty()) {
-    Check(false, "x4vport loaded (" + kV + "port)");
-    return guest::Finish("brake_test");
-  }
-  dev = "/dev/x4step" + std::to_string(std::atoi(port.c_str()));
-  lpt = std::atoi(port.c_str()) + 1;
+  const int port = guest::VportNumber();
+  if (port < 0) return guest::Finish("brake_test");
+  dev = "/dev/x4step" + std::to_string(port);
+  lpt = port + 1;
   try {
     ManualBrake();
     KeyBrake();

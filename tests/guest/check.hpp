@@ -5,11 +5,13 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdarg>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -69,6 +71,14 @@ inline bool WaitFree(const char *dev, int timeout_ms) {
   }
   close(fd);
   return free;
+}
+
+// CLOCK_MONOTONIC in ns: the clock of the module's time stamps and of
+// x4vport's trace (under -icount, guest time).
+inline uint64_t NowNs() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
 }
 
 // Milliseconds since t.

@@ -25,58 +25,19 @@
 #include <vector>
 
 #include "check.hpp"
+#include "vport.hpp"
 
 namespace {
 
 using guest::Check;
 using guest::CheckTiming;
+using guest::Clocks;
 using guest::F;
-
-const std::string kV = "/sys/kernel/debug/x4vport/";
+using guest::kV;
+using guest::NowNs;
 
 using guest::Put;
 using guest::Slurp;
-
-uint64_t Now() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
-
-// The clock of each axis in the trace since the last clear: edges, and
-// its shortest high and low times.
-struct Clock {
-  std::vector<uint64_t> rises;
-  uint64_t min_high = UINT64_MAX, min_low = UINT64_MAX;
-};
-
-std::array<Clock, 4> Clocks() {
-  std::array<Clock, 4> c;
-  std::array<uint64_t, 4> last{};
-  std::istringstream in(Slurp(kV + "trace"));
-  unsigned long long t;
-  char reg;
-  std::string val;
-  unsigned prev = 0;
-  while (in >> t >> reg >> val) {
-    if (reg != 'd') continue;
-    const unsigned v = std::strtoul(val.c_str(), nullptr, 16);
-    for (int a = 0; a < 4; a++) {
-      const unsigned clk = 2u << (2 * a);
-      if ((v ^ prev) & clk) {
-        if (v & clk) {
-          if (!c[a].rises.empty()) c[a].min_low = std::min<uint64_t>(c[a].min_low, t - last[a]);
-          c[a].rises.push_back(t);
-        } else {
-          c[a].min_high = std::min<uint64_t>(c[a].min_high, t - last[a]);
-        }
-        last[a] = t;
-      }
-    }
-    prev = v;
-  }
-  return c;
-}
 
 std::array<long long, 4> Machine() {
   std::array<long long, 4> p{};
@@ -142,11 +103,11 @@ void Print(const char *what, const x4step_timing &t) {
 void StopDuring(const char *what, unsigned axes, uint64_t t0) {
   const uint64_t wanted = t0 + 100'000'000;
   usleep(100000);
-  const uint64_t woke = Now();
+  const uint64_t woke = NowNs();
   CheckTiming(woke < wanted + 5'000'000,
               F("%s: a 100 ms sleep ends %.1f ms late (the CPU is not held)", what, (woke - wanted) / 1e6));
   const int err = Ioctl(X4STEP_STOP);
-  const uint64_t stopped = Now();
+  const uint64_t stopped = NowNs();
   Check(err == 0, F("%s: the moves still run when STOP is issued (%s)", what, std::strerror(err)));
   Check(WaitIdle(1000), F("%s: idle after STOP", what));
   const auto c = Clocks();
@@ -168,9 +129,9 @@ void BoundedCallbacks() {
   // most offsets the old callback never saw a gap of 10 us again.
   for (uint64_t extra : {0, 3000, 6000, 9000}) {
     Put(kV + "clear", "1\n");
-    const uint64_t t0 = Now();
+    const uint64_t t0 = NowNs();
     bool ok = Goto(1, {200000, 0, 0, 0}) == 0;
-    for (const uint64_t t1 = Now(); Now() < t1 + extra;) {
+    for (const uint64_t t1 = NowNs(); NowNs() < t1 + extra;) {
     }
     ok = ok && Goto(2, {0, 200000, 0, 0}) == 0;
     Check(ok, F("two gotos at 45000 steps/s, %llu us apart", (unsigned long long)extra / 1000));
@@ -179,7 +140,7 @@ void BoundedCallbacks() {
   Check(Profile(2, 44000, 1000000), "axis 2 at 44000 steps/s");
 
   Put(kV + "clear", "1\n");
-  const uint64_t t0 = Now();
+  const uint64_t t0 = NowNs();
   Check(Endless(1, 20000, 0) == 0 && Endless(2, 19900, 0) == 0 && Endless(3, 19800, 0) == 0,
         "three 20 kHz endless moves");
   StopDuring("three 20 kHz endless moves", 0x7, t0);
@@ -310,12 +271,9 @@ int main(int argc, char **argv) {
   setvbuf(stdout, nullptr, _IOLBF, 0);
   // A debug kernel's timer and ioctls are too slow for the 1 ms and 5 ms checks.
   if (argc > 1 && std::strcmp(argv[1], "--no-timing") == 0) guest::timing_checks = false;
-  const std::string port = Slurp(kV + "port");
-  if (port.empty()) {
-    Check(false, "x4vport loaded (" + kV + "port)");
-    return guest::Finish("discipline_test");
-  }
-  const std::string dev = "/dev/x4step" + std::to_string(std::atoi(port.c_str()));
+  const int port = guest::VportNumber();
+  if (port < 0) return guest::Finish("discipline_test");
+  const std::string dev = "/dev/x4step" + std::to_string(port);
   fd = ::open(dev.c_str(), O_RDWR);
   Check(fd >= 0, "open " + dev);
   BoundedCallbacks();

@@ -51,6 +51,7 @@
 
 #include "check.hpp"
 #include "keyboard.hpp"
+#include "vport.hpp"
 
 namespace {
 
@@ -60,18 +61,13 @@ using guest::F;
 using guest::Put;
 using guest::Slurp;
 
-const std::string kV = "/sys/kernel/debug/x4vport/";
+using guest::kV;
+using guest::NowNs;
 std::string dev;
 
 // Edge times are those of the port writes: the timer's jitter (under
 // -icount p99 about 0.6 us, rarely up to 10 us) moves each by up to this.
 constexpr double kJitter = 3e-6;
-
-uint64_t Now() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return uint64_t(ts.tv_sec) * 1000000000u + uint64_t(ts.tv_nsec);
-}
 
 void SleepMs(int ms) { usleep(ms * 1000); }
 
@@ -462,7 +458,7 @@ void TestLongStream() {
   Check(mon >= 0, "a read-only monitor opens");
   const x4step_path_status s0 = PathStatus(mon);
   Clear();
-  const uint64_t t0 = Now();
+  const uint64_t t0 = NowNs();
   const pid_t pid = Streamer(segs, 256, 1);
   // The monitor: status and events while the child streams.
   uint32_t max_queued = 0, bad_state = 0, statuses = 0, max_speed = 0;
@@ -487,13 +483,13 @@ void TestLongStream() {
       last_tag = s.tag;
     }
     if (waitpid(pid, &status, WNOHANG) == pid) break;
-    if (Now() - t0 > 150'000'000'000ull) {
+    if (NowNs() - t0 > 150'000'000'000ull) {
       kill(pid, SIGKILL);
       waitpid(pid, &status, 0);
       break;
     }
   }
-  const double secs = (Now() - t0) * 1e-9;
+  const double secs = (NowNs() - t0) * 1e-9;
   Check(WIFEXITED(status) && WEXITSTATUS(status) == 0,
         F("the streamer wrote %zu segments and saw the path end (status 0x%x, %.1f s)", segs.size(), status,
           secs));
@@ -613,14 +609,14 @@ void TestKill() {
   const x4step_path_status s0 = PathStatus(mon);
   Clear();
   const pid_t pid = Streamer(segs, 256, 2);
-  const uint64_t t0 = Now();
+  const uint64_t t0 = NowNs();
   x4step_path_status s{};
-  while (Now() - t0 < 60'000'000'000ull) {
+  while (NowNs() - t0 < 60'000'000'000ull) {
     s = PathStatus(mon);
     if (s.done - s0.done >= 300) break;
     SleepMs(5);
   }
-  const uint64_t t_kill = Now();
+  const uint64_t t_kill = NowNs();
   kill(pid, SIGKILL);
   int status = 0;
   waitpid(pid, &status, 0);
@@ -752,12 +748,12 @@ Trace TestHoldResume(int fd) {
   Clear();
   Check(Stream(fd, segs, rng, 64), "the same path again");
   while (PathStatus(fd).done - s0.done < 150) SleepMs(2);
-  const uint64_t t_hold = Now();
+  const uint64_t t_hold = NowNs();
   Check(Ctl(fd, X4STEP_PATH_HOLD) == 0, "PATH_CTL HOLD while it runs");
   x4step_path_status s = PathStatus(fd);
   Check(s.state == X4STEP_PATH_HOLDING || s.state == X4STEP_PATH_HELD, F("holding: state %u", s.state));
-  const uint64_t t_end = Now() + 5'000'000'000ull;
-  while (PathStatus(fd).state != X4STEP_PATH_HELD && Now() < t_end) SleepMs(1);
+  const uint64_t t_end = NowNs() + 5'000'000'000ull;
+  while (PathStatus(fd).state != X4STEP_PATH_HELD && NowNs() < t_end) SleepMs(1);
   s = PathStatus(fd);
   Check(s.state == X4STEP_PATH_HELD && s.queued > 0 && s.speed == 0,
         F("held on the path: state %u, %u queued, speed %u", s.state, s.queued, s.speed));
@@ -771,7 +767,7 @@ Trace TestHoldResume(int fd) {
   const size_t held_entries = ReadTrace().entries;
   SleepMs(100);
   Check(ReadTrace().entries == held_entries, "no port write while held");
-  const uint64_t t_resume = Now();
+  const uint64_t t_resume = NowNs();
   Check(Ctl(fd, X4STEP_PATH_RESUME) == 0, "PATH_CTL RESUME");
   Check(WaitIdle(fd, 60000), "the path ends");
   const auto ev = Events(mon);
@@ -809,8 +805,8 @@ uint64_t KeyWhileRunning(int fd, guest::Keyboard &kb, int key, const std::vector
   const x4step_path_status s0 = PathStatus(fd);
   const bool streamed = Stream(fd, segs, rng, 64);
   Check(streamed, F("%zu segments streamed", segs.size()));
-  const uint64_t t_end = Now() + 10'000'000'000ull;
-  while (streamed && PathStatus(fd).done - s0.done < after && Now() < t_end) SleepMs(2);
+  const uint64_t t_end = NowNs() + 10'000'000'000ull;
+  while (streamed && PathStatus(fd).done - s0.done < after && NowNs() < t_end) SleepMs(2);
   return kb.Key(key, 1);
 }
 
@@ -842,8 +838,8 @@ void TestBrakeKeys(int fd, const Trace &ref) {
   Clear();
   Events(mon);
   const uint64_t t_key = KeyWhileRunning(fd, kb, KEY_ESC, segs, 150, rng);
-  const uint64_t t_end = Now() + 5'000'000'000ull;
-  while (PathStatus(fd).state != X4STEP_PATH_HELD && Now() < t_end) SleepMs(1);
+  const uint64_t t_end = NowNs() + 5'000'000'000ull;
+  while (PathStatus(fd).state != X4STEP_PATH_HELD && NowNs() < t_end) SleepMs(1);
   kb.Key(KEY_ESC, 0);  // nothing runs: its release brakes nothing
   SleepMs(100);        // a standstill CheckResumed() sees
   const x4step_path_status s = PathStatus(fd);
@@ -852,7 +848,7 @@ void TestBrakeKeys(int fd, const Trace &ref) {
   Check(s.state == X4STEP_PATH_HELD && s.queued > 0 && s.speed == 0 && st.last_brake_code == 1,
         F("ESC held the path: state %u, %u queued, speed %u, last brake code %u", s.state, s.queued, s.speed,
           st.last_brake_code));
-  const uint64_t t_resume = Now();
+  const uint64_t t_resume = NowNs();
   Check(Ctl(fd, X4STEP_PATH_RESUME) == 0 && WaitIdle(fd, 60000),
         "PATH_CTL RESUME after the key, the path ends");
   const auto ev = Events(mon);
@@ -1037,17 +1033,17 @@ void TestOverride(int fd) {
   Clear();
   Check(Stream(fd, segs, rng, 64), "500 segments of 20 steps at 6000 steps/s");
   SleepMs(250);
-  const uint64_t t50 = Now();
+  const uint64_t t50 = NowNs();
   Check(Ctl(fd, X4STEP_PATH_OVERRIDE, 50) == 0, "override 50 %");
-  const uint64_t t50r = Now();
+  const uint64_t t50r = NowNs();
   x4step_path_status s = PathStatus(fd);
   Check(s.override == 50, F("GET_PATH reports override %u", s.override));
   SleepMs(250);
   s = PathStatus(fd);
   Check(s.speed > 2950 && s.speed < 3050, F("GET_PATH: speed %u at 50 %%", s.speed));
-  const uint64_t t150 = Now();
+  const uint64_t t150 = NowNs();
   Check(Ctl(fd, X4STEP_PATH_OVERRIDE, 150) == 0, "override 150 %");
-  const uint64_t t150r = Now();
+  const uint64_t t150r = NowNs();
   Check(WaitIdle(fd, 60000), "the path ends");
   Ctl(fd, X4STEP_PATH_OVERRIDE, 100);
   const Trace tr = ReadTrace();
@@ -1260,9 +1256,9 @@ bool WriteSeg(int fd, const Seg &s) { return ::write(fd, &s, sizeof s) == ssize_
 
 // Spin until X moved `steps` since m0 (or 5 s passed): the hold's instant.
 bool SpinToX(const std::array<long long, 4> &m0, long long steps) {
-  const uint64_t t_end = Now() + 5'000'000'000ull;
+  const uint64_t t_end = NowNs() + 5'000'000'000ull;
   while (MovedX(m0) < steps)
-    if (Now() > t_end) return false;
+    if (NowNs() > t_end) return false;
   return true;
 }
 
@@ -1391,8 +1387,8 @@ void TestSetPositionWakes(int fd) {
     }
     _exit(2);
   }
-  const uint64_t t_end = Now() + 5'000'000'000ull;
-  while (PathStatus(fd).done - s0.done < 5 && Now() < t_end) SleepMs(2);
+  const uint64_t t_end = NowNs() + 5'000'000'000ull;
+  while (PathStatus(fd).done - s0.done < 5 && NowNs() < t_end) SleepMs(2);
   Check(Ctl(fd, X4STEP_PATH_HOLD) == 0 && WaitIdle(fd, 5000) && PathStatus(fd).state == X4STEP_PATH_HELD,
         "the streamed path held");
   const pid_t poller = fork();
@@ -1407,10 +1403,10 @@ void TestSetPositionWakes(int fd) {
         F("the queue is full (%u), its writer and a POLLOUT poller wait", s.queued));
   x4step_position up{};
   up.axes = 1;
-  const uint64_t t0 = Now();
+  const uint64_t t0 = NowNs();
   Check(Ioctl(fd, X4STEP_SET_POSITION, &up) == 0 && PathStatus(fd).queued == 0, "SET_POSITION flushes it");
   auto reaped = [&](pid_t pid, int &status) {
-    while (Now() - t0 < 1'000'000'000ull) {
+    while (NowNs() - t0 < 1'000'000'000ull) {
       if (waitpid(pid, &status, WNOHANG) == pid) return true;
       SleepMs(5);
     }
@@ -1449,8 +1445,8 @@ void TestHeldAborts(int fd) {
   Events(mon);
   kb.Key(KEY_ESC, 1);
   kb.Key(KEY_ESC, 0);
-  const uint64_t t_end = Now() + 2'000'000'000ull;
-  while (PathStatus(fd).state != X4STEP_PATH_IDLE && Now() < t_end) SleepMs(2);
+  const uint64_t t_end = NowNs() + 2'000'000'000ull;
+  while (PathStatus(fd).state != X4STEP_PATH_IDLE && NowNs() < t_end) SleepMs(2);
   const x4step_path_status s = PathStatus(fd);
   SleepMs(10);
   ev = Events(mon);
@@ -1481,11 +1477,11 @@ void TestCloseInTheHoldWindow() {
     Events(mon);
     const auto m0 = Machine();
     bool window = WriteSeg(fd, a);
-    const uint64_t t_end = Now() + 5'000'000'000ull;
+    const uint64_t t_end = NowNs() + 5'000'000'000ull;
     for (;;) {
       const x4step_path_status s = PathStatus(fd);
       if (s.state == X4STEP_PATH_RUN && s.queued == 0) break;
-      if (s.state == X4STEP_PATH_IDLE || Now() > t_end) {
+      if (s.state == X4STEP_PATH_IDLE || NowNs() > t_end) {
         window = false;
         break;
       }
@@ -1554,12 +1550,9 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "usage: path_test [--no-timing]\n");
     return 2;
   }
-  const std::string port = Slurp(kV + "port");
-  if (port.empty()) {
-    Check(false, "x4vport loaded (" + kV + "port)");
-    return guest::Finish("path_test");
-  }
-  dev = "/dev/x4step" + std::to_string(std::atoi(port.c_str()));
+  const int port = guest::VportNumber();
+  if (port < 0) return guest::Finish("path_test");
+  dev = "/dev/x4step" + std::to_string(port);
   x4step_info info{};
   const int ro = ::open(dev.c_str(), O_RDONLY);
   const bool info_ok = ro >= 0 && Ioctl(ro, X4STEP_GET_INFO, &info) == 0;
@@ -1571,16 +1564,16 @@ int main(int argc, char **argv) {
   Check(fd >= 0, "open " + dev);
   TestBadInput(fd);
   const Trace hold_ref = TestHoldResume(fd);
-  const uint64_t t0 = Now();
+  const uint64_t t0 = NowNs();
   TestBrakeKeys(fd, hold_ref);
-  const uint64_t t1 = Now();
+  const uint64_t t1 = NowNs();
   TestLimit(fd);
-  const uint64_t t2 = Now();
+  const uint64_t t2 = NowNs();
   TestOverride(fd);
-  const uint64_t t3 = Now();
+  const uint64_t t3 = NowNs();
   TestCircleBench(fd);
   std::printf("info: guest time: brake keys %.2f s, limit %.2f s, circle benchmark %.2f s\n",
-              (t1 - t0) * 1e-9, (t2 - t1) * 1e-9, (Now() - t3) * 1e-9);
+              (t1 - t0) * 1e-9, (t2 - t1) * 1e-9, (NowNs() - t3) * 1e-9);
   TestSustained(fd);
   TestHoldAtTheEnd(fd);
   TestEmergencyBrakeAborts(fd);

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "check.hpp"
+#include "vport.hpp"
 #include "x4step.hpp"
 
 using namespace std::chrono_literals;
@@ -44,7 +45,7 @@ using guest::Throws;
 using x4step::errc;
 namespace axerr = x4step::axis_error;
 
-const std::string kV = "/sys/kernel/debug/x4vport/";
+using guest::kV;
 
 using guest::Put;
 using guest::Slurp;
@@ -861,12 +862,9 @@ int main(int argc, char **argv) {
     std::fprintf(stderr, "usage: positioning_test [--no-timing]\n");
     return 2;
   }
-  const std::string port = Slurp(kV + "port");
-  if (port.empty()) {
-    Check(false, "x4vport loaded (" + kV + "port)");
-    return guest::Finish("positioning_test");
-  }
-  const std::string dev = "/dev/x4step" + std::to_string(std::atoi(port.c_str()));
+  const int port = guest::VportNumber();
+  if (port < 0) return guest::Finish("positioning_test");
+  const std::string dev = "/dev/x4step" + std::to_string(port);
   try {
     x4step::controller c(dev);
     ctl = &c;

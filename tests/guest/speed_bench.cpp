@@ -29,6 +29,7 @@
 
 #include "bench.hpp"
 #include "check.hpp"
+#include "vport.hpp"
 
 namespace {
 
@@ -39,43 +40,13 @@ using guest::Put;
 using guest::Slurp;
 using guest::Spin;
 
-const std::string kV = "/sys/kernel/debug/x4vport/";
+using guest::kV;
 uint32_t accel = 1000000;  // steps/s^2: 0.1 s ramps at 100 000 steps/s; 0: no ramps
 int fd = -1;
 uint64_t idle_loops;  // of Spin(kSpinNs) with no move running
 constexpr uint64_t kSpinNs = 100000000;
 
 int Ioctl(unsigned long cmd, void *arg = nullptr) { return ::ioctl(fd, cmd, arg) == 0 ? 0 : errno; }
-
-// Axis 1's clock in the trace since the last clear.
-struct Edges {
-  unsigned rises = 0;
-  uint64_t min_high = ~0ull, min_low = ~0ull;
-};
-
-Edges Axis1() {
-  Edges e;
-  std::istringstream in(Slurp(kV + "trace"));
-  unsigned long long t, last = 0;
-  char reg;
-  std::string val;
-  unsigned prev = 0;
-  while (in >> t >> reg >> val) {
-    if (reg != 'd') continue;
-    const unsigned v = std::strtoul(val.c_str(), nullptr, 16);
-    if ((v ^ prev) & 2) {
-      if (v & 2) {
-        if (e.rises) e.min_low = std::min<uint64_t>(e.min_low, t - last);
-        e.rises++;
-      } else {
-        e.min_high = std::min<uint64_t>(e.min_high, t - last);
-      }
-      last = t;
-    }
-    prev = v;
-  }
-  return e;
-}
 
 struct Bare {
   unsigned long long events = 0, p50 = 0, p99 = 0, max = 0;
@@ -160,11 +131,12 @@ void Measure(bool path, uint32_t rate) {
   const double cpu = 100.0 * (1.0 - double(Spin(kSpinNs)) / double(idle_loops));
   const bool ended = WaitEnd(path);
   Ioctl(X4STEP_GET_TIMING, &t);
-  const Edges e = Axis1();
+  const guest::Clock e = guest::Clocks()[0];
+  const unsigned rises = unsigned(e.rises.size());
   const unsigned long long overruns = std::strtoull(Slurp(kV + "overruns").c_str(), nullptr, 10);
   const uint64_t half = 500000000ull / rate, min_ok = half / 2;
   const bool edges_ok =
-      ended && !overruns && e.rises == unsigned(steps) && e.min_high >= min_ok && e.min_low >= min_ok;
+      ended && !overruns && rises == unsigned(steps) && e.min_high >= min_ok && e.min_low >= min_ok;
   const uint64_t p50 = Percentile(t, 500), p99 = Percentile(t, 990);
   const Bare b = BareTimer(rate, t.events);
   std::printf(
@@ -172,7 +144,7 @@ void Measure(bool path, uint32_t rate) {
       "edges %s; timer CPU %.0f%%; lateness p50 %llu p99 %llu max %llu ns (%llu events, %llu capped, %llu "
       "shifts); "
       "bare hrtimer p50 %llu p99 %llu max %llu ns; p99 ratio %.2f\n",
-      kind, rate, e.rises, steps, (unsigned long long)e.min_high, (unsigned long long)e.min_low,
+      kind, rate, rises, steps, (unsigned long long)e.min_high, (unsigned long long)e.min_low,
       (unsigned long long)half, (unsigned long long)min_ok, edges_ok ? "ok" : "BAD", cpu,
       (unsigned long long)p50, (unsigned long long)p99, (unsigned long long)t.late_max_ns,
       (unsigned long long)t.events, (unsigned long long)t.capped, (unsigned long long)t.shifts, b.p50, b.p99,
@@ -193,7 +165,9 @@ int main(int argc, char **argv) {
   }
   for (; i < argc; i++) rates.push_back(std::strtoul(argv[i], nullptr, 10));
   if (rates.empty()) rates = {45000, 60000, 80000, 100000, 120000};
-  const std::string dev = "/dev/x4step" + std::to_string(std::atoi(Slurp(kV + "port").c_str()));
+  const int port = guest::VportNumber();
+  if (port < 0) return guest::Finish("speed_bench");
+  const std::string dev = "/dev/x4step" + std::to_string(port);
   fd = open(dev.c_str(), O_RDWR);
   Check(fd >= 0, "open " + dev);
   if (fd < 0) return guest::Finish("speed_bench");
