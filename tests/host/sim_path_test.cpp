@@ -54,6 +54,16 @@ std::vector<x4step::event> events(const x4step::monitor &m) {
 // Machine coordinates: a path's step counters start again at a resume.
 long pos(const controller &c, int a) { return c.get_axes()[axis(a)].position; }
 
+// line(200) for a second of virtual time, then held: it stands held.
+void RunASecondAndHold(x4step::path &path) {
+  auto p = x4step::sim::port::find(0);
+  path.append(line(200));
+  p->run_until(p->engine_now() + 1000000000u);
+  path.hold();
+  ASSERT_TRUE(path.wait(10s));
+  ASSERT_EQ(path.status().state, path_state::held);
+}
+
 unsigned count(const std::vector<x4step::event> &ev, x4step::event_type t, unsigned how) {
   unsigned n = 0;
   for (const auto &e : ev) n += e.type == t && e.how == how;
@@ -137,11 +147,7 @@ TEST_F(SimPath, AbortAfterHoldFlushes) {
   x4step::monitor m("sim");
   auto p = x4step::sim::port::find(0);
   x4step::path path(c);
-  path.append(line(200));
-  p->run_until(p->engine_now() + 1000000000u);
-  path.hold();
-  ASSERT_TRUE(path.wait(10s));
-  ASSERT_EQ(path.status().state, path_state::held);
+  ASSERT_NO_FATAL_FAILURE(RunASecondAndHold(path));
   const long at = pos(c, 1);
   path.abort();
   ASSERT_TRUE(path.wait(10s));
@@ -316,13 +322,8 @@ TEST_F(SimPath, EmergencyBrakeAbortsThePath) {
 TEST_F(SimPath, EmergencyBrakeAbortsAHeldPath) {
   controller c("sim");
   x4step::monitor m("sim");
-  auto p = x4step::sim::port::find(0);
   x4step::path path(c);
-  path.append(line(200));
-  p->run_until(p->engine_now() + 1000000000u);
-  path.hold();
-  ASSERT_TRUE(path.wait(10s));
-  ASSERT_EQ(path.status().state, path_state::held);
+  ASSERT_NO_FATAL_FAILURE(RunASecondAndHold(path));
   events(m);
   m.emergency_halt(x4step::halt_mode::brake);
   const x4step::path_status s = path.status();
@@ -336,13 +337,8 @@ TEST_F(SimPath, EmergencyBrakeAbortsAHeldPath) {
 TEST_F(SimPath, AbortOfAHeldPathIsAnEvent) {
   controller c("sim");
   x4step::monitor m("sim");
-  auto p = x4step::sim::port::find(0);
   x4step::path path(c);
-  path.append(line(200));
-  p->run_until(p->engine_now() + 1000000000u);
-  path.hold();
-  ASSERT_TRUE(path.wait(10s));
-  ASSERT_EQ(path.status().state, path_state::held);
+  ASSERT_NO_FATAL_FAILURE(RunASecondAndHold(path));
   ASSERT_EQ(count(events(m), x4step::event_type::move_ended, X4STEP_END_HELD), 1u);
   path.abort();
   const auto ev = events(m);
