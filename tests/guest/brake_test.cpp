@@ -20,6 +20,9 @@
 // X4STEP_HALT_BRAKE on a positioning move (its own deceleration), the C++
 // controller's destructor, close() of the controller, and SIGKILL of the
 // controller's process.
+// With --no-timing (a debug kernel, whose timer is ~16 us late with as
+// much jitter) the checks read from edge times print SKIP; the counts,
+// codes and the port's release still count.
 #include <fcntl.h>
 #include <linux/x4step.h>
 #include <signal.h>
@@ -100,8 +103,11 @@ void CheckBrake(const std::string &what, const std::vector<uint64_t> &r, double 
   std::printf("%s: request at %.3f ms, last cruise step %.3f ms after it, %ld steps braking in %.3f ms\n",
               what.c_str(), t_request / 1e6, (double(r[k]) - double(t_request)) / 1e6, braked,
               (r.back() - r[k]) / 1e6);
-  Check(std::labs(braked - want) <= 2,
-        F("%s: %ld steps along the ramp after the cruise (v^2/2a = %ld)", what.c_str(), braked, want));
+  // Where the cruise ends is read from the intervals (the first braked one
+  // is 0.4 to 2 % longer): a timing check, which a debug kernel's jitter of
+  // ~16 us blurs.
+  CheckTiming(std::labs(braked - want) <= 2,
+              F("%s: %ld steps along the ramp after the cruise (v^2/2a = %ld)", what.c_str(), braked, want));
   CheckTiming(double(r[k]) <= double(t_request) + period + 2e6,
               F("%s: the cruise cut %.3f ms after the request (within a step period)", what.c_str(),
                 (double(r[k]) - double(t_request)) / 1e6));
