@@ -25,9 +25,9 @@ extern "C" {
  */
 int X4SetStepTiming(long pulse_ns, long space_ns, long dir_setup_ns, long dir_hold_ns);
 
-#define X4MODE_CLOCK_DIR 0       /**< step and direction signals */
-#define X4MODE_SMC_PHASE 1       /**< SMC1500 half-step phases, motors off at rest */
-#define X4MODE_SMC_PHASE_HOLD 2  /**< the same, reduced holding current at rest */
+#define X4MODE_CLOCK_DIR 0      /**< step and direction signals */
+#define X4MODE_SMC_PHASE 1      /**< SMC1500 half-step phases, motors off at rest */
+#define X4MODE_SMC_PHASE_HOLD 2 /**< the same, reduced holding current at rest */
 
 /** Choose how the open port drives its motors (X4MODE_*).
  *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive */
@@ -60,10 +60,10 @@ int X4SetOutputMode(int mode);
 #define X4AX_DECEL 0x400  /**< decelerating */
 
 /* Error bits of X4GetAxisState, cleared by the axis' next move. */
-#define X4AXERR_REF_TRAVEL 1 /**< a reference phase went beyond sref */
-#define X4AXERR_LIMIT_POS 2  /**< stopped at limit switch E+ */
-#define X4AXERR_LIMIT_NEG 4  /**< stopped at limit switch E- */
-#define X4AXERR_AMBIGUOUS 8  /**< the input serves other limits too */
+#define X4AXERR_REF_TRAVEL 1  /**< a reference phase went beyond sref */
+#define X4AXERR_LIMIT_POS 2   /**< stopped at limit switch E+ */
+#define X4AXERR_LIMIT_NEG 4   /**< stopped at limit switch E- */
+#define X4AXERR_AMBIGUOUS 8   /**< the input serves other limits too */
 #define X4AXERR_REF_PASSED 16 /**< phase 1's brake ran off the reference switch */
 
 /**
@@ -151,12 +151,12 @@ int X4StopAxis(int axis);
  * X4ErrIsActive then. X4Brake holds a path, X4Stop stops it and flushes.
  */
 typedef struct X4Segment {
-  long steps[4];               /**< signed steps of axes 1..4, |steps| <= 16777216 */
-  unsigned long length;        /**< its length along the path, in your unit, >= 1 */
-  unsigned long top_speed;     /**< units/s */
-  unsigned long entry_speed;   /**< the most the corner before it allows, units/s */
-  unsigned long accel;         /**< units/s^2; top_speed / accel at most 1800 s */
-  unsigned long long tag;      /**< yours: X4PathState reports the running one's */
+  long steps[4];             /**< signed steps of axes 1..4, |steps| <= 16777216 */
+  unsigned long length;      /**< its length along the path, in your unit, >= 1 */
+  unsigned long top_speed;   /**< units/s */
+  unsigned long entry_speed; /**< the most the corner before it allows, units/s */
+  unsigned long accel;       /**< units/s^2; top_speed / accel at most 1800 s */
+  unsigned long long tag;    /**< yours: X4PathState reports the running one's */
 } X4Segment;
 
 #define X4PATH_IDLE 0    /**< nothing runs, nothing queued */

@@ -96,7 +96,9 @@ else
 fi
 
 # User space follows .clang-format.
-files=$(cd "$top" && git ls-files 'lib/*.cpp' 'include/*.hpp' 'tools/*.cpp' 'tests/*.cpp' 'tools/*.hpp' 'tests/*.h')
+# Every C++ file and header, and the C API's headers (the uapi header is kernel style).
+files=$(cd "$top" && git ls-files 'lib/*.cpp' 'lib/*.hpp' 'include/*.hpp' 'include/*.h' 'tools/*.cpp' 'tools/*.hpp' \
+	'tests/*.cpp' 'tests/*.hpp' 'tests/*.h' | grep -v '^include/uapi/')
 (cd "$top" && clang-format --dry-run -Werror $files) >"$out/clang-format.log" 2>&1
 st=$?
 head -20 "$out/clang-format.log"
