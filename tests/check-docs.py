@@ -3,8 +3,9 @@
 """The documentation points at what is there: every relative link of the
 tracked Markdown files names an existing file (and, with #anchor, one of
 its headings), every file path in backticks that starts at a top folder of
-the tree exists, and nothing points outside the repository (../shared,
-the project's notes beside it). Prints each problem as FILE:LINE: what;
+the tree exists, nothing points outside the repository (../shared, the
+project's notes beside it), and the README stays short and gives the test
+command. Prints each problem as FILE:LINE: what;
 exits 1 if there was one.
 
 Usage: tests/check-docs.py [TOP]   (default: the repository of this file)
@@ -67,6 +68,15 @@ for md in files:
                 continue
             if not os.path.exists(os.path.join(top, path.rstrip("/").rstrip(".,:;"))):
                 problems.append(f"{where}: `{path}`: no such file in the tree")
+
+# The README stays a front door: topics go to docs/. CI's entry
+# (.ci/run) runs the test command the README gives.
+with open(os.path.join(top, "README.md"), encoding="utf-8") as f:
+    readme = f.read()
+if readme.count("\n") > 160:
+    problems.append(f"README.md: {readme.count(chr(10))} lines: keep it under 160, move the topic to docs/")
+if "    make check " not in readme:
+    problems.append("README.md: no 'make check' command line (.ci/run runs the README's test command)")
 
 for p in problems:
     print(p)
