@@ -103,4 +103,8 @@ files=$(cd "$top" && git ls-files 'lib/*.cpp' 'lib/*.hpp' 'include/*.hpp' 'inclu
 st=$?
 head -20 "$out/clang-format.log"
 result $st "clang-format (user space)"
+
+# The documentation points at files that exist, inside the tree.
+"$top/tests/check-docs.py" "$top"
+result $? "docs: relative links and file paths in Markdown exist"
 exit $fail
