@@ -20,7 +20,7 @@ count() { # LOGFILE: add its PASS/FAIL lines
 echo "== host: build and unit tests"
 if make -s userspace BUILD="$build" >"$log/build.log" 2>&1; then
 	# --timeout: a test that hangs (a wait that never ends) fails in 5 min.
-	(cd "$build" && ctest --output-on-failure -j2 --timeout 300) >"$log/ctest.log" 2>&1
+	(cd "$build" && ctest --output-on-failure --no-tests=error -j2 --timeout 300) >"$log/ctest.log" 2>&1
 	tail -n 3 "$log/ctest.log"
 	# One PASS/FAIL line per test case, from CTest's report: anything but
 	# "Passed" (failed, not run, timeout) fails, and so does a count that
