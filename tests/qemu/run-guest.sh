@@ -196,11 +196,43 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
+# The timeout counts the seconds QEMU could run: wall time less the time its
+# busiest thread waited for a CPU (/proc/PID/task/*/schedstat, field 2, ns).
+# On an idle host that is wall time; on a host loaded many times over, a
+# guest that is merely slow is not killed, and a hung guest (idle, not
+# waiting for a CPU) still is. Without schedstat it is wall time.
+qemu_waited_ns() { # PID
+	cat /proc/"$1"/task/*/schedstat 2>/dev/null | awk '$2 > m { m = $2 } END { printf "%.0f\n", m }'
+}
+watchdog() { # PID
+	local t0 now waited _
+	set +e
+	t0=$(date +%s%N)
+	while kill -0 "$1" 2>/dev/null; do
+		sleep 1
+		now=$(date +%s%N)
+		waited=$(qemu_waited_ns "$1")
+		if [ $(((now - t0 - waited) / 1000000000)) -ge "$timeout_s" ]; then
+			echo "$(((now - t0) / 1000000000)) $((waited / 1000000000))" >"$out/timeout"
+			kill -TERM "$1" 2>/dev/null
+			for _ in 1 2 3 4 5; do
+				sleep 1
+				kill -0 "$1" 2>/dev/null || return
+			done
+			kill -KILL "$1" 2>/dev/null
+			return
+		fi
+	done
+}
+
 : >"$out/console.log"
+rm -f "$out/timeout"
 start=$(date +%s.%N)
-timeout -k 5 "$timeout_s" "${qemu[@]}" </dev/null &
+"${qemu[@]}" </dev/null &
 qpid=$!
 pids+=("$qpid")
+watchdog "$qpid" &
+pids+=("$!")
 # Stream the console for the developer (without SeaBIOS's terminal resets);
 # with a monitor, also forward X4MON lines.
 stream() {
@@ -224,7 +256,8 @@ set +e
 wait "$qpid"
 qrc=$?
 set -e
-wait "${pids[1]}" 2>/dev/null || true
+wait "${pids[2]}" 2>/dev/null || true
+kill "${pids[1]}" 2>/dev/null || true
 pids=()
 secs=$(echo "$start $(date +%s.%N)" | awk '{printf "%.1f", $2 - $1}')
 
@@ -244,8 +277,9 @@ bad='WARNING: CPU:|WARNING: at |cut here \]|BUG: |kernel BUG at|Oops|general pro
 reports=$(cat "$out/console.log" "$out/dmesg.log" 2>/dev/null | tr -d '\r' | grep -a -E "$bad" |
 	awk '!seen[$0]++ { n++; if (n <= 30) print } END { if (n > 30) print "... and " n - 30 " more lines" }' || true)
 
-if [ "$qrc" = 124 ] || [ "$qrc" = 137 ]; then
-	echo "run-guest: TIMEOUT after ${timeout_s}s ($kver); logs in $out" >&2
+if [ -f "$out/timeout" ]; then
+	read -r wall waited <"$out/timeout"
+	echo "run-guest: TIMEOUT after ${timeout_s}s ($kver; ${wall}s of wall time, ${waited}s of it waiting for a CPU); logs in $out" >&2
 	[ -z "$reports" ] || printf 'run-guest: kernel reports:\n%s\n' "$reports" >&2
 	exit 124
 fi
