@@ -79,6 +79,15 @@ struct machine {
   std::string tool_table;  ///< [EMCIO] TOOL_TABLE, relative to the file's directory made absolute
 };
 
+/// Whether `units` lies within the axis' soft limits (a billionth of the
+/// limit's size beyond counts as within). The planner asks it for every
+/// point it plans, so it makes no words: beyond_soft_limit says why not.
+inline bool within_soft_limits(const axis &ax, double units) noexcept {
+  const double lo = ax.min_limit, hi = ax.max_limit;
+  return units >= lo - 1e-9 * (lo < -1 ? -lo : lo > 1 ? lo : 1.0) &&
+         units <= hi + 1e-9 * (hi < -1 ? -hi : hi > 1 ? hi : 1.0);
+}
+
 /// Why `units` lies beyond the soft limits of axis a (gcode::X ..), e.g.
 /// "X 30 is beyond the soft limit [AXIS_X] MAX_LIMIT 24"; empty if within.
 std::string beyond_soft_limit(const machine &m, size_t a, double units);

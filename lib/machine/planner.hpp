@@ -109,7 +109,8 @@ class planner : public gcode::sink {
     double feed_per_s;  // units/s; 0: see seconds
     double seconds;     // inverse time: the segment lasts this long
   };
-  void line_to(const gcode::pose &end, const speed &sp);
+  /// checked: end is known within the soft limits (an arc's chords are checked before the first).
+  void line_to(const gcode::pose &end, const speed &sp, bool checked = false);
   void check_limits(const gcode::pose &p) const;
   [[noreturn]] void fail(const std::string &what) const;
 
