@@ -234,7 +234,15 @@ void planner::pause(bool optional) {
   out_.pause(optional, -1);
 }
 
-void planner::message(std::string_view text) { out_.message(text); }
+void planner::message(std::string_view text) {
+  out_.message_at(text, message_info{line_, false, static_cast<std::uint64_t>(sum_.segments)});
+}
+
+void planner::debug(std::string_view text) {
+  out_.message_at(text, message_info{line_, true, static_cast<std::uint64_t>(sum_.segments)});
+}
+
+void planner::warning(const gcode::error &w) { out_.warning(w); }
 
 void planner::source_line(const std::string &file, int line) {
   file_ = file;
