@@ -93,6 +93,8 @@ TEST(Machine, ReadsTheShippedExamples) {
   EXPECT_TRUE(mill.axes[g::Z]->home.enabled);
   EXPECT_EQ(mill.axes[g::Z]->home.input, 1);
   EXPECT_DOUBLE_EQ(mill.axes[g::Z]->home.latch_vel, -0.5);
+  // Both ship a tool table, so G43 H applies a length without a warning.
+  EXPECT_EQ(g::read_tool_table(mill.tool_table, mill.units, mill.units).size(), 3u);
   const m::machine four = m::read_file(X4_SOURCE_DIR "/machines/x4step-4axis.ini");
   EXPECT_EQ(four.units, g::units::inch);
   ASSERT_TRUE(four.axes[g::A]);
