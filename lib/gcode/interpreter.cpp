@@ -235,7 +235,8 @@ struct block {
 std::string unsupported_g(int code10) {
   std::string what = g_name(code10) + " is not supported by this interpreter";
   if (code10 == 740 || code10 == 760 || (code10 >= 840 && code10 <= 880))
-    return what + ": expand canned cycles in your post processor (of the cycles, G73 G81 G82 G83 G85 G89 are)";
+    return what +
+           ": expand canned cycles in your post processor (of the cycles, G73 G81 G82 G83 G85 G89 are)";
   if (code10 >= 410 && code10 <= 421)
     return what + ": let the CAM system compensate the tool radius (compensation \"in computer\")";
   return what;
@@ -591,7 +592,8 @@ struct interpreter::impl : modal_state {
       fail(b.at('Q'), "Q word with no G64, G73 or G83 to use it");
     if (cycle)
       for (char c : {'A', 'B', 'C'})
-        if (b.has(c)) fail(b.at(c), std::string(1, c) + " word in a canned cycle: rotary axes stay put in cycles");
+        if (b.has(c))
+          fail(b.at(c), std::string(1, c) + " word in a canned cycle: rotary axes stay put in cycles");
     if (b.has('H') && b.g[g_tool_length] != 430) fail(b.at('H'), "H word with no G43 to use it");
     if (b.has('D')) fail(b.at('D'), "D word: cutter radius compensation (G41/G42) is not supported");
     if (g0 == 40 && !b.has('P')) fail(b.g_col[g_nonmodal], "G4 needs P (the dwell time, seconds)");
@@ -820,9 +822,10 @@ struct interpreter::impl : modal_state {
       }
       int hcol = b.has('H') ? b.at('H') : b.g_col[g_tool_length];
       if (h != 0 && !have_tool_table) {
-        warn(hcol, "G43 H" + std::to_string(h) +
-                       ": no tool table, so tool length 0 (add [EMCIO] TOOL_TABLE to the machine file for the "
-                       "tools' lengths)");
+        warn(hcol,
+             "G43 H" + std::to_string(h) +
+                 ": no tool table, so tool length 0 (add [EMCIO] TOOL_TABLE to the machine file for the "
+                 "tools' lengths)");
       } else if (h != 0) {
         auto it = tools.find(h);
         if (it == tools.end())
@@ -905,9 +908,8 @@ struct interpreter::impl : modal_state {
       cc = r + zv;
     }
     if (r < cc)
-      fail(b.has('R') ? b.at('R') : mcol,
-           name + ": the retract plane R is below the bottom Z (R " + std::to_string(r) + ", Z " +
-               std::to_string(cc) + ")");
+      fail(b.has('R') ? b.at('R') : mcol, name + ": the retract plane R is below the bottom Z (R " +
+                                              std::to_string(r) + ", Z " + std::to_string(cc) + ")");
     if ((code == 730 || code == 830) && (r - cc) / q > 1e6)
       fail(b.at('Q'), name + " Q is too small: over a million pecks");
 

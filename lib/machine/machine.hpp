@@ -15,7 +15,9 @@
 #ifndef X4STEP_MACHINE_HPP
 #define X4STEP_MACHINE_HPP
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <iosfwd>
 #include <optional>
 #include <stdexcept>
@@ -83,9 +85,8 @@ struct machine {
 /// limit's size beyond counts as within). The planner asks it for every
 /// point it plans, so it makes no words: beyond_soft_limit says why not.
 inline bool within_soft_limits(const axis &ax, double units) noexcept {
-  const double lo = ax.min_limit, hi = ax.max_limit;
-  return units >= lo - 1e-9 * (lo < -1 ? -lo : lo > 1 ? lo : 1.0) &&
-         units <= hi + 1e-9 * (hi < -1 ? -hi : hi > 1 ? hi : 1.0);
+  auto slack = [](double limit) { return 1e-9 * std::max(1.0, std::fabs(limit)); };
+  return units >= ax.min_limit - slack(ax.min_limit) && units <= ax.max_limit + slack(ax.max_limit);
 }
 
 /// Why `units` lies beyond the soft limits of axis a (gcode::X ..), e.g.

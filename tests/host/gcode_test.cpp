@@ -63,9 +63,10 @@ TEST(Gcode, ErrorsNameFileLineColumn) {
   EXPECT_EQ(run("G21\n  G84 X1\nM2\n"),
             "t.ngc:2:3: G84 is not supported by this interpreter: expand canned cycles in your post processor"
             " (of the cycles, G73 G81 G82 G83 G85 G89 are)");
-  EXPECT_EQ(run("G41 D1\nM2\n"),
-            "t.ngc:1:1: G41 is not supported by this interpreter: let the CAM system compensate the tool radius"
-            " (compensation \"in computer\")");
+  EXPECT_EQ(
+      run("G41 D1\nM2\n"),
+      "t.ngc:1:1: G41 is not supported by this interpreter: let the CAM system compensate the tool radius"
+      " (compensation \"in computer\")");
   EXPECT_EQ(run("G21\nG12.7\nM2\n"), "t.ngc:2:1: unknown G code G12.7");
   EXPECT_EQ(run("G0 X#1\nM2\n"), "t.ngc:1:5: numbered parameters (#) are not supported");
   EXPECT_EQ(run("G0 X[1+2]\nM2\n"), "t.ngc:1:5: expressions ([ ]) are not supported");
@@ -148,7 +149,8 @@ TEST(Gcode, ToolLengthWithoutATable) {
   EXPECT_EQ(r.log[3], "M2");
   // A table without the tool: refused, saying how to add it; a tool in it has its length.
   recorder t;
-  EXPECT_EQ(run_with_table("G43 H7\nM2\n", t), "t.ngc:1:5: tool 7 is not in the tool table: add a line \"T7 P7 Z<length>\" to it");
+  EXPECT_EQ(run_with_table("G43 H7\nM2\n", t),
+            "t.ngc:1:5: tool 7 is not in the tool table: add a line \"T7 P7 Z<length>\" to it");
   recorder u;
   EXPECT_EQ(run_with_table("G43 H1 G0 Z5\nM2\n", u), "");
   ASSERT_EQ(u.log.size(), 2u);
@@ -174,7 +176,8 @@ TEST(Gcode, ByteOrderMarkAndNonAscii) {
 
 TEST(Gcode, MessagesInTheirPlace) {
   recorder r;
-  EXPECT_EQ(run("G0 X1\n(MSG,first)\nG0 X2 (DEBUG, second)\n(debug,third)\n(PRINT, not shown)\nM2\n", &r), "");
+  EXPECT_EQ(run("G0 X1\n(MSG,first)\nG0 X2 (DEBUG, second)\n(debug,third)\n(PRINT, not shown)\nM2\n", &r),
+            "");
   ASSERT_EQ(r.log.size(), 6u);
   EXPECT_EQ(r.log[0], "G0 1 0 0");
   EXPECT_EQ(r.log[1], "MSG first");
@@ -190,9 +193,9 @@ TEST(Gcode, MessagesInTheirPlace) {
 TEST(Gcode, DrillingCycles) {
   recorder r;
   EXPECT_EQ(run("G21 G0 Z10\nG98 G82 X1 Y2 Z-3 R2 P0.5 F60\nX4\nM2\n", &r), "");
-  const std::vector<std::string> want = {"G0 0 0 10", "G0 1 2 10", "G0 1 2 2",  "G1 1 2 -3",  "DWELL 0.5",
-                                         "G0 1 2 10", "G0 4 2 10", "G0 4 2 2",  "G1 4 2 -3",  "DWELL 0.5",
-                                         "G0 4 2 10", "M2"};
+  const std::vector<std::string> want = {"G0 0 0 10", "G0 1 2 10", "G0 1 2 2",  "G1 1 2 -3",
+                                         "DWELL 0.5", "G0 1 2 10", "G0 4 2 10", "G0 4 2 2",
+                                         "G1 4 2 -3", "DWELL 0.5", "G0 4 2 10", "M2"};
   EXPECT_EQ(r.log, want);
   EXPECT_EQ(run("G81 X1 Z-1 F9\nM2\n"), "t.ngc:1:1: G81 needs R (the retract plane)");
   EXPECT_EQ(run("G81 X1 R1 F9\nM2\n"), "t.ngc:1:1: G81 needs Z (the bottom of the hole)");

@@ -302,7 +302,8 @@ TEST(Planner, MessagesKnowTheirPlace) {
   const m::machine mc = machine_of(machine_text());
   message_recorder out;
   std::istringstream in(
-      "G21 (MSG,start)\nG1 X10 F600\nG1 X20\n(MSG,two done)\nG2 X30 Y10 I10 J0 (DEBUG,arc done)\nG43 H3\nM2\n");
+      "G21 (MSG,start)\nG1 X10 F600\nG1 X20\n(MSG,two done)\nG2 X30 Y10 I10 J0 (DEBUG,arc done)\nG43 "
+      "H3\nM2\n");
   m::plan_program(mc, in, "prog.ngc", out);
   ASSERT_EQ(out.log.size(), 4u);
   EXPECT_EQ(out.log[0], "MSG line 1 after 0:start");
