@@ -8,10 +8,14 @@
  * rules of the NIST RS274/NGC interpreter (version 3) as LinuxCNC applies
  * them: G0 G1 G2 G3 (IJK and R, full circles, helices, P turns), G4, G10 L2
  * and L20, G17 G18 G19, G20 G21, G28 G28.1 G30 G30.1, G40, G43 H, G43.1,
- * G49, G53, G54..G59.3, G61 G61.1 G64 (P, Q), G80, G90 G91, G90.1 G91.1,
- * G92 G92.1, G93 G94; M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9; F S T N;
- * comments ( ) and ;, (MSG,...), block delete /, %. Anything else is
- * refused with an error naming file:line:column, never skipped.
+ * G49, G53, G54..G59.3, G61 G61.1 G64 (P, Q), G90 G91, G90.1 G91.1,
+ * G92 G92.1, G93 G94; the drilling cycles G73 G81 G82 G83 G85 G89 (XY
+ * plane, G90 or G91, L repeats) with G98 G99 and G80, expanded into
+ * traverses, feeds and dwells as LinuxCNC expands them; M0 M1 M2 M30 M3
+ * M4 M5 M6 M7 M8 M9; F S T N; comments ( ) and ;, (MSG,...), (DEBUG,...),
+ * block delete /, %. Anything else is refused with an error naming
+ * file:line:column (and what to do instead where there is a way), never
+ * skipped.
  *
  * Streaming: a program is read one line at a time; nothing is kept of a
  * line once it is executed. The interpreter knows nothing of motors or
@@ -117,8 +121,14 @@ class sink {
   virtual void tool_length_offset(const pose &) {}
   /// M0 (optional false) and M1 (optional true): wait for the operator.
   virtual void pause(bool /*optional*/) {}
-  /// (MSG, text)
+  /// (MSG, text): to show the operator when the line runs.
   virtual void message(std::string_view) {}
+  /// (DEBUG, text): LinuxCNC shows it as a message too (this default).
+  virtual void debug(std::string_view text) { message(text); }
+  /// Something accepted that the operator should know of (G43 H without
+  /// a tool table): what() is "file:line:column: warning: ...". It comes
+  /// with the line's other commands, before them.
+  virtual void warning(const error & /*what*/) {}
   /// M2 or M30 (or the closing %): nothing is read after it.
   virtual void program_end(bool /*m30*/) {}
   /// The line whose commands follow (before the first of them): a sink
@@ -154,10 +164,14 @@ class interpreter {
   interpreter(const interpreter &) = delete;
   interpreter &operator=(const interpreter &) = delete;
 
+  /// The tools G43 H takes lengths from. Without a table (never set), G43
+  /// H applies length 0 with a warning to the sink; with one, a tool
+  /// missing from it is an error.
   void set_tool_table(std::map<int, tool> table);
 
   /// Runs a program to its end (M2, M30, closing % or end of file), line by
-  /// line; `name` is the file name errors give. Throws gcode::error on the
+  /// line; `name` is the file name errors give. A UTF-8 byte-order mark
+  /// at its start is skipped. Throws gcode::error on the
   /// first line that is refused: nothing of that line reaches the sink.
   /// A program must end with M2/M30 or %: else an error at its end.
   void run(std::istream &in, const std::string &name);

@@ -61,6 +61,7 @@ enum group : int {
   g_units = 6,
   g_cutter = 7,
   g_tool_length = 8,
+  g_retract = 10,
   g_coord = 12,
   g_path = 13,
   n_groups = 14
@@ -83,8 +84,17 @@ int g_group(int code10) {
     case 10:
     case 20:
     case 30:
+    case 730:
     case 800:
+    case 810:
+    case 820:
+    case 830:
+    case 850:
+    case 890:
       return g_motion;
+    case 980:
+    case 990:
+      return g_retract;
     case 170:
     case 180:
     case 190:
@@ -147,7 +157,6 @@ int g_group(int code10) {
     case 720:
     case 721:
     case 722:
-    case 730:
     case 740:
     case 760:
     case 922:
@@ -155,8 +164,6 @@ int g_group(int code10) {
     case 950:
     case 960:
     case 970:
-    case 980:
-    case 990:
     case 171:
     case 181:
     case 191:
@@ -216,12 +223,37 @@ struct block {
   int n_m;
   int first_col;  // column of the first word
   bool has_msg;
+  bool msg_debug;  // (DEBUG,...) rather than (MSG,...)
   std::string msg;
 
   bool has(char c) const { return col[c - 'A'] != 0; }
   double v(char c) const { return val[c - 'A']; }
   int at(char c) const { return col[c - 'A']; }
 };
+
+// What to do about a code outside the subset, where there is a way.
+std::string unsupported_g(int code10) {
+  std::string what = g_name(code10) + " is not supported by this interpreter";
+  if (code10 == 740 || code10 == 760 || (code10 >= 840 && code10 <= 880))
+    return what +
+           ": expand canned cycles in your post processor (of the cycles, G73 G81 G82 G83 G85 G89 are)";
+  if (code10 >= 410 && code10 <= 421)
+    return what + ": let the CAM system compensate the tool radius (compensation \"in computer\")";
+  return what;
+}
+
+// A character outside G-code: the whole UTF-8 sequence it starts, not half of it.
+std::string unexpected(std::string_view s, size_t i) {
+  size_t e = i + 1;
+  if (static_cast<unsigned char>(s[i]) >= 0xc0)
+    while (e < s.size() && (static_cast<unsigned char>(s[e]) & 0xc0) == 0x80 && e - i < 4) ++e;
+  if (static_cast<unsigned char>(s[i]) >= 0x80 && e - i == 1) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02x", static_cast<unsigned char>(s[i]));
+    return std::string("unexpected byte ") + hex + " (not ASCII nor UTF-8)";
+  }
+  return "unexpected character '" + std::string(s.substr(i, e - i)) + "'";
+}
 
 // A canonical command held until its line is accepted.
 struct event {
@@ -240,6 +272,7 @@ struct event {
     tlo_ev,
     pause_ev,
     message_ev,
+    warning_ev,
     end_ev
   } k;
   straight s;
@@ -272,6 +305,13 @@ struct modal_state {
   bool mist = false, flood = false;
   int tool_selected = 0, tool_loaded = 0;
   bool ended = false;
+  // Canned cycles (program units, as LinuxCNC keeps them): G98 (false) or
+  // G99; the level the first cycle of a series started from; the last R,
+  // Z, P and Q (a repeated cycle may leave them out).
+  bool retract_r = true;
+  bool il_set = false;
+  double il = 0;
+  double cycle_r = 0, cycle_z = 0, cycle_p = 0, cycle_q = 0;
 
   // Positions and offsets, mm (degrees for A B C), machine coordinates.
   pose pos{};
@@ -285,6 +325,8 @@ struct interpreter::impl : modal_state {
   sink *out;
   options opt;
   std::map<int, tool> tools;
+  bool have_tool_table = false;
+  std::vector<error> warnings;  // this line's, given on once it is accepted
 
   // The file being run and the line being read, for errors.
   std::string file;
@@ -384,6 +426,7 @@ struct interpreter::impl : modal_state {
     b.n_m = 0;
     b.first_col = 0;
     b.has_msg = false;
+    b.msg_debug = false;
     size_t i = 0, n = s.size();
     while (i < n && is_space(s[i])) ++i;
     if (i < n && s[i] == '/') {
@@ -415,11 +458,13 @@ struct interpreter::impl : modal_state {
         if (c == '#') fail(col, "numbered parameters (#) are not supported");
         if (c == '[') fail(col, "expressions ([ ]) are not supported");
         if (c == '%') fail(col, "'%' must stand alone on its line");
-        fail(col, std::string("unexpected character '") + c + "'");
+        fail(col, unexpected(s, i));
       }
       switch (L) {
         case 'O':
-          fail(col, "O-word subroutines and control flow are not supported");
+          fail(col,
+               "O-word subroutines and control flow are not supported: have the post processor write plain "
+               "moves");
         case 'E':
         case 'U':
         case 'V':
@@ -444,7 +489,7 @@ struct interpreter::impl : modal_state {
         if (std::fabs(v * 10 - code10) > 1e-6 || v < 0) fail(col, "unknown G code");
         int g = g_group(code10);
         if (g == -2) fail(col, "unknown G code " + g_name(code10));
-        if (g == -1) fail(col, g_name(code10) + " is not supported by this interpreter");
+        if (g == -1) fail(col, unsupported_g(code10));
         if (b.g[g] >= 0)
           fail(col, g_name(code10) + " and " + g_name(b.g[g]) + " are in the same modal group (group " +
                         std::to_string(g) + ")");
@@ -481,12 +526,21 @@ struct interpreter::impl : modal_state {
   void comment(std::string_view c, int col) {
     size_t i = 0;
     while (i < c.size() && is_space(c[i])) ++i;
-    if (c.size() - i < 3 || upper(c[i]) != 'M' || upper(c[i + 1]) != 'S' || upper(c[i + 2]) != 'G') return;
-    i += 3;
+    auto word = [&](const char *w) {
+      size_t n = std::strlen(w);
+      if (c.size() - i < n) return false;
+      for (size_t j = 0; j < n; ++j)
+        if (upper(c[i + j]) != w[j]) return false;
+      return true;
+    };
+    bool debug = word("DEBUG");
+    if (!debug && !word("MSG")) return;
+    i += debug ? 5 : 3;
     while (i < c.size() && is_space(c[i])) ++i;
     if (i >= c.size() || c[i] != ',') return;
-    if (b.has_msg) fail(col, "more than one (MSG,...) on one line");
+    if (b.has_msg) fail(col, "more than one (MSG,...) or (DEBUG,...) on one line");
     b.has_msg = true;
+    b.msg_debug = debug;
     b.msg.assign(c.substr(i + 1));
   }
 
@@ -523,14 +577,23 @@ struct interpreter::impl : modal_state {
       if (eff_motion != 0 && eff_motion != 10) fail(b.g_col[g_nonmodal], "G53 needs G0 or G1");
       if (incremental_after()) fail(b.g_col[g_nonmodal], "G53 with G91: G53 takes absolute values only");
     }
-    bool arc = (eff_motion == 20 || eff_motion == 30) && (axis || motion_in_block) && !g0_axes;
+    bool runs = (axis || motion_in_block) && !g0_axes;  // the motion mode moves on this line
+    bool arc = (eff_motion == 20 || eff_motion == 30) && runs;
+    bool cycle = is_cycle(eff_motion) && runs;
+    bool dwell_cycle = cycle && (eff_motion == 820 || eff_motion == 890);
+    bool peck_cycle = cycle && (eff_motion == 730 || eff_motion == 830);
     for (char c : {'I', 'J', 'K'})
       if (b.has(c) && !arc) fail(b.at(c), std::string(1, c) + " word with no G2 or G3 to use it");
-    if (b.has('R') && !arc) fail(b.at('R'), "R word with no G2 or G3 to use it");
-    if (b.has('L') && g0 != 100) fail(b.at('L'), "L word with no G10 to use it");
-    if (b.has('P') && !(g0 == 40 || g0 == 100 || arc || b.g[g_path] == 640))
-      fail(b.at('P'), "P word with no G4, G10, G2/G3 or G64 to use it");
-    if (b.has('Q') && b.g[g_path] != 640) fail(b.at('Q'), "Q word with no G64 to use it");
+    if (b.has('R') && !arc && !cycle) fail(b.at('R'), "R word with no G2, G3 or canned cycle to use it");
+    if (b.has('L') && g0 != 100 && !cycle) fail(b.at('L'), "L word with no G10 or canned cycle to use it");
+    if (b.has('P') && !(g0 == 40 || g0 == 100 || arc || dwell_cycle || b.g[g_path] == 640))
+      fail(b.at('P'), "P word with no G4, G10, G2/G3, G82/G89 or G64 to use it");
+    if (b.has('Q') && b.g[g_path] != 640 && !peck_cycle)
+      fail(b.at('Q'), "Q word with no G64, G73 or G83 to use it");
+    if (cycle)
+      for (char c : {'A', 'B', 'C'})
+        if (b.has(c))
+          fail(b.at(c), std::string(1, c) + " word in a canned cycle: rotary axes stay put in cycles");
     if (b.has('H') && b.g[g_tool_length] != 430) fail(b.at('H'), "H word with no G43 to use it");
     if (b.has('D')) fail(b.at('D'), "D word: cutter radius compensation (G41/G42) is not supported");
     if (g0 == 40 && !b.has('P')) fail(b.g_col[g_nonmodal], "G4 needs P (the dwell time, seconds)");
@@ -552,6 +615,8 @@ struct interpreter::impl : modal_state {
       if (b.has('R')) fail(b.at('R'), "G10 R (a rotation of the coordinate system) is not supported");
     }
   }
+
+  static bool is_cycle(int m) { return m == 730 || (m >= 810 && m <= 890); }
 
   bool incremental_after() const { return b.g[g_distance] >= 0 ? b.g[g_distance] == 910 : incremental; }
 
@@ -718,12 +783,22 @@ struct interpreter::impl : modal_state {
         break;
     }
     // 20. motion
+    // 18. canned cycle return level
+    if (b.g[g_retract] >= 0) retract_r = b.g[g_retract] == 990;
+    const int before = motion;
     if (b.g[g_motion] >= 0) motion = b.g[g_motion];
     bool axis = false;
     for (char c : {'X', 'Y', 'Z', 'A', 'B', 'C'}) axis = axis || b.has(c);
     bool uses_axes = g0 == 100 || g0 == 920 || moved_by_nonmodal || b.g[g_tool_length] == 431;
     // A motion word moves even without axis words (LinuxCNC: to where it is).
-    if (!uses_axes && (axis || b.g[g_motion] >= 0)) move(g0 == 530);
+    if (!uses_axes && (axis || b.g[g_motion] >= 0)) {
+      if (is_cycle(motion)) {
+        cycle(before);
+      } else {
+        il_set = false;  // a series of cycles ends with another motion (G80 too)
+        move(g0 == 530);
+      }
+    }
     // 21. stop
     if (b.m[m_stop] >= 0) {
       int m = b.m[m_stop];
@@ -745,11 +820,17 @@ struct interpreter::impl : modal_state {
           fail(b.at('H'), "H must be a tool number (a whole number 0.." + std::to_string(tool_max) + ")");
         h = int(hv);
       }
-      if (h != 0) {
+      int hcol = b.has('H') ? b.at('H') : b.g_col[g_tool_length];
+      if (h != 0 && !have_tool_table) {
+        warn(hcol,
+             "G43 H" + std::to_string(h) +
+                 ": no tool table, so tool length 0 (add [EMCIO] TOOL_TABLE to the machine file for the "
+                 "tools' lengths)");
+      } else if (h != 0) {
         auto it = tools.find(h);
         if (it == tools.end())
-          fail(b.has('H') ? b.at('H') : b.g_col[g_tool_length],
-               "tool " + std::to_string(h) + " is not in the tool table");
+          fail(hcol, "tool " + std::to_string(h) + " is not in the tool table: add a line \"T" +
+                         std::to_string(h) + " P" + std::to_string(h) + " Z<length>\" to it");
         t = it->second.offset;
       }
     } else if (c == 431) {
@@ -763,6 +844,134 @@ struct interpreter::impl : modal_state {
     e.k = event::tlo_ev;
     e.s.end = o;
     events.push_back(e);
+  }
+
+  void warn(int col, const std::string &what) {
+    warnings.emplace_back(file, line_no, col < 1 ? 1 : col, "warning: " + what);
+    simple(event::warning_ev, 0, 0, 0, int(warnings.size() - 1));
+  }
+
+  // ---- canned cycles (LinuxCNC's interp_cycles.cc, XY plane) ------------
+  // Z levels are worked in program coordinates and units, as LinuxCNC
+  // does (a peck's depth is compared as it compares it); a point becomes
+  // machine coordinates only when it is emitted.
+
+  void cycle(int before) {
+    const int code = motion;
+    const int mcol = b.g[g_motion] >= 0 ? b.g_col[g_motion] : b.first_col;
+    const std::string name = g_name(code);
+    const bool same = before == code;  // a repeat of the cycle in force: R Z P Q may be left out
+    if (pl != plane::xy)
+      fail(mcol, name + " in the " + (pl == plane::zx ? "XZ (G18)" : "YZ (G19)") +
+                     " plane: canned cycles run in the XY plane (G17) only here");
+    if (fmode == feed_mode::inverse_time)
+      fail(mcol, name + " in inverse time mode (G93): canned cycles need G94");
+    if (feed <= 0) fail(mcol, name + " with a feed rate of zero (no F given)");
+    if (!b.has('R') && !same) fail(mcol, name + " needs R (the retract plane)");
+    if (!b.has('Z') && !same) fail(mcol, name + " needs Z (the bottom of the hole)");
+    int repeats = 1;
+    if (b.has('L')) {
+      double l = b.v('L');
+      if (l != std::floor(l) || l < 1 || l > turns_max)
+        fail(b.at('L'), name + " L (repeats) must be a whole number 1.." + std::to_string(turns_max));
+      repeats = int(l);
+    }
+    const double rv = b.has('R') ? b.v('R') : cycle_r;
+    const double zv = b.has('Z') ? b.v('Z') : cycle_z;
+    double p = 0, q = 0;
+    if (code == 820 || code == 890) {
+      if (!b.has('P') && !same) fail(mcol, name + " needs P (the dwell at the bottom, seconds)");
+      p = b.has('P') ? b.v('P') : cycle_p;
+      if (p < 0) fail(b.at('P'), "negative dwell time");
+    }
+    if (code == 730 || code == 830) {
+      if (!b.has('Q') && !same) fail(mcol, name + " needs Q (the depth of each peck)");
+      q = b.has('Q') ? b.v('Q') : cycle_q;
+      if (!(q > 0)) fail(b.has('Q') ? b.at('Q') : mcol, name + " Q (the depth of each peck) must be above 0");
+    }
+
+    const double off_z = offset(Z);
+    const double cur_z = (pos[Z] - off_z) / k;  // program coordinates and units
+    double old_cc = il_set ? il : cur_z;
+    if (!il_set) il = cur_z, il_set = true;
+    double aa = pos[X], bb = pos[Y], da = 0, db = 0;  // machine coordinates, mm
+    double r, cc;
+    if (!incremental) {
+      pose t = target(false);
+      aa = t[X], bb = t[Y];
+      r = rv;
+      cc = zv;
+    } else {
+      da = b.has('X') ? b.v('X') * k : 0;
+      db = b.has('Y') ? b.v('Y') * k : 0;
+      r = rv + old_cc;
+      cc = r + zv;
+    }
+    if (r < cc)
+      fail(b.has('R') ? b.at('R') : mcol, name + ": the retract plane R is below the bottom Z (R " +
+                                              std::to_string(r) + ", Z " + std::to_string(cc) + ")");
+    if ((code == 730 || code == 830) && (r - cc) / q > 1e6)
+      fail(b.at('Q'), name + " Q is too small: over a million pecks");
+
+    auto at = [&](double x, double y, double z) {
+      pose e = pos;
+      e[X] = x, e[Y] = y, e[Z] = z * k + off_z;
+      return e;
+    };
+    double current_cc = cur_z;
+    if (old_cc < r) {  // below the R plane: straight up to it first
+      emit_straight(event::traverse, at(pos[X], pos[Y], r));
+      old_cc = current_cc = r;
+    }
+    const double clear = retract_r ? r : old_cc;
+    const double rapid_delta = prog_units == units::mm ? 0.010 * 25.4 : 0.010;
+    auto traverse = [&](double z) { emit_straight(event::traverse, at(aa, bb, z)); };
+    auto feed_to = [&](double z) { emit_straight(event::feed, at(aa, bb, z)); };
+    for (int rep = repeats; rep > 0; --rep) {
+      aa += da, bb += db;
+      if (rep == repeats && current_cc > r) {
+        traverse(current_cc);
+        traverse(r);
+      } else {
+        traverse(clear);
+        if (clear > r) traverse(r);
+      }
+      switch (code) {
+        case 810:  // drill
+          feed_to(cc);
+          traverse(clear);
+          break;
+        case 820:  // drill, dwell at the bottom
+          feed_to(cc);
+          simple(event::dwell, p);
+          traverse(clear);
+          break;
+        case 730:  // chip break: back off a little after each peck
+        case 830:  // peck: out to R after each peck, back down to just above the last one
+          for (double d = r - q; d > cc; d -= q) {
+            feed_to(d);
+            if (code == 830) traverse(r);
+            traverse(d + rapid_delta);
+          }
+          feed_to(cc);
+          traverse(clear);
+          break;
+        case 850:  // bore: feed in, feed out to R
+          feed_to(cc);
+          feed_to(r);
+          traverse(clear);
+          break;
+        default:  // 890: bore, dwell, feed out
+          feed_to(cc);
+          simple(event::dwell, p);
+          feed_to(clear);
+          break;
+      }
+    }
+    cycle_r = rv;
+    cycle_z = zv;
+    if (code == 820 || code == 890) cycle_p = p;
+    if (code == 730 || code == 830) cycle_q = q;
   }
 
   void g10() {
@@ -925,6 +1134,7 @@ struct interpreter::impl : modal_state {
     incremental = false;
     fmode = feed_mode::units_per_minute;
     motion = 10;
+    il_set = false;
     sdir = spindle_dir::off;
     mist = flood = false;
     simple(event::end_ev, 0, 0, 0, m30);
@@ -979,7 +1189,13 @@ struct interpreter::impl : modal_state {
           out->pause(e.i == 1);
           break;
         case event::message_ev:
-          out->message(b.msg);
+          if (b.msg_debug)
+            out->debug(b.msg);
+          else
+            out->message(b.msg);
+          break;
+        case event::warning_ev:
+          out->warning(warnings[size_t(e.i)]);
           break;
         case event::end_ev:
           out->program_end(e.i != 0);
@@ -987,6 +1203,7 @@ struct interpreter::impl : modal_state {
       }
     }
     events.clear();
+    warnings.clear();
   }
 
   // One line; false once the program ended.
@@ -994,6 +1211,7 @@ struct interpreter::impl : modal_state {
     if (ended) return false;
     if (!parse(s)) return true;
     events.clear();
+    warnings.clear();
     const modal_state before = *this;
     try {
       execute();
@@ -1012,6 +1230,8 @@ struct interpreter::impl : modal_state {
     while (std::getline(in, text)) {
       ++line_no;
       std::string_view s(text);
+      // A UTF-8 byte-order mark (some Windows editors write one) is no character of the program.
+      if (line_no == 1 && s.substr(0, 3) == "\xEF\xBB\xBF") s.remove_prefix(3);
       size_t a = 0, e = s.size();
       while (a < e && is_space(s[a])) ++a;
       while (e > a && is_space(s[e - 1])) --e;
@@ -1045,6 +1265,7 @@ void interpreter::set_tool_table(std::map<int, tool> table) {
   for (auto &t : table)
     for (int a = 0; a < 3; ++a) t.second.offset[size_t(a)] *= p_->out_scale;
   p_->tools = std::move(table);
+  p_->have_tool_table = true;
 }
 
 void interpreter::run(std::istream &in, const std::string &name) {

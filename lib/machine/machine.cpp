@@ -370,6 +370,9 @@ error::error(const std::string &file, int line, const std::string &key, const st
 std::string beyond_soft_limit(const machine &m, size_t a, double units) {
   const std::optional<axis> &ax = m.axes.at(a);
   if (!ax) return "";
+  // The words are made only for a point beyond a limit.
+  if (within_soft_limits(*ax, units)) return {};
+  const bool below = units < ax->min_limit;
   auto text = [](double v) {
     std::ostringstream o;
     o << v;
@@ -377,11 +380,7 @@ std::string beyond_soft_limit(const machine &m, size_t a, double units) {
   };
   const std::string what = std::string(1, "XYZABC"[a]) + " " + text(units) +
                            " is beyond the soft limit [AXIS_" + "XYZABC"[a] + "] ";
-  if (units < ax->min_limit - 1e-9 * std::max(1.0, std::fabs(ax->min_limit)))
-    return what + "MIN_LIMIT " + text(ax->min_limit);
-  if (units > ax->max_limit + 1e-9 * std::max(1.0, std::fabs(ax->max_limit)))
-    return what + "MAX_LIMIT " + text(ax->max_limit);
-  return "";
+  return below ? what + "MIN_LIMIT " + text(ax->min_limit) : what + "MAX_LIMIT " + text(ax->max_limit);
 }
 
 machine read(std::istream &in, const std::string &name) {

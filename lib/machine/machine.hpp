@@ -15,7 +15,9 @@
 #ifndef X4STEP_MACHINE_HPP
 #define X4STEP_MACHINE_HPP
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <iosfwd>
 #include <optional>
 #include <stdexcept>
@@ -78,6 +80,14 @@ struct machine {
   pin spindle = pin::none, flood = pin::none, mist = pin::none;
   std::string tool_table;  ///< [EMCIO] TOOL_TABLE, relative to the file's directory made absolute
 };
+
+/// Whether `units` lies within the axis' soft limits (a billionth of the
+/// limit's size beyond counts as within). The planner asks it for every
+/// point it plans, so it makes no words: beyond_soft_limit says why not.
+inline bool within_soft_limits(const axis &ax, double units) noexcept {
+  auto slack = [](double limit) { return 1e-9 * std::max(1.0, std::fabs(limit)); };
+  return units >= ax.min_limit - slack(ax.min_limit) && units <= ax.max_limit + slack(ax.max_limit);
+}
 
 /// Why `units` lies beyond the soft limits of axis a (gcode::X ..), e.g.
 /// "X 30 is beyond the soft limit [AXIS_X] MAX_LIMIT 24"; empty if within.

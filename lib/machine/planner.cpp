@@ -44,14 +44,14 @@ void planner::check_limits(const gcode::pose &p) const {
         fail(std::string("the machine has no ") + letter_of(a) + " axis ([TRAJ] COORDINATES)");
       continue;
     }
-    if (const std::string why = beyond_soft_limit(m_, a, p[a]); !why.empty()) fail(why);
+    if (!within_soft_limits(*ax, p[a])) fail(beyond_soft_limit(m_, a, p[a]));
   }
 }
 
 // One straight segment to end: feed_per_s (units/s) for feeds, seconds
 // for inverse time, neither for rapids.
-void planner::line_to(const gcode::pose &end, const speed &sp) {
-  check_limits(end);
+void planner::line_to(const gcode::pose &end, const speed &sp, bool checked) {
+  if (!checked) check_limits(end);
   std::array<long, x4step::axes> delta{};
   std::array<double, x4step::axes> d{};  // the executed move per motor, machine units
   std::array<double, x4step::axes> vmax{}, amax{};
@@ -200,7 +200,7 @@ void planner::arc_feed(const gcode::arc &a) {
   speed sp{false, a.feed / 60, 0};
   if (a.mode == gcode::feed_mode::inverse_time)
     sp = speed{false, 0, a.feed > 0 ? 60 / a.feed / double(n) : 0};
-  for (long k = 1; k <= n; k++) line_to(point(k), sp);
+  for (long k = 1; k <= n; k++) line_to(point(k), sp, true);
 }
 
 void planner::dwell(double seconds) {
@@ -234,7 +234,15 @@ void planner::pause(bool optional) {
   out_.pause(optional, -1);
 }
 
-void planner::message(std::string_view text) { out_.message(text); }
+void planner::message(std::string_view text) {
+  out_.message_at(text, message_info{line_, false, static_cast<std::uint64_t>(sum_.segments)});
+}
+
+void planner::debug(std::string_view text) {
+  out_.message_at(text, message_info{line_, true, static_cast<std::uint64_t>(sum_.segments)});
+}
+
+void planner::warning(const gcode::error &w) { out_.warning(w); }
 
 void planner::source_line(const std::string &file, int line) {
   file_ = file;

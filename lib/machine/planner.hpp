@@ -25,6 +25,9 @@
  *   gcode::error naming the program's file and line. A program is
  *   therefore planned whole once (plan_program into an output that only
  *   counts) before the first step, then again into the path queue.
+ * - Messages: (MSG,...) and (DEBUG,...) come with the number of segments
+ *   before them, so that a runner shows each when its line runs, not
+ *   when it is planned (up to a queue's length earlier): message_queue.
  *
  * Lengths, speeds and accelerations given to the kernel are in path units
  * of 1/10000 mm (an inch is 254000 of them; a degree 10000 on a mm
@@ -34,9 +37,13 @@
 #define X4STEP_PLANNER_HPP
 
 #include <array>
+#include <cstdint>
+#include <deque>
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "gcode.hpp"
 #include "machine.hpp"
@@ -57,6 +64,15 @@ struct segment_info {
   gcode::pose end{};   ///< where it ends, machine units, as programmed
 };
 
+/// Where a (MSG,...) or (DEBUG,...) belongs in the path.
+struct message_info {
+  int line = 0;        ///< the program's line
+  bool debug = false;  ///< (DEBUG,...) rather than (MSG,...)
+  /// The segments planned before it: its line starts running once that
+  /// many are done (path_status::done counted from the path's start).
+  std::uint64_t after = 0;
+};
+
 /// Where planned segments and the program's other commands go, in order.
 class planner_output {
  public:
@@ -70,6 +86,39 @@ class planner_output {
   virtual void spindle(bool /*on*/) {}
   virtual void coolant(bool /*mist*/, bool /*flood*/) {}
   virtual void message(std::string_view) {}
+  /// (MSG,...) and (DEBUG,...) with their place. A runner that queues
+  /// segments ahead of the motion holds them (message_queue) and shows
+  /// each when its line runs; this default shows it now, by message().
+  virtual void message_at(std::string_view text, const message_info &) { message(text); }
+  /// The interpreter's warnings (G43 H without a tool table):
+  /// "file:line:column: warning: ...", when the line is planned.
+  virtual void warning(const gcode::error &) {}
+};
+
+/// Messages held until the motion reaches them (planner_output::message_at):
+/// a runner adds each as it is planned and asks, as the path advances,
+/// for those now due.
+class message_queue {
+ public:
+  using show_fn = std::function<void(const std::string &, const message_info &)>;
+  void add(std::string_view text, const message_info &i) { q_.emplace_back(std::string(text), i); }
+  /// Shows, in program order, every message due once `done` segments are
+  /// done; how many.
+  std::size_t due(std::uint64_t done, const show_fn &show) {
+    std::size_t n = 0;
+    for (; !q_.empty() && q_.front().second.after <= done; ++n) {
+      const auto m = std::move(q_.front());
+      q_.pop_front();
+      show(m.first, m.second);
+    }
+    return n;
+  }
+  bool empty() const noexcept { return q_.empty(); }
+  /// Drops the rest (an aborted run).
+  void clear() noexcept { q_.clear(); }
+
+ private:
+  std::deque<std::pair<std::string, message_info>> q_;
 };
 
 /// Totals of everything planned so far.
@@ -99,6 +148,8 @@ class planner : public gcode::sink {
   void change_tool(int tool) override;
   void pause(bool optional) override;
   void message(std::string_view text) override;
+  void debug(std::string_view text) override;
+  void warning(const gcode::error &w) override;
   void source_line(const std::string &file, int line) override;
 
   const plan_summary &summary() const noexcept { return sum_; }
@@ -109,7 +160,8 @@ class planner : public gcode::sink {
     double feed_per_s;  // units/s; 0: see seconds
     double seconds;     // inverse time: the segment lasts this long
   };
-  void line_to(const gcode::pose &end, const speed &sp);
+  /// checked: end is known within the soft limits (an arc's chords are checked before the first).
+  void line_to(const gcode::pose &end, const speed &sp, bool checked = false);
   void check_limits(const gcode::pose &p) const;
   [[noreturn]] void fail(const std::string &what) const;
 

@@ -5,7 +5,9 @@
 // output, from tools/get-rs274.sh's cache), run from the file through
 // the interpreter into a sink that counts; then the interpreter and the
 // planner (lib/machine) into an output that counts segments, on a mill
-// with room for the whole program; the best of 5 runs each.
+// with room for the whole program; the best of 5 runs each. tests/bench/
+// run.sh runs it also on arc-heavy CAM output (tests/gcode/cam/
+// fusion360-linuxcnc.ngc: adaptive clearing's arcs, drilling cycles).
 // Usage: gcode_bench [CAM.ngc] [LINES] [KEEP]
 // KEEP: also write the program and the machine as KEEP.ngc and KEEP.ini
 // (tests/bench/run.sh times `x4ctl gcode --check` on them).

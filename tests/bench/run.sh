@@ -68,6 +68,28 @@ else
 fi
 echo
 
+# The same for arc-heavy CAM output (issue 30): Fusion 360's LinuxCNC post's
+# style, adaptive clearing (1220 arcs in 1352 lines, 16 chords an arc at
+# 0.01 mm) and drilling cycles, tests/gcode/cam/fusion360-linuxcnc.ngc
+# repeated to 100 000 lines; then callgrind's instructions per line of
+# `x4ctl gcode --check` on 10 000 of them (a count, not a time: the same
+# under load).
+echo "== G-code interpreter and planner: 100 000 lines of arc-heavy CAM output (cam/fusion360-linuxcnc.ngc)"
+if "$build/tests/gcode_bench" tests/gcode/cam/fusion360-linuxcnc.ngc 100000 "$tmp/arcs"; then
+	/usr/bin/time -f '%e s %U %M' "$build/tools/x4ctl/x4ctl" gcode --machine "$tmp/arcs.ini" --check "$tmp/arcs.ngc" \
+		>"$tmp/check.out" 2>"$tmp/check.time" || cat "$tmp/check.time"
+	read -r secs _ user kb <"$tmp/check.time" || true
+	echo "x4ctl gcode --check: ${secs:-?} s, ${user:-?} s of CPU (goal < 1 s), peak memory ${kb:-?} kB: $(head -n1 "$tmp/check.out")"
+	"$build/tests/gcode_bench" tests/gcode/cam/fusion360-linuxcnc.ngc 10000 "$tmp/arcs10k" >/dev/null
+	valgrind --tool=callgrind --callgrind-out-file="$tmp/arcs.cg" "$build/tools/x4ctl/x4ctl" gcode \
+		--machine "$tmp/arcs10k.ini" --check "$tmp/arcs10k.ngc" >/dev/null 2>&1
+	total=$(sed -n 's/^totals: *//p' "$tmp/arcs.cg")
+	echo "x4ctl gcode --check: $((total / 10000)) instructions per line, 10 000 lines (callgrind; 601 000 before the soft-limit fix)"
+else
+	echo "(the arc-heavy G-code bench failed)"
+fi
+echo
+
 # The simulated port (issue 19): virtual-time speed and the VCD's cost.
 echo "== simulated port: a 4-axis 20 kHz move of 10 s in virtual time, without and with a VCD (tests/bench/sim_bench.cpp)"
 "$build/tests/sim_bench" || failed=1

@@ -2,6 +2,7 @@
 // Prints the interpreter's canonical motions, one per line, for the oracle
 // comparison with LinuxCNC's rs274 (tests/gcode/oracle.py):
 //   TRAVERSE x y z a b c | FEED x y z a b c | ARC x y z a b c plane c1 c2 turns
+//   | DWELL seconds
 // in mm (degrees for A B C), %.9f. Usage: gcode_dump [-t tool.tbl] [-i] FILE
 // (-i: the tool table is in inches). Exit 1 with file:line:column: what.
 #include <cstdio>
@@ -24,6 +25,7 @@ class printer : public g::sink {
     for (double v : a.end) std::printf(" %.9f", v);
     std::printf(" %d %.9f %.9f %d\n", int(a.in), a.centre_first, a.centre_second, a.turns);
   }
+  void dwell(double seconds) override { std::printf("DWELL %.9f\n", seconds); }
   void tool_length_offset(const g::pose &) override {}
 
  private:

@@ -5,8 +5,8 @@
 For each program of tests/gcode/programs.txt (paths inside the unpacked
 linuxcnc-uspace package, or in tests/gcode/), runs LinuxCNC's rs274
 (tools/get-rs274.sh: its 9-decimal copy) and gcode_dump, and compares the
-sequences of motions: every end point and arc centre within 1e-6 mm (or
-degree), the same planes and turns. rs274 prints program coordinates in
+sequences of motions and dwells: every end point and arc centre within
+1e-6 mm (or degree), the same planes and turns, the same dwell times. rs274 prints program coordinates in
 the current length unit; they are turned into machine coordinates in mm
 with the offsets it prints (SET_G5X_OFFSET, SET_G92_OFFSET,
 USE_TOOL_LENGTH_OFFSET) and its USE_LENGTH_UNITS.
@@ -76,6 +76,8 @@ def oracle(path, tmp):
                 v = v[1:]
             v = [v[i] * (f if i < 3 else 1.0) for i in range(6)]
             {"SET_G5X_OFFSET": g5x, "SET_G92_OFFSET": g92, "USE_TOOL_LENGTH_OFFSET": tlo}[name][:] = v
+        elif name == "DWELL":
+            out.append(("DWELL", nums(args)[:1]))
         elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
             out.append((name.split("_")[1], machine(nums(args)[:6])))
         elif name == "ARC_FEED":
@@ -119,7 +121,7 @@ def compare(name, a, b):
             d = abs(x - y)
             worst = max(worst, d)
             if d > TOL:
-                what = "XYZABC"[j] if j < 6 else ("centre 1", "", "centre 2")[j - 7]
+                what = "seconds" if ka == "DWELL" else "XYZABC"[j] if j < 6 else ("centre 1", "", "centre 2")[j - 7]
                 return f"motion {i + 1} ({ka}) {what}: {y:.9f}, rs274 {x:.9f} (off by {d:.3g})"
     return worst
 
@@ -161,7 +163,9 @@ def main():
                 fails += 1
             else:
                 arcs = sum(1 for k, _ in a if k == "ARC")
-                print(f"PASS {name} ({units}): {len(a)} motions ({arcs} arcs), worst difference {res:.2g}")
+                dwells = sum(1 for k, _ in a if k == "DWELL")
+                print(f"PASS {name} ({units}): {len(a) - dwells} motions ({arcs} arcs), {dwells} dwells, "
+                      f"worst difference {res:.2g}")
                 passed[units] += 1
     print(f"{passed['mm']} mm and {passed['inch']} inch programs equal rs274's; {fails} failures")
     return 1 if fails else 0

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -23,6 +24,9 @@ struct recorder : g::sink {
                   std::to_string(a.turns));
   }
   void message(std::string_view m) override { log.push_back("MSG " + std::string(m)); }
+  void debug(std::string_view m) override { log.push_back("DEBUG " + std::string(m)); }
+  void dwell(double s) override { log.push_back("DWELL " + num(s)); }
+  void warning(const g::error &w) override { log.push_back(std::string("WARN ") + w.what()); }
   void program_end(bool m30) override { log.push_back(m30 ? "M30" : "M2"); }
   static std::string num(double v) {
     std::ostringstream o;
@@ -56,11 +60,19 @@ TEST(Gcode, AcceptsAndEnds) {
 
 TEST(Gcode, ErrorsNameFileLineColumn) {
   EXPECT_EQ(run("G21\nG0 X1 Y2 X3\nM2\n"), "t.ngc:2:10: multiple X words on one line");
-  EXPECT_EQ(run("G21\n  G81 X1\nM2\n"), "t.ngc:2:3: G81 is not supported by this interpreter");
+  EXPECT_EQ(run("G21\n  G84 X1\nM2\n"),
+            "t.ngc:2:3: G84 is not supported by this interpreter: expand canned cycles in your post processor"
+            " (of the cycles, G73 G81 G82 G83 G85 G89 are)");
+  EXPECT_EQ(
+      run("G41 D1\nM2\n"),
+      "t.ngc:1:1: G41 is not supported by this interpreter: let the CAM system compensate the tool radius"
+      " (compensation \"in computer\")");
   EXPECT_EQ(run("G21\nG12.7\nM2\n"), "t.ngc:2:1: unknown G code G12.7");
   EXPECT_EQ(run("G0 X#1\nM2\n"), "t.ngc:1:5: numbered parameters (#) are not supported");
   EXPECT_EQ(run("G0 X[1+2]\nM2\n"), "t.ngc:1:5: expressions ([ ]) are not supported");
-  EXPECT_EQ(run("o100 sub\nM2\n"), "t.ngc:1:1: O-word subroutines and control flow are not supported");
+  EXPECT_EQ(run("o100 sub\nM2\n"),
+            "t.ngc:1:1: O-word subroutines and control flow are not supported: have the post processor write "
+            "plain moves");
   EXPECT_EQ(run("G0 U1\nM2\n"), "t.ngc:1:4: U words are not supported (axes are X Y Z A B C)");
   EXPECT_EQ(run("G0 X1 (open\nM2\n"), "t.ngc:1:7: comment not closed: ')' missing");
   EXPECT_EQ(run("G0 X1 (a (b) c)\nM2\n"), "t.ngc:1:10: nested comment: '(' inside a comment");
@@ -93,16 +105,115 @@ TEST(Gcode, ModalGroupConflicts) {
 
 TEST(Gcode, WordsWithoutAUser) {
   EXPECT_EQ(run("G0 X1 I2\nM2\n"), "t.ngc:1:7: I word with no G2 or G3 to use it");
-  EXPECT_EQ(run("G1 X1 R2 F1\nM2\n"), "t.ngc:1:7: R word with no G2 or G3 to use it");
-  EXPECT_EQ(run("G0 X1 L2\nM2\n"), "t.ngc:1:7: L word with no G10 to use it");
-  EXPECT_EQ(run("G0 X1 P2\nM2\n"), "t.ngc:1:7: P word with no G4, G10, G2/G3 or G64 to use it");
+  EXPECT_EQ(run("G1 X1 R2 F1\nM2\n"), "t.ngc:1:7: R word with no G2, G3 or canned cycle to use it");
+  EXPECT_EQ(run("G0 X1 L2\nM2\n"), "t.ngc:1:7: L word with no G10 or canned cycle to use it");
+  EXPECT_EQ(run("G0 X1 P2\nM2\n"), "t.ngc:1:7: P word with no G4, G10, G2/G3, G82/G89 or G64 to use it");
+  EXPECT_EQ(run("G0 X1 Q2\nM2\n"), "t.ngc:1:7: Q word with no G64, G73 or G83 to use it");
+  EXPECT_EQ(run("G81 X1 Z-1 R1 Q2 F9\nM2\n"), "t.ngc:1:15: Q word with no G64, G73 or G83 to use it");
+  EXPECT_EQ(run("G83 X1 Z-1 R1 Q2 P1 F9\nM2\n"),
+            "t.ngc:1:18: P word with no G4, G10, G2/G3, G82/G89 or G64 to use it");
+  // A cycle in force but no axis word: the line drills nothing, R is unused.
+  EXPECT_EQ(run("G81 X1 Z-1 R1 F9\nR2\nM2\n"), "t.ngc:2:1: R word with no G2, G3 or canned cycle to use it");
   EXPECT_EQ(run("G0 X1 H2\nM2\n"), "t.ngc:1:7: H word with no G43 to use it");
   EXPECT_EQ(run("G4\nM2\n"), "t.ngc:1:1: G4 needs P (the dwell time, seconds)");
   EXPECT_EQ(run("G10 L1 P1 X0\nM2\n"), "t.ngc:1:5: only G10 L2 and G10 L20 are supported");
   EXPECT_EQ(run("G1 X1\nM2\n"), "t.ngc:1:1: G1 with a feed rate of zero (no F given)");
   EXPECT_EQ(run("G93 G1 X1 F10\nX2\nM2\n"),
             "t.ngc:2:1: G1 in inverse time mode (G93) needs an F word on its line");
-  EXPECT_EQ(run("G43 H7\nM2\n"), "t.ngc:1:5: tool 7 is not in the tool table");
+}
+
+// Runs a program with a tool table of tool 1 only (length 2 mm).
+std::string run_with_table(const std::string &text, recorder &r) {
+  g::interpreter in(r);
+  std::map<int, g::tool> table;
+  table[1].offset[2] = 2;
+  in.set_tool_table(table);
+  std::istringstream s(text);
+  try {
+    in.run(s, "t.ngc");
+  } catch (const g::error &e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Gcode, ToolLengthWithoutATable) {
+  // No table: length 0, and a warning with the line, before its motion.
+  recorder r;
+  EXPECT_EQ(run("G0 Z5\nT7 M6\nG43 H7 G0 Z5\nM2\n", &r), "");
+  ASSERT_EQ(r.log.size(), 4u);
+  EXPECT_EQ(r.log[1],
+            "WARN t.ngc:3:5: warning: G43 H7: no tool table, so tool length 0 (add [EMCIO] TOOL_TABLE to the "
+            "machine file for the tools' lengths)");
+  EXPECT_EQ(r.log[2], "G0 0 0 5");
+  EXPECT_EQ(r.log[3], "M2");
+  // A table without the tool: refused, saying how to add it; a tool in it has its length.
+  recorder t;
+  EXPECT_EQ(run_with_table("G43 H7\nM2\n", t),
+            "t.ngc:1:5: tool 7 is not in the tool table: add a line \"T7 P7 Z<length>\" to it");
+  recorder u;
+  EXPECT_EQ(run_with_table("G43 H1 G0 Z5\nM2\n", u), "");
+  ASSERT_EQ(u.log.size(), 2u);
+  EXPECT_EQ(u.log[0], "G0 0 0 7");
+  // A refused line gives no warning.
+  recorder v;
+  EXPECT_NE(run("G43 H7 G0 X1 Q1\nM2\n", &v), "");
+  EXPECT_TRUE(v.log.empty());
+}
+
+TEST(Gcode, ByteOrderMarkAndNonAscii) {
+  recorder r;
+  EXPECT_EQ(run("\xEF\xBB\xBFG21 G0 X1\nM2\n", &r), "");
+  ASSERT_EQ(r.log.size(), 2u);
+  EXPECT_EQ(r.log[0], "G0 1 0 0");
+  // Columns count from after the mark, as an editor shows the line.
+  EXPECT_EQ(run("\xEF\xBB\xBFG0 X1 $\nM2\n"), "t.ngc:1:7: unexpected character '$'");
+  // Anywhere else it is a character that has no place, named whole.
+  EXPECT_EQ(run("G0 X1\n\xEF\xBB\xBFG0 X2\nM2\n"), "t.ngc:2:1: unexpected character '\xEF\xBB\xBF'");
+  EXPECT_EQ(run("G0 X1 \xC2\xB0\nM2\n"), "t.ngc:1:7: unexpected character '\xC2\xB0'");
+  EXPECT_EQ(run("G0 X1 \xB0\nM2\n"), "t.ngc:1:7: unexpected byte 0xb0 (not ASCII nor UTF-8)");
+}
+
+TEST(Gcode, MessagesInTheirPlace) {
+  recorder r;
+  EXPECT_EQ(run("G0 X1\n(MSG,first)\nG0 X2 (DEBUG, second)\n(debug,third)\n(PRINT, not shown)\nM2\n", &r),
+            "");
+  ASSERT_EQ(r.log.size(), 6u);
+  EXPECT_EQ(r.log[0], "G0 1 0 0");
+  EXPECT_EQ(r.log[1], "MSG first");
+  EXPECT_EQ(r.log[2], "DEBUG  second");
+  EXPECT_EQ(r.log[3], "G0 2 0 0");
+  EXPECT_EQ(r.log[4], "DEBUG third");
+  EXPECT_EQ(r.log[5], "M2");
+  EXPECT_EQ(run("(MSG,a) (DEBUG,b)\nM2\n"), "t.ngc:1:9: more than one (MSG,...) or (DEBUG,...) on one line");
+}
+
+// The cycles' motions are held to rs274's by the oracle (cam/cycles.ngc);
+// here what a cycle refuses, and one cycle's moves spelled out.
+TEST(Gcode, DrillingCycles) {
+  recorder r;
+  EXPECT_EQ(run("G21 G0 Z10\nG98 G82 X1 Y2 Z-3 R2 P0.5 F60\nX4\nM2\n", &r), "");
+  const std::vector<std::string> want = {"G0 0 0 10", "G0 1 2 10", "G0 1 2 2",  "G1 1 2 -3",
+                                         "DWELL 0.5", "G0 1 2 10", "G0 4 2 10", "G0 4 2 2",
+                                         "G1 4 2 -3", "DWELL 0.5", "G0 4 2 10", "M2"};
+  EXPECT_EQ(r.log, want);
+  EXPECT_EQ(run("G81 X1 Z-1 F9\nM2\n"), "t.ngc:1:1: G81 needs R (the retract plane)");
+  EXPECT_EQ(run("G81 X1 R1 F9\nM2\n"), "t.ngc:1:1: G81 needs Z (the bottom of the hole)");
+  EXPECT_EQ(run("G82 X1 Z-1 R1 F9\nM2\n"), "t.ngc:1:1: G82 needs P (the dwell at the bottom, seconds)");
+  EXPECT_EQ(run("G83 X1 Z-1 R1 F9\nM2\n"), "t.ngc:1:1: G83 needs Q (the depth of each peck)");
+  EXPECT_EQ(run("G73 X1 Z-1 R1 Q0 F9\nM2\n"), "t.ngc:1:15: G73 Q (the depth of each peck) must be above 0");
+  EXPECT_EQ(run("G81 X1 Z-1 R-2 F9\nM2\n"),
+            "t.ngc:1:12: G81: the retract plane R is below the bottom Z (R -2.000000, Z -1.000000)");
+  EXPECT_EQ(run("G81 X1 Z-1 R1\nM2\n"), "t.ngc:1:1: G81 with a feed rate of zero (no F given)");
+  EXPECT_EQ(run("G93 G81 X1 Z-1 R1 F9\nM2\n"),
+            "t.ngc:1:5: G81 in inverse time mode (G93): canned cycles need G94");
+  EXPECT_EQ(run("G18 G81 X1 Z-1 R1 F9\nM2\n"),
+            "t.ngc:1:5: G81 in the XZ (G18) plane: canned cycles run in the XY plane (G17) only here");
+  EXPECT_EQ(run("G81 X1 Z-1 R1 L0 F9\nM2\n"), "t.ngc:1:15: G81 L (repeats) must be a whole number 1..10000");
+  EXPECT_EQ(run("G81 X1 Z-1 R1 A5 F9\nM2\n"),
+            "t.ngc:1:15: A word in a canned cycle: rotary axes stay put in cycles");
+  // A repeat of the cycle in force may leave R, Z, P and Q out; another cycle may not.
+  EXPECT_EQ(run("G83 X1 Z-1 R1 Q1 F9\nX2\nG73 X3\nM2\n"), "t.ngc:3:1: G73 needs R (the retract plane)");
 }
 
 TEST(Gcode, BadArcs) {
@@ -150,6 +261,7 @@ TEST(Gcode, RefusedLineReachesNothing) {
   ASSERT_EQ(r.log.size(), 1u);
   EXPECT_EQ(in.position()[0], 1.0);
   // Nor does it change the state: units, distance mode, feed.
+  in.set_tool_table({});
   EXPECT_THROW(in.execute_line("G20 G91 F7 G43 H7 X1", "mdi", 4), g::error);  // no tool 7
   EXPECT_EQ(in.program_units(), g::units::mm);
   EXPECT_TRUE(in.execute_line("G1 X2", "mdi", 5));

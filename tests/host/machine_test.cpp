@@ -85,6 +85,26 @@ TEST(Machine, ReadsTheBase) {
   EXPECT_FALSE(mc.axes[g::X]->home.enabled);
 }
 
+// The planner asks within_soft_limits for every point; beyond_soft_limit
+// says why, only when it is not. A billionth of the limit (at least of
+// one unit) beyond still counts as within: rounding, not a move.
+TEST(Machine, SoftLimitsAndTheirTolerance) {
+  m::axis x;
+  x.min_limit = -500;
+  x.max_limit = 0.5;
+  EXPECT_TRUE(m::within_soft_limits(x, 0.25));
+  EXPECT_TRUE(m::within_soft_limits(x, 0.5 + 0.9e-9));
+  EXPECT_FALSE(m::within_soft_limits(x, 0.5 + 1.1e-9));
+  EXPECT_TRUE(m::within_soft_limits(x, -500 - 0.9 * 500e-9));
+  EXPECT_FALSE(m::within_soft_limits(x, -500 - 1.1 * 500e-9));
+  m::machine mc;
+  mc.axes[g::X] = x;
+  EXPECT_EQ(m::beyond_soft_limit(mc, g::X, 0.5 + 0.9e-9), "");
+  EXPECT_EQ(m::beyond_soft_limit(mc, g::X, 0.75), "X 0.75 is beyond the soft limit [AXIS_X] MAX_LIMIT 0.5");
+  EXPECT_EQ(m::beyond_soft_limit(mc, g::X, -501), "X -501 is beyond the soft limit [AXIS_X] MIN_LIMIT -500");
+  EXPECT_EQ(m::beyond_soft_limit(mc, g::Y, 1e9), "");  // no such axis: no limit
+}
+
 TEST(Machine, ReadsTheShippedExamples) {
   const m::machine mill = m::read_file(X4_SOURCE_DIR "/machines/smc1500-mill.ini");
   EXPECT_EQ(mill.mode, m::output_mode::smc_phase);
@@ -93,6 +113,8 @@ TEST(Machine, ReadsTheShippedExamples) {
   EXPECT_TRUE(mill.axes[g::Z]->home.enabled);
   EXPECT_EQ(mill.axes[g::Z]->home.input, 1);
   EXPECT_DOUBLE_EQ(mill.axes[g::Z]->home.latch_vel, -0.5);
+  // Both ship a tool table, so G43 H applies a length without a warning.
+  EXPECT_EQ(g::read_tool_table(mill.tool_table, mill.units, mill.units).size(), 3u);
   const m::machine four = m::read_file(X4_SOURCE_DIR "/machines/x4step-4axis.ini");
   EXPECT_EQ(four.units, g::units::inch);
   ASSERT_TRUE(four.axes[g::A]);

@@ -283,3 +283,51 @@ TEST(Planner, SoftLimitsNameTheLine) {
     EXPECT_STREQ(e.what(), "prog.ngc:2:1: the machine has no Z axis ([TRAJ] COORDINATES)");
   }
 }
+
+// (MSG,...) and (DEBUG,...) come with their place in the path: the
+// segments before them. A runner holding them in a message_queue shows
+// each once those are done, not when the line is planned.
+struct message_recorder : m::planner_output {
+  long segments = 0;
+  std::vector<std::string> log;
+  void segment(const x4step::segment &, const m::segment_info &) override { segments++; }
+  void message_at(std::string_view text, const m::message_info &i) override {
+    log.push_back(std::string(i.debug ? "DEBUG" : "MSG") + " line " + std::to_string(i.line) + " after " +
+                  std::to_string(i.after) + ":" + std::string(text));
+  }
+  void warning(const g::error &w) override { log.push_back(w.what()); }
+};
+
+TEST(Planner, MessagesKnowTheirPlace) {
+  const m::machine mc = machine_of(machine_text());
+  message_recorder out;
+  std::istringstream in(
+      "G21 (MSG,start)\nG1 X10 F600\nG1 X20\n(MSG,two done)\nG2 X30 Y10 I10 J0 (DEBUG,arc done)\nG43 "
+      "H3\nM2\n");
+  m::plan_program(mc, in, "prog.ngc", out);
+  ASSERT_EQ(out.log.size(), 4u);
+  EXPECT_EQ(out.log[0], "MSG line 1 after 0:start");
+  EXPECT_EQ(out.log[1], "MSG line 4 after 2:two done");
+  // The message of a line comes before its motion: due when the arc starts.
+  EXPECT_EQ(out.log[2], "DEBUG line 5 after 2:arc done");
+  EXPECT_EQ(out.log[3],
+            "prog.ngc:6:5: warning: G43 H3: no tool table, so tool length 0 (add [EMCIO] TOOL_TABLE to the "
+            "machine file for the tools' lengths)");
+  EXPECT_GT(out.segments, 3);
+
+  m::message_queue q;
+  q.add("a", m::message_info{1, false, 0});
+  q.add("b", m::message_info{4, false, 2});
+  q.add("c", m::message_info{5, true, 2});
+  q.add("d", m::message_info{9, false, 7});
+  std::string shown;
+  auto show = [&](const std::string &t, const m::message_info &) { shown += t; };
+  EXPECT_EQ(q.due(0, show), 1u);
+  EXPECT_EQ(shown, "a");
+  EXPECT_EQ(q.due(1, show), 0u);
+  EXPECT_EQ(q.due(2, show), 2u);
+  EXPECT_EQ(shown, "abc");
+  EXPECT_FALSE(q.empty());
+  q.clear();
+  EXPECT_TRUE(q.empty());
+}
