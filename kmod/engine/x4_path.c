@@ -35,6 +35,11 @@ static u64 min_u64(u64 a, u64 b)
 	return a < b ? a : b;
 }
 
+static u64 max_u64(u64 a, u64 b)
+{
+	return a > b ? a : b;
+}
+
 /* Leader steps/s of slot s at path speed v (units/s), rounded down. */
 static u64 to_steps(const struct x4_path_slot *s, u64 v)
 {
@@ -138,15 +143,16 @@ static void set_limit(const struct x4_engine *e, struct x4_path_slot *s)
 
 /*
  * The highest entry speed of slot s from which exit v_exit is reachable;
- * the root from its last entry speed (entries change little).
+ * the root from its last entry speed or the exit, the nearer one (entries
+ * change little; a short segment's is little above its exit).
  */
 static u32 entry_for(const struct x4_path_slot *s, u64 v_exit)
 {
-	u64 v2 = v_exit * v_exit + s->two_as;
+	u64 v2 = v_exit * v_exit + s->two_as, x0 = max_u64(s->entry, v_exit);
 
 	if ((u64)s->limit * s->limit <= v2)
 		return s->limit;
-	return (u32)(s->entry ? x4_isqrt_from(v2, s->entry) : x4_isqrt(v2));
+	return (u32)(x0 ? x4_isqrt_from(v2, x0) : x4_isqrt(v2));
 }
 
 /*

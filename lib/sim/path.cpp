@@ -20,7 +20,9 @@ constexpr std::uint32_t path_chunk = 8;  // the module's X4_PATH_CHUNK
 
 // x4_kick(): only a path that begins is a start (the timer, the last
 // brake code); a running one follows its plan without a new event.
-int kick(x4_engine *e, const void *, std::uint64_t now) { return x4_path_kick(e, now) ? X4_OK : X4_ERR_IS_ACTIVE; }
+int kick(x4_engine *e, const void *, std::uint64_t now) {
+  return x4_path_kick(e, now) ? X4_OK : X4_ERR_IS_ACTIVE;
+}
 
 int resume(x4_engine *e, const void *, std::uint64_t now) { return x4_path_resume(e, now); }
 

@@ -1494,7 +1494,7 @@ void TestHaltDuringLongWrite(int fd) {
   // 4 steps each at 10000 steps/s and 1000 steps/s^2: 50 000 steps to
   // stop, the queue holds 16 384.
   std::vector<Seg> segs;
-  for (int k = 0; k < 4096; k++) segs.push_back(MakeSeg(4, 0, 0, 0, Len(4), 100000, 10000, 100000, k + 1));
+  for (int k = 0; k < 4096; k++) segs.push_back(MakeSeg(4, 0, 0, 0, Len(4, 0), 100000, 10000, 100000, k + 1));
   const Halt halts[] = {{"PATH_CTL HOLD", X4STEP_PATH_CTL, Holding},
                         {"BRAKE", X4STEP_BRAKE, Holding},
                         {"STOP", X4STEP_STOP, Stopped},
@@ -1524,8 +1524,10 @@ void TestHaltDuringLongWrite(int fd) {
     const x4step_path_status s = PathStatus(fd);
     int ws = 0;
     const bool writing = waitpid(writer, &ws, WNOHANG) == 0;
-    Check(started && writing, F("%s: the write() was under way when it returned (%u queued)", h.what, s.queued));
-    Check(ret == 0 && h.effect(s), F("%s: %d, took effect (state %u, %u queued)", h.what, ret, s.state, s.queued));
+    Check(started && writing,
+          F("%s: the write() was under way when it returned (%u queued)", h.what, s.queued));
+    Check(ret == 0 && h.effect(s),
+          F("%s: %d, took effect (state %u, %u queued)", h.what, ret, s.state, s.queued));
     CheckTiming(took <= 1'000'000, F("%s: within 1 ms of its instant (%.3f ms)", h.what, took * 1e-6));
     waitpid(writer, &ws, 0);
     std::printf("info: %s: the write() %s\n", h.what,

@@ -486,7 +486,8 @@ void ExpectSafe(const x4_engine &e, const std::string &when) {
     const uint32_t k = pa.head + i;
     const x4_path_slot &s = pa.slot[k & (pa.depth - 1)];
     ASSERT_LE(s.entry, s.limit) << when << ", slot " << k;
-    ASSERT_LE(uint64_t(s.entry) * s.entry, exit * exit + s.two_as) << when << ": slot " << k << " cannot stop";
+    ASSERT_LE(uint64_t(s.entry) * s.entry, exit * exit + s.two_as)
+        << when << ": slot " << k << " cannot stop";
     exit = s.entry;
   }
 }
@@ -547,14 +548,32 @@ TEST(PathPlanner, BoundedWorkPerPush) {
     uint64_t ref_most = 0, most = 0;
     const double t_ref = Stream(ref, n, false, &ref_most, "unbounded");
     const double t = Stream(p, n, true, &most, "bounded");
-    std::printf("[ planner  ] depth %u, %zu short segments: most entries a push planned %llu (unbounded %llu); "
-                "path %.4f s (unbounded %.4f s, %+.3f %%)\n",
-                depth, n, (unsigned long long)most, (unsigned long long)ref_most, t, t_ref,
-                (t / t_ref - 1) * 100);
+    std::printf(
+        "[ planner  ] depth %u, %zu short segments: most entries a push planned %llu (unbounded %llu); "
+        "path %.4f s (unbounded %.4f s, %+.3f %%)\n",
+        depth, n, (unsigned long long)most, (unsigned long long)ref_most, t, t_ref, (t / t_ref - 1) * 100);
     EXPECT_GT(ref_most, depth / 2) << "a push raises about every entry unbounded: the worst case";
     EXPECT_LE(most, uint64_t(X4_PATH_PLAN_BUDGET));
     EXPECT_LE(t, t_ref * 1.01);
   }
+}
+
+// Where the stop distance is shorter than a segment, an entry that does
+// not change ends the pass: a push plans the entry before it, and stops
+// at the one before that (at its limit).
+TEST(PathPlanner, UnchangedEntryEndsThePass) {
+  Path p(4096);
+  const x4_segment s = Seg(1000, 0, 0, 0, 1000, 2000, 20000, 2000);  // 100 steps to stop
+  uint64_t most = 0;
+  for (int k = 0; k < 4096; k++) {
+    const uint64_t before = p.e.path.planned;
+    ASSERT_EQ(x4_path_check(&p.e, &s), X4_OK);
+    x4_path_push(&p.e, &s);
+    most = std::max(most, p.e.path.planned - before);
+  }
+  EXPECT_LE(most, 2u);
+  EXPECT_EQ(FullPlan(p.e)[4000], 2000u);
+  EXPECT_EQ(p.e.path.slot[4000].entry, 2000u);
 }
 
 // A pass that has not come through leaves entries lower, never higher,
