@@ -21,7 +21,10 @@
 #define X4_EVENTS 256 /* events kept per port, a power of 2 */
 
 /*
- * Locking: `lock` (a mutex) serializes open, release, ioctls and detach.
+ * Locking: `lock` (a mutex) serializes open, release, ioctls and detach;
+ * a path write() holds it a chunk of records at a time. The halts (BRAKE,
+ * STOP, HALT, ESTOP, PATH_CTL HOLD and ABORT) and the reading ioctls take
+ * only `slock`, so that nothing the mutex covers delays them.
  * `slock` (raw: taken in the hard-irq hrtimer callback, also on RT)
  * guards the engine, the brake codes and the port registers; it is taken
  * by the timer, the ioctls and the input handler, never held while
@@ -98,6 +101,8 @@ struct x4_port {
 	struct x4_path_slot *path_slots;
 	u32 path_cfg_flags; /* X4STEP_PATH_KEYS_ABORT */
 	bool path_room_wanted; /* a writer waits for room: wake it */
+	struct mutex path_write_lock; /* one write(): before lock */
+	struct delayed_work path_plan_work; /* the planner's pass, in time */
 	u32 path_flushes_seen; /* the engine's flush count the writer knows */
 };
 
@@ -149,8 +154,11 @@ void x4_path_room_locked(struct x4_port *x4);
 bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source);
 bool x4_path_brake_locked(struct x4_port *x4, u32 source);
 int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg);
+int x4_path_ctl_ioctl(struct x4_port *x4, void __user *uarg);
 int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
 		       void __user *uarg);
+void x4_path_init(struct x4_port *x4);
+void x4_path_stop(struct x4_port *x4);
 void x4_path_free(struct x4_port *x4);
 int x4_keys_init(void);
 void x4_keys_exit(void);

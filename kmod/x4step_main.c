@@ -375,19 +375,26 @@ static bool x4_bad_home(const void *karg)
 	return x4_req_bad_home(karg);
 }
 
-/* Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs. */
+/*
+ * Brake or stop (X4Brake, X4Stop, X4STEP_HALT); ESRCH if nothing runs.
+ * Only the raw lock, as ESTOP: a write() or an ioctl holding the mutex
+ * does not delay it.
+ */
 static int x4_ioctl_halt(struct x4_port *x4, u32 axes, u32 how)
 {
 	unsigned long flags;
 	int ret;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (how == X4STEP_HALT_STOP)
-		ret = x4_port_stop_locked(x4, (u8)axes);
+	if (x4->gone)
+		ret = -ENODEV;
+	else if (how == X4STEP_HALT_STOP)
+		ret = x4_errno(x4_port_stop_locked(x4, (u8)axes));
 	else
-		ret = x4_port_brake_locked(x4, (u8)axes, X4STEP_SRC_IOCTL, 0);
+		ret = x4_errno(x4_port_brake_locked(x4, (u8)axes,
+						    X4STEP_SRC_IOCTL, 0));
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return x4_errno(ret);
+	return ret;
 }
 
 static int x4_ioctl_halt_axes(struct x4_port *x4,
@@ -641,10 +648,11 @@ static int x4_ioctl_set_step_timing(struct x4_port *x4,
 static int x4_ioctl_get_step_timing(struct x4_port *x4, void __user *uarg)
 {
 	struct x4step_step_timing ut;
+	unsigned long flags;
 
-	mutex_lock(&x4->lock);
+	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4_req_get_step_timing(&x4->eng, &ut);
-	mutex_unlock(&x4->lock);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return copy_to_user(uarg, &ut, sizeof(ut)) ? -EFAULT : 0;
 }
 
@@ -688,6 +696,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		struct x4step_goto go;
 		struct x4step_home home;
 	} karg;
+	unsigned long flags;
 	long ret;
 
 	/* Reading commands, and the emergency halt, work on any descriptor. */
@@ -705,12 +714,12 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		return copy_to_user(uarg, &st, sizeof(st)) ? -EFAULT : 0;
 	case X4STEP_GET_CONFIG:
 		memset(&cfg, 0, sizeof(cfg));
-		mutex_lock(&x4->lock);
+		raw_spin_lock_irqsave(&x4->slock, flags); /* as SET_CONFIG */
 		cfg.clock_invert = x4->clock_invert;
 		cfg.dir_invert = x4->dir_invert;
 		cfg.flags = x4->cfg_flags;
 		cfg.output_mode = x4->eng.mode;
-		mutex_unlock(&x4->lock);
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
 		return copy_to_user(uarg, &cfg, sizeof(cfg)) ? -EFAULT : 0;
 	case X4STEP_GET_TIMING:
 		return x4_ioctl_timing(x4, file, uarg, sizeof(struct x4step_timing));
@@ -754,6 +763,17 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 
 	if (READ_ONCE(x4->controller) != file)
 		return -EBADF;
+	/* The halts: the raw lock only (the controller's file is held). */
+	switch (cmd) {
+	case X4STEP_BRAKE:
+		return x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_BRAKE);
+	case X4STEP_STOP:
+		return x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_STOP);
+	case X4STEP_HALT:
+		return x4_ioctl_halt_axes(x4, uarg);
+	case X4STEP_PATH_CTL:
+		return x4_path_ctl_ioctl(x4, uarg);
+	}
 	mutex_lock(&x4->lock);
 	if (x4->gone) {
 		ret = -ENODEV;
@@ -766,12 +786,6 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 	case X4STEP_START:
 		ret = x4_errno(x4_port_run(x4, x4_start_loaded, NULL,
 					   X4STEP_KIND_LOADED));
-		break;
-	case X4STEP_BRAKE:
-		ret = x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_BRAKE);
-		break;
-	case X4STEP_STOP:
-		ret = x4_ioctl_halt(x4, 0x0f, X4STEP_HALT_STOP);
 		break;
 	case X4STEP_MOVE_ENDLESS:
 		ret = x4_ioctl_run(x4, uarg, &karg.endless, sizeof(karg.endless),
@@ -787,9 +801,6 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		ret = x4_ioctl_run(x4, uarg, &karg.home, sizeof(karg.home),
 				   offsetof(struct x4step_home, result),
 				   x4_bad_home, x4_run_home);
-		break;
-	case X4STEP_HALT:
-		ret = x4_ioctl_halt_axes(x4, uarg);
 		break;
 	case X4STEP_SET_POSITION:
 		ret = x4_ioctl_set_position(x4, uarg);
@@ -813,7 +824,6 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		ret = x4_ioctl_set_config(x4, uarg);
 		break;
 	case X4STEP_SET_PATH_CONFIG:
-	case X4STEP_PATH_CTL:
 		ret = x4_path_ioctl(x4, cmd, uarg);
 		break;
 	default: /* X4STEP_SET_STEP_TIMING */
@@ -902,6 +912,7 @@ static void x4_attach(struct parport *port)
 		return;
 	}
 	mutex_init(&x4->lock);
+	x4_path_init(x4);
 	INIT_DELAYED_WORK(&x4->release_work, x4_release_work);
 	x4_port_init(x4);
 	/* Held until the last file closes: the port may go away first. */
@@ -980,6 +991,7 @@ static void x4_detach(struct parport *port)
 	 * this it neither runs nor is pending (module unload, kfree).
 	 */
 	cancel_delayed_work_sync(&x4->release_work);
+	x4_path_stop(x4);
 	hrtimer_cancel(&x4->timer);
 	irq_work_sync(&x4->wake_work);
 	wake_up_all(&x4->wait);

@@ -2,10 +2,12 @@
 /*
  * x4step: continuous paths (ABI 5), the glue of kmod/engine/x4_path.c.
  * The controller streams segments with write(); each is checked under the
- * raw lock, queued and planned without it (the planner's backward pass may
- * walk the whole queue: process context, never the timer), and the path
- * is kicked under the lock. X4STEP_PATH_CTL holds, resumes, aborts and
- * overrides; X4STEP_GET_PATH reports. The queue's storage belongs to the
+ * raw lock, queued and planned without it (a bounded part of the
+ * planner's backward pass a segment: process context, never the timer),
+ * and the path is kicked under the lock after each chunk of records; the
+ * mutex is let go between chunks. X4STEP_PATH_CTL holds, resumes, aborts
+ * and overrides (a hold and an abort under the raw lock only, as the
+ * halts); X4STEP_GET_PATH reports. The queue's storage belongs to the
  * port (kvcalloc: up to 4096 segments) and changes only while no path is
  * active.
  */
@@ -45,15 +47,58 @@ static int x4_path_resize(struct x4_port *x4, u32 depth)
 	return 0;
 }
 
+/*
+ * The pass a write() left over, X4_PATH_PLAN_WORK entries a jiffy under
+ * the mutex; then the running segment follows the raised plan.
+ */
+static void x4_path_plan_work(struct work_struct *work)
+{
+	struct x4_port *x4 = container_of(to_delayed_work(work),
+					  struct x4_port, path_plan_work);
+	unsigned long flags;
+	bool more;
+
+	mutex_lock(&x4->lock);
+	if (x4->gone) {
+		mutex_unlock(&x4->lock);
+		return;
+	}
+	more = x4_path_plan(&x4->eng, X4_PATH_PLAN_WORK);
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4->eng.path.state != X4_PATH_IDLE) /* never a start */
+		x4_path_kick(&x4->eng, 0);
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (more)
+		schedule_delayed_work(&x4->path_plan_work, 1);
+	mutex_unlock(&x4->lock);
+}
+
+void x4_path_init(struct x4_port *x4)
+{
+	mutex_init(&x4->path_write_lock);
+	INIT_DELAYED_WORK(&x4->path_plan_work, x4_path_plan_work);
+}
+
+/* The port is gone (x4->gone): no planning from now on. */
+void x4_path_stop(struct x4_port *x4)
+{
+	cancel_delayed_work_sync(&x4->path_plan_work);
+}
+
 void x4_path_free(struct x4_port *x4)
 {
 	kvfree(x4->path_slots);
 }
 
+/*
+ * Start an idle path; a running one follows its new plan without a new
+ * event. Only a start is a start (x4_port_run() arms the timer, clears
+ * the last brake code): a kick of a running path leaves the timer as it
+ * is, the gap it keeps after a capped callback too.
+ */
 static int x4_kick(struct x4_engine *e, const void *arg, u64 now_ns)
 {
-	x4_path_kick(e, now_ns);
-	return X4_OK;
+	return x4_path_kick(e, now_ns) ? X4_OK : X4_ERR_IS_ACTIVE;
 }
 
 static int x4_resume(struct x4_engine *e, const void *arg, u64 now_ns)
@@ -119,13 +164,26 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 
 	if (count % sizeof(rec[0]))
 		return -EINVAL;
-	if (mutex_lock_interruptible(&x4->lock))
+	/* One write() at a time: its records go in one piece. */
+	if (mutex_lock_interruptible(&x4->path_write_lock))
 		return -ERESTARTSYS;
+	if (mutex_lock_interruptible(&x4->lock)) {
+		mutex_unlock(&x4->path_write_lock);
+		return -ERESTARTSYS;
+	}
 	if (x4->gone)
 		ret = -ENODEV;
 	else if (!x4->path_slots)
 		ret = x4_path_resize(x4, X4STEP_PATH_DEPTH_MIN);
 	while (!ret && done < count) {
+		if (done) { /* between chunks: the controller's ioctls */
+			mutex_unlock(&x4->lock);
+			cond_resched();
+			if (mutex_lock_interruptible(&x4->lock))
+				goto out_unlocked;
+			if (x4->gone)
+				break;
+		}
 		if (x4_path_flushed(x4)) {
 			ret = -ECANCELED;
 			break;
@@ -146,7 +204,7 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 			if (!ret && mutex_lock_interruptible(&x4->lock))
 				ret = -ERESTARTSYS;
 			if (ret)
-				return ret;
+				goto out_unlocked;
 			if (x4->gone)
 				ret = -ENODEV;
 			continue;
@@ -165,7 +223,12 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 			done = 0;
 		}
 	}
+	/* What the pushes' budget left of the pass: in time. */
+	if (!x4->gone && x4_path_plan(&x4->eng, 0))
+		schedule_delayed_work(&x4->path_plan_work, 1);
 	mutex_unlock(&x4->lock);
+out_unlocked:
+	mutex_unlock(&x4->path_write_lock);
 	return done ? done : ret;
 }
 
@@ -216,25 +279,36 @@ bool x4_path_brake_locked(struct x4_port *x4, u32 source)
 	       !x4_track_path_abort(&x4->ev, &x4->eng);
 }
 
+/*
+ * HOLD and ABORT: the raw lock only, as ESTOP and the brake keys, so that
+ * a write() or another ioctl holding the mutex does not delay them.
+ */
+static int x4_path_hold_ctl(struct x4_port *x4, u32 cmd)
+{
+	unsigned long flags;
+	int ret;
+
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	if (x4->gone)
+		ret = -ENODEV;
+	else if (cmd == X4STEP_PATH_ABORT)
+		ret = x4_errno(x4_track_path_abort(&x4->ev, &x4->eng));
+	else
+		ret = x4_errno(x4_path_hold(&x4->eng, false));
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	wake_up_all(&x4->wait); /* a writer waiting for room: flushed */
+	return ret;
+}
+
+/* The other commands; lock held. */
 static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 {
 	struct x4_engine *e = &x4->eng;
 	unsigned long flags;
 	int ret;
 
-	if (x4_req_bad_path_ctl(c))
-		return -EINVAL;
+	lockdep_assert_held(&x4->lock);
 	switch (c->cmd) {
-	case X4STEP_PATH_HOLD:
-	case X4STEP_PATH_ABORT:
-		raw_spin_lock_irqsave(&x4->slock, flags);
-		if (c->cmd == X4STEP_PATH_ABORT)
-			ret = x4_track_path_abort(&x4->ev, e);
-		else
-			ret = x4_path_hold(e, false);
-		raw_spin_unlock_irqrestore(&x4->slock, flags);
-		wake_up_all(&x4->wait); /* a writer waiting for room: flushed */
-		return x4_errno(ret);
 	case X4STEP_PATH_CLEAR:
 		x4->path_flushes_seen = READ_ONCE(e->path.flushes);
 		return 0;
@@ -255,6 +329,24 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 	}
 }
 
+/* X4STEP_PATH_CTL of the controller; takes the locks it needs. */
+int x4_path_ctl_ioctl(struct x4_port *x4, void __user *uarg)
+{
+	struct x4step_path_ctl c;
+	int ret;
+
+	if (copy_from_user(&c, uarg, sizeof(c)))
+		return -EFAULT;
+	if (x4_req_bad_path_ctl(&c))
+		return -EINVAL;
+	if (c.cmd == X4STEP_PATH_HOLD || c.cmd == X4STEP_PATH_ABORT)
+		return x4_path_hold_ctl(x4, c.cmd);
+	mutex_lock(&x4->lock);
+	ret = x4->gone ? -ENODEV : x4_path_ctl(x4, &c);
+	mutex_unlock(&x4->lock);
+	return ret;
+}
+
 static int x4_path_set_config(struct x4_port *x4,
 			      const struct x4step_path_config *c)
 {
@@ -269,23 +361,15 @@ static int x4_path_set_config(struct x4_port *x4,
 	return ret;
 }
 
-/* The path ioctls of the controller; lock held. */
+/* X4STEP_SET_PATH_CONFIG of the controller; lock held. */
 int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg)
 {
-	union {
-		struct x4step_path_ctl ctl;
-		struct x4step_path_config cfg;
-	} k;
+	struct x4step_path_config cfg;
 
 	lockdep_assert_held(&x4->lock);
-	if (cmd == X4STEP_PATH_CTL) {
-		if (copy_from_user(&k.ctl, uarg, sizeof(k.ctl)))
-			return -EFAULT;
-		return x4_path_ctl(x4, &k.ctl);
-	}
-	if (copy_from_user(&k.cfg, uarg, sizeof(k.cfg)))
+	if (copy_from_user(&cfg, uarg, sizeof(cfg)))
 		return -EFAULT;
-	return x4_path_set_config(x4, &k.cfg);
+	return x4_path_set_config(x4, &cfg);
 }
 
 /* The path's reading ioctls, on any descriptor. */

@@ -35,6 +35,11 @@ static u64 min_u64(u64 a, u64 b)
 	return a < b ? a : b;
 }
 
+static u64 max_u64(u64 a, u64 b)
+{
+	return a > b ? a : b;
+}
+
 /* Leader steps/s of slot s at path speed v (units/s), rounded down. */
 static u64 to_steps(const struct x4_path_slot *s, u64 v)
 {
@@ -77,7 +82,7 @@ bool x4_path_active(const struct x4_engine *e)
 {
 	const struct x4_path *pa = &e->path;
 
-	return pa->state != X4_PATH_IDLE || pa->head != pa->tail;
+	return pa->state != X4_PATH_IDLE || pa->head != x4_read_once(pa->tail);
 }
 
 int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
@@ -90,9 +95,11 @@ int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
 	if (x4_path_active(e))
 		return X4_ERR_IS_ACTIVE;
 	pa->slot = slot;
-	pa->depth = depth;
+	x4_write_once(pa->depth, depth); /* x4_path_room() reads it unlocked */
 	pa->head = 0;
-	pa->tail = 0;
+	x4_write_once(pa->tail, 0);
+	pa->plan = 0;
+	pa->plan_tail = 0;
 	return X4_OK;
 }
 
@@ -124,7 +131,8 @@ u32 x4_path_room(const struct x4_engine *e)
 {
 	const struct x4_path *pa = &e->path;
 
-	return pa->depth - (pa->tail - x4_load_acquire(&pa->head));
+	return x4_read_once(pa->depth) -
+	       (x4_read_once(pa->tail) - x4_load_acquire(&pa->head));
 }
 
 /* Slot s's entry limit: its corner, its top speed (at the override). */
@@ -135,44 +143,70 @@ static void set_limit(const struct x4_engine *e, struct x4_path_slot *s)
 
 /*
  * The highest entry speed of slot s from which exit v_exit is reachable;
- * the root from its last entry speed (entries change little).
+ * the root from its last entry speed or the exit, the nearer one (entries
+ * change little; a short segment's is little above its exit).
  */
 static u32 entry_for(const struct x4_path_slot *s, u64 v_exit)
 {
-	u64 v2 = v_exit * v_exit + s->two_as;
+	u64 v2 = v_exit * v_exit + s->two_as, x0 = max_u64(s->entry, v_exit);
 
 	if ((u64)s->limit * s->limit <= v2)
 		return s->limit;
-	return (u32)(s->entry ? x4_isqrt_from(v2, s->entry) : x4_isqrt(v2));
+	return (u32)(x0 ? x4_isqrt_from(v2, x0) : x4_isqrt(v2));
 }
 
 /*
- * Backward pass from the last segment (which ends at rest) toward the
- * running one: each entry speed as high as its corner, its speed limit
- * and the stop of everything after it allow. On an append the pass ends
- * where an entry does not change (nothing before it can change either);
- * `all` goes through (the speed limits changed).
+ * Whether the backward pass plans slot k's entry: from head + 1's (the
+ * timer reads it when head starts) to the one before the last (the last
+ * stops).
  */
-static void plan_back(struct x4_engine *e, bool all)
+static bool in_pass(u32 k, u32 head, u32 tail)
+{
+	return tail - head > 2 && k - head - 1 < tail - head - 2;
+}
+
+/*
+ * The backward pass from the last segment (which ends at rest) toward the
+ * running one: each entry speed as high as its corner, its speed limit
+ * and the stop of everything after it allow. Appends only raise entries,
+ * so the pass ends where an entry does not change (those before it were
+ * planned from it). At most `budget` entries a call: the pass goes on
+ * from where it stopped at the next call, and starts again from the tail
+ * once it is through if segments came meanwhile. Every entry it stores is
+ * planned from the one after it, which only rises: a pass that has not
+ * come through yet leaves entries lower than they could be, never unsafe.
+ */
+bool x4_path_plan(struct x4_engine *e, u32 budget)
 {
 	struct x4_path *pa = &e->path;
-	u32 head = x4_load_acquire(&pa->head), k = pa->tail - 1;
-	u64 v_exit = slot_of(pa, k)->entry;
+	u32 head = x4_load_acquire(&pa->head), tail = pa->tail, k = pa->plan;
 
-	/* The timer reads the entry of head + 1 when head starts. */
-	while (k != head && k - 1 != head) {
-		struct x4_path_slot *s = slot_of(pa, --k);
+	for (;;) {
+		struct x4_path_slot *s;
 		u32 v;
 
-		if (all)
-			set_limit(e, s);
-		v = entry_for(s, v_exit);
-
-		if (v == s->entry && !all)
+		if (!in_pass(k, head, tail)) {
+			if (pa->plan_tail == tail)
+				break; /* through, and nothing came since */
+			pa->plan_tail = tail;
+			k = tail - 2;
+			continue;
+		}
+		if (!budget)
 			break;
+		budget--;
+		pa->planned++;
+		s = slot_of(pa, k);
+		v = entry_for(s, slot_of(pa, k + 1)->entry);
+		if (v == s->entry) {
+			k = head; /* through: the rest was planned from it */
+			continue;
+		}
 		x4_store_release(&s->entry, v);
-		v_exit = v;
+		k--;
 	}
+	pa->plan = k;
+	return in_pass(k, head, tail);
 }
 
 void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
@@ -195,21 +229,34 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 	set_limit(e, s);
 	s->entry = entry_for(s, 0); /* the last segment stops */
 	x4_store_release(&pa->tail, pa->tail + 1);
-	plan_back(e, false);
+	x4_path_plan(e, X4_PATH_PLAN_BUDGET);
 }
 
+/*
+ * The whole queue at once, its limits too (the override changed): no pass
+ * is left over after it.
+ */
 void x4_path_replan(struct x4_engine *e)
 {
 	struct x4_path *pa = &e->path;
+	u32 head = x4_load_acquire(&pa->head), k = pa->tail - 1;
+	struct x4_path_slot *s;
+	u64 v_exit;
 
-	struct x4_path_slot *last;
-
-	if (pa->tail == x4_load_acquire(&pa->head))
+	pa->plan_tail = pa->tail;
+	pa->plan = head;
+	if (pa->tail == head)
 		return;
-	last = slot_of(pa, pa->tail - 1);
-	set_limit(e, last);
-	x4_store_release(&last->entry, entry_for(last, 0));
-	plan_back(e, true);
+	s = slot_of(pa, k);
+	set_limit(e, s);
+	v_exit = entry_for(s, 0);
+	x4_store_release(&s->entry, (u32)v_exit);
+	while (in_pass(k - 1, head, pa->tail)) {
+		s = slot_of(pa, --k);
+		set_limit(e, s);
+		v_exit = entry_for(s, v_exit);
+		x4_store_release(&s->entry, (u32)v_exit);
+	}
 }
 
 /* ---- the timer's half: under the engine's lock ---- */
@@ -353,7 +400,7 @@ static void flush(struct x4_engine *e)
 	pa->state = X4_PATH_IDLE;
 	pa->started = false;
 	pa->abort = false;
-	pa->flushes++;
+	x4_write_once(pa->flushes, pa->flushes + 1); /* the glue reads it */
 }
 
 /*
@@ -564,15 +611,16 @@ static void follow_exit(struct x4_engine *e)
 		cut_piece(e);
 }
 
-void x4_path_kick(struct x4_engine *e, u64 now_ns)
+bool x4_path_kick(struct x4_engine *e, u64 now_ns)
 {
 	struct x4_path *pa = &e->path;
 
 	if (pa->state != X4_PATH_IDLE && pa->started)
 		follow_exit(e);
-	if (pa->state != X4_PATH_IDLE || pa->head == pa->tail)
-		return;
+	if (pa->state != X4_PATH_IDLE || pa->head == x4_read_once(pa->tail))
+		return false;
 	begin_path(e, now_ns);
+	return true;
 }
 
 int x4_path_hold(struct x4_engine *e, bool abort)
@@ -612,7 +660,7 @@ int x4_path_resume(struct x4_engine *e, u64 now_ns)
 	}
 	if (pa->state != X4_PATH_HELD)
 		return X4_ERR_NOT_ACTIVE;
-	if (pa->head == pa->tail) {
+	if (pa->head == x4_read_once(pa->tail)) {
 		pa->state = X4_PATH_IDLE; /* held at its very end */
 		return X4_OK;
 	}
@@ -637,7 +685,7 @@ void x4_path_get_status(const struct x4_engine *e, struct x4_path_status *st)
 	u32 head = pa->head;
 
 	st->state = pa->state;
-	st->queued = pa->tail - head;
+	st->queued = x4_read_once(pa->tail) - head;
 	st->depth = pa->depth;
 	st->override = pa->override;
 	st->done = pa->done;

@@ -8,7 +8,9 @@
  * single-consumer ring:
  *  - the writer (a process writing segments) fills slots, publishes `tail`
  *    and plans: backward over the queue, the highest entry speed of each
- *    segment from which the rest of the queue can still stop;
+ *    segment from which the rest of the queue can still stop (a bounded
+ *    number of entries a push: where a pass has not come through yet, an
+ *    entry is lower than it could be);
  *  - the timer (x4_engine_fire(), under the engine's lock) runs the segment
  *    at `head` and frees it by advancing `head`.
  * The timer reads a planned entry speed when the segment before it starts
@@ -67,12 +69,29 @@ struct x4_path {
 	u32 piece; /* steps of the running piece */
 	u32 v_end; /* speed at the end of the running piece */
 	u32 flushes; /* queues flushed: the glue's writers learn of them */
+	/* The writer's backward pass (x4_path_plan()). */
+	u32 plan; /* the slot whose entry it plans next */
+	u32 plan_tail; /* the tail it started from */
+	u64 planned; /* entries it planned: its cost, for the tests */
 	u64 done; /* segments completed */
 	u64 starved; /* refills that came after the path began to stop */
 	u64 frac; /* the ns fraction the pieces' ends left out, 32.32 */
 };
 
 #define X4_PATH_OVERRIDE_MAX 200
+/*
+ * Entries a push plans at most: a queue shorter than the stop distance
+ * raises all of them at every push, and the pass spreads that over the
+ * pushes that follow.
+ */
+#define X4_PATH_PLAN_BUDGET 64
+/*
+ * What the pushes left of a pass goes on in time, in the writer's context
+ * (the module: a work item, x4step_path.c): this many entries a jiffy, so
+ * that it comes through long before the path gets there, also once the
+ * writer stopped writing.
+ */
+#define X4_PATH_PLAN_WORK (8 * X4_PATH_PLAN_BUDGET)
 
 struct x4_engine;
 struct x4_chan;
@@ -86,16 +105,23 @@ int x4_path_check(const struct x4_engine *e, const struct x4_segment *s);
 u32 x4_path_room(const struct x4_engine *e);
 /*
  * Writer context, no lock: queue a checked segment (room must be > 0),
- * publish it and plan backward. The path starts at the next kick.
+ * publish it and plan backward, X4_PATH_PLAN_BUDGET entries at most. The
+ * path starts at the next kick.
  */
 void x4_path_push(struct x4_engine *e, const struct x4_segment *s);
+/*
+ * Writer context: go on with the backward pass, `budget` entries at most;
+ * true while it has more to do.
+ */
+bool x4_path_plan(struct x4_engine *e, u32 budget);
 /* Writer context: plan the whole queue again (after an override change). */
 void x4_path_replan(struct x4_engine *e);
 /*
  * Under the lock, after a push: start an idle path whose queue holds
- * segments, or let the running segment end faster if the plan allows now.
+ * segments (true: the channel begins, arm the timer), or let the running
+ * segment end faster if the plan allows now (no event moves).
  */
-void x4_path_kick(struct x4_engine *e, u64 now_ns);
+bool x4_path_kick(struct x4_engine *e, u64 now_ns);
 /* Under the lock: brake along the path to rest; abort: then flush it. */
 int x4_path_hold(struct x4_engine *e, bool abort);
 /* Under the lock: go on from a hold. */

@@ -10,6 +10,7 @@
 
 #ifdef __KERNEL__
 #include <asm/barrier.h>
+#include <linux/compiler.h>
 #include <linux/math64.h>
 #include <linux/types.h>
 /*
@@ -20,6 +21,9 @@
 #define x4_load_acquire(p) smp_load_acquire(p)
 /* Pairs with x4_load_acquire(). */
 #define x4_store_release(p, v) smp_store_release(p, v)
+/* A value another context writes (or reads) without the lock, unordered. */
+#define x4_read_once(x) READ_ONCE(x)
+#define x4_write_once(x, v) WRITE_ONCE(x, v)
 /* 32-bit kernels have no 64-bit '/': every u64 division goes through here. */
 #define x4_div(a, b) div64_u64((a), (b))
 #else
@@ -44,6 +48,8 @@ u64 x4_div64_u64(u64 a, u64 b);
 #endif
 #define x4_load_acquire(p) __atomic_load_n((p), __ATOMIC_ACQUIRE)
 #define x4_store_release(p, v) __atomic_store_n((p), (v), __ATOMIC_RELEASE)
+#define x4_read_once(x) __atomic_load_n(&(x), __ATOMIC_RELAXED)
+#define x4_write_once(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELAXED)
 #endif
 
 #define X4_NSEC_PER_SEC 1000000000ull

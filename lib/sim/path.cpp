@@ -18,9 +18,10 @@ namespace {
 
 constexpr std::uint32_t path_chunk = 8;  // the module's X4_PATH_CHUNK
 
+// x4_kick(): only a path that begins is a start (the timer, the last
+// brake code); a running one follows its plan without a new event.
 int kick(x4_engine *e, const void *, std::uint64_t now) {
-  x4_path_kick(e, now);
-  return X4_OK;
+  return x4_path_kick(e, now) ? X4_OK : X4_ERR_IS_ACTIVE;
 }
 
 int resume(x4_engine *e, const void *, std::uint64_t now) { return x4_path_resume(e, now); }
@@ -59,9 +60,11 @@ bool port::path_brake_locked(unsigned source) {
   return path_brake_aborts_locked(source) && !x4_track_path_abort(&track_, &eng_);
 }
 
-// x4_path_write() on an O_NONBLOCK descriptor.
+// x4_path_write() on an O_NONBLOCK descriptor: one write() at a time, the
+// port's lock let go between chunks.
 ssize_t port::write(file &f, const void *buf, size_t n) {
-  const lock l(m_);
+  const std::lock_guard<std::mutex> one(write_m_);
+  lock l(m_);
   const auto fail = [](int err) {
     errno = err;
     return -1;
@@ -72,6 +75,11 @@ ssize_t port::write(file &f, const void *buf, size_t n) {
   int ret = path_slots_.empty() ? path_resize_locked(X4STEP_PATH_DEPTH_MIN) : 0;
   size_t done = 0;
   while (!ret && done < n) {
+    if (done) {  // between chunks: the timer, the ioctls
+      l.unlock();
+      l.lock();
+      if (controller_ != &f) break;
+    }
     if (path_flushed_locked()) {
       ret = -ECANCELED;
       break;
@@ -96,6 +104,12 @@ ssize_t port::write(file &f, const void *buf, size_t n) {
       ret = -ECANCELED;
       done = 0;
     }
+  }
+  // x4_path_plan_work(): the module goes on with the pass the pushes'
+  // budget left, a bounded part a jiffy; here it comes through at once.
+  if (x4_path_plan(&eng_, 0)) {
+    x4_path_plan(&eng_, UINT32_MAX);
+    if (eng_.path.state != X4_PATH_IDLE) x4_path_kick(&eng_, now_locked());
   }
   changed_locked();
   if (done) return static_cast<ssize_t>(done);

@@ -155,6 +155,7 @@ class port {
   const int number_;
   const options opt_;
   mutable std::mutex m_;
+  std::mutex write_m_;             // one path write() at a time (the module's path_write_lock)
   std::condition_variable wake_;   // pollers and readers
   std::condition_variable timer_;  // the real-time thread
   time_point epoch_;               // engine time 0

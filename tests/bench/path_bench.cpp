@@ -5,8 +5,14 @@
 //                          edges against the limits, speed at the chord
 //                          junctions against the commanded speed
 //   path_bench --chord N   chords of N steps instead of 4
-//   path_bench --per-push  under callgrind: one stats dump per appended
-//                          segment (the planner's cost)
+//   path_bench --per-push  under callgrind --collect-atstart=no: one stats
+//                          dump per appended segment (the planner's cost)
+//   path_bench --unbounded every backward pass run through at each push
+//                          (the planner before issue 28 bounded it)
+//   path_bench --worst D   the planner's worst case instead of the circle:
+//                          short segments streamed through a queue of D,
+//                          shorter than their stop distance (every push
+//                          raises every entry); with --per-push as above
 //   path_bench --junctions junction and ramp fidelity: a path of 62
 //                          segments against a double-precision reference
 //                          of its plan; exits 1 if a bound is exceeded
@@ -273,8 +279,61 @@ int fidelity(const std::vector<x4_segment> &segs, const char *what, bool bounded
 
 }  // namespace
 
+// The planner's worst case (issue 28 item 6): D + 2048 segments of 4
+// steps at 20000 steps/s and 1000 steps/s^2 (200 000 steps to stop)
+// streamed through a queue of D: every push can raise every entry. The
+// pass the pushes leave over goes on every 4 ms as in the module.
+int worst(uint32_t depth, bool per_push, bool unbounded) {
+  std::vector<x4_path_slot> q(depth);
+  x4_engine e;
+  x4_engine_init(&e);
+  if (x4_path_set_queue(&e, q.data(), depth)) return 1;
+  x4_segment s{};
+  s.steps[0] = 4;
+  s.length = 4;
+  s.v_max = 20000;
+  s.accel = 1000;
+  s.v_entry = s.v_max;
+  const size_t n = depth + 2048;
+  size_t next = 0;
+  uint64_t now = 1000, most = 0, work_at = 0;
+  while (next < n || x4_engine_busy(&e)) {
+    if (!unbounded && now >= work_at) {  // the module's work item, a jiffy at 250 Hz
+      x4_path_plan(&e, X4_PATH_PLAN_WORK);
+      if (e.path.state != X4_PATH_IDLE) x4_path_kick(&e, now);
+      work_at = now + 4000000;
+    }
+    while (next < n && x4_path_room(&e)) {
+      if (x4_path_check(&e, &s)) return 1;
+      const uint64_t before = e.path.planned;
+      if (per_push) {
+        CALLGRIND_ZERO_STATS;
+        CALLGRIND_TOGGLE_COLLECT;
+      }
+      x4_path_push(&e, &s);
+      if (unbounded)
+        while (x4_path_plan(&e, UINT32_MAX)) {
+        }
+      if (per_push) {
+        CALLGRIND_TOGGLE_COLLECT;
+        CALLGRIND_DUMP_STATS_AT("push");
+      }
+      most = std::max(most, e.path.planned - before);
+      x4_path_kick(&e, now);
+      next++;
+    }
+    if (!x4_engine_busy(&e)) continue;
+    now = x4_engine_due(&e);
+    x4_engine_fire(&e, now);
+  }
+  std::printf("worst case, depth %u: %zu segments of 4 steps, %.3f s; most entries a push planned: %llu\n",
+              depth, n, (now - 1000) * 1e-9, (unsigned long long)most);
+  return 0;
+}
+
 int main(int argc, char **argv) {
-  bool per_push = false, reference_run = false;
+  bool per_push = false, reference_run = false, unbounded = false;
+  uint32_t worst_depth = 0;
   for (int i = 1; i < argc; i++) {
     if (!std::strcmp(argv[i], "--junctions"))
       return fidelity(
@@ -283,11 +342,16 @@ int main(int argc, char **argv) {
       reference_run = true;
     else if (!std::strcmp(argv[i], "--per-push"))
       per_push = true;
+    else if (!std::strcmp(argv[i], "--unbounded"))
+      unbounded = true;
+    else if (!std::strcmp(argv[i], "--worst") && i + 1 < argc)
+      worst_depth = uint32_t(std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--chord") && i + 1 < argc)
       chord_steps = std::atof(argv[++i]);
     else
       return 2;
   }
+  if (worst_depth) return worst(worst_depth, per_push, unbounded);
   const std::vector<x4_segment> segs = circle();
   if (reference_run) return fidelity(segs, "the circle, queued whole", false);
   std::vector<x4_path_slot> q(256);
@@ -307,9 +371,18 @@ int main(int argc, char **argv) {
   while (next < segs.size() || x4_engine_busy(&e)) {
     while (next < segs.size() && x4_path_room(&e)) {
       if (x4_path_check(&e, &segs[next])) return 1;
-      if (per_push) CALLGRIND_ZERO_STATS;
+      if (per_push) {
+        CALLGRIND_ZERO_STATS;
+        CALLGRIND_TOGGLE_COLLECT;
+      }
       x4_path_push(&e, &segs[next]);
-      if (per_push) CALLGRIND_DUMP_STATS_AT("push");
+      if (unbounded)
+        while (x4_path_plan(&e, UINT32_MAX)) {
+        }
+      if (per_push) {
+        CALLGRIND_TOGGLE_COLLECT;
+        CALLGRIND_DUMP_STATS_AT("push");
+      }
       x4_path_kick(&e, now);
       next++;
     }

@@ -45,12 +45,41 @@ for chord in 4 20; do
 	total=$(sed -n 's/^totals: *//p' "$tmp/path")
 	echo "engine in path mode: $((total / steps)) instructions per leader step (goal <= 160)"
 	rm -f "$tmp"/push.*
-	valgrind --tool=callgrind --toggle-collect=x4_path_push --callgrind-out-file="$tmp/push" \
+	valgrind --tool=callgrind --collect-atstart=no --callgrind-out-file="$tmp/push" \
 		"$build/tests/path_bench" --chord $chord --per-push >/dev/null 2>&1
 	cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
 		awk '{v[NR]=$1; s+=$1} END {printf "planner per appended segment: mean %d, max %d instructions (%d segments)\n", s/NR, v[NR], NR}'
+	echo "the planner unbounded (every pass run through at each push, as before issue 28):"
+	"$build/tests/path_bench" --chord $chord --unbounded | grep '^path:'
 	echo
 done
+
+# The planner's worst case (issue 28 item 6): short segments through a
+# queue shorter than their stop distance, where every push can raise every
+# entry; a push plans a bounded part of the pass (goal <= 5000
+# instructions per appended segment at any depth).
+echo "== paths: the planner per appended segment, worst case (4-step segments, 200 000 steps to stop)"
+worst=0
+for depth in 256 4096; do
+	rm -f "$tmp"/push.*
+	valgrind --tool=callgrind --collect-atstart=no --callgrind-out-file="$tmp/push" \
+		"$build/tests/path_bench" --worst $depth --per-push >/dev/null 2>&1
+	line=$(cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
+		awk '{v[NR]=$1; s+=$1} END {printf "%d %d %d", s/NR, v[NR], NR}')
+	set -- $line
+	echo "depth $depth: mean $1, max $2 instructions per appended segment ($3 segments)"
+	[ "${2:-0}" -gt "$worst" ] && worst=$2
+	"$build/tests/path_bench" --worst $depth
+	rm -f "$tmp"/push.*
+	valgrind --tool=callgrind --collect-atstart=no --callgrind-out-file="$tmp/push" \
+		"$build/tests/path_bench" --worst $depth --per-push --unbounded >/dev/null 2>&1
+	cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
+		awk '{v[NR]=$1; s+=$1} END {printf "unbounded (before issue 28): mean %d, max %d instructions per appended segment\n", s/NR, v[NR]}'
+	"$build/tests/path_bench" --worst $depth --unbounded | sed 's/^/unbounded: /'
+done
+echo "worst case: $worst instructions per appended segment (goal <= 5000)"
+[ "$worst" -gt 0 ] && [ "$worst" -le 5000 ] || failed=1
+echo
 
 # The G-code interpreter and planner (issue 20): lines per second from a
 # 100 000-line file of a real CAM program (LinuxCNC's plasmatest.ngc)

@@ -1457,6 +1457,95 @@ void TestHeldAborts(int fd) {
   ::close(mon);
 }
 
+// Item 6: a write() of 4096 short records into a 4096-deep queue shorter
+// than their stop distance (the planner's worst case: every record can
+// raise every entry) holds no lock long and yields the CPU between its
+// chunks: HOLD, BRAKE, STOP and HALT issued by another process at an
+// instant in the middle of it take effect within 1 ms of that instant
+// (guest time; a single CPU: the writer must let the other process run).
+// Before, the write ran about 400 ms with the mutex held and never
+// yielded.
+struct Halt {
+  const char *what;
+  unsigned long cmd;
+  bool (*effect)(const x4step_path_status &s);  // after the call returned
+};
+
+bool Holding(const x4step_path_status &s) {
+  return s.state == X4STEP_PATH_HOLDING || s.state == X4STEP_PATH_HELD;
+}
+
+// Stopped and flushed (the writer may queue the rest of its chunk before
+// it learns of the flush: the queue is not looked at).
+bool Stopped(const x4step_path_status &s) { return s.state == X4STEP_PATH_IDLE; }
+
+int Issue(int fd, unsigned long cmd) {
+  if (cmd == X4STEP_PATH_CTL) return Ctl(fd, X4STEP_PATH_HOLD);
+  if (cmd == X4STEP_HALT) {
+    x4step_halt h{};
+    h.axes = 0x0f;
+    h.how = X4STEP_HALT_BRAKE;
+    return Ioctl(fd, X4STEP_HALT, &h);
+  }
+  return Ioctl(fd, cmd);
+}
+
+void TestHaltDuringLongWrite(int fd) {
+  std::printf("== HOLD, BRAKE, STOP, HALT during a write() of 4096 short records\n");
+  Check(SetDepth(fd, 4096) == 0, "queue depth 4096");
+  // 4 steps each at 10000 steps/s and 1000 steps/s^2: 50 000 steps to
+  // stop, the queue holds 16 384.
+  std::vector<Seg> segs;
+  for (int k = 0; k < 4096; k++) segs.push_back(MakeSeg(4, 0, 0, 0, Len(4, 0), 100000, 10000, 100000, k + 1));
+  const Halt halts[] = {{"PATH_CTL HOLD", X4STEP_PATH_CTL, Holding},
+                        {"BRAKE", X4STEP_BRAKE, Holding},
+                        {"STOP", X4STEP_STOP, Stopped},
+                        {"HALT (brake)", X4STEP_HALT, Holding}};
+  for (const Halt &h : halts) {
+    int go[2];
+    if (pipe(go) != 0) return Check(false, "pipe");
+    const pid_t writer = fork();
+    if (writer == 0) {
+      const char b = 1;
+      if (::write(go[1], &b, 1) != 1) _exit(3);
+      const ssize_t n = ssize_t(segs.size() * sizeof(Seg));
+      const ssize_t w = ::write(fd, segs.data(), size_t(n));
+      _exit(w == n ? 0 : w < 0 && errno == ECANCELED ? 1 : w >= 0 ? 2 : 3);
+    }
+    char b;
+    const bool started = ::read(go[0], &b, 1) == 1;
+    ::close(go[0]);
+    ::close(go[1]);
+    // 3 ms into the write (it takes tens of ms): the instant to halt.
+    const uint64_t at = NowNs() + 3'000'000;
+    const timespec ts{time_t(at / 1000000000u), long(at % 1000000000u)};
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+    const int ret = Issue(fd, h.cmd);
+    const uint64_t took = NowNs() - at;
+    const x4step_path_status s = PathStatus(fd);
+    int ws = 0;
+    const bool writing = waitpid(writer, &ws, WNOHANG) == 0;
+    Check(started && writing,
+          F("%s: the write() was under way when it returned (%u queued)", h.what, s.queued));
+    Check(ret == 0 && h.effect(s),
+          F("%s: %d, took effect (state %u, %u queued)", h.what, ret, s.state, s.queued));
+    CheckTiming(took <= 1'000'000, F("%s: within 1 ms of its instant (%.3f ms)", h.what, took * 1e-6));
+    waitpid(writer, &ws, 0);
+    const int code = WIFEXITED(ws) ? WEXITSTATUS(ws) : 4;
+    std::printf("info: %s: the write() %s\n", h.what,
+                code == 0   ? "queued all 4096 records"
+                : code == 1 ? "failed with ECANCELED"
+                : code == 2 ? "returned a short count (the rest: flushed)"
+                            : "failed");
+    Check(WaitIdle(fd, 10000), F("%s: the path comes to rest", h.what));
+    Ctl(fd, X4STEP_PATH_ABORT);
+    Check(WaitIdle(fd, 10000) && PathStatus(fd).queued == 0, F("%s: aborted, flushed", h.what));
+    Ctl(fd, X4STEP_PATH_CLEAR);
+  }
+  Check(SetDepth(fd, 256) == 0, "queue depth 256 again");
+}
+
 // Item 1, scenario B: the queue ran dry, a segment came in the direction
 // hold after the last step, then the controller closed: the path must
 // never move again. A 1 ms hold is the window; a try that missed it (the
@@ -1579,6 +1668,7 @@ int main(int argc, char **argv) {
   TestEmergencyBrakeAborts(fd);
   TestSetPositionWakes(fd);
   TestHeldAborts(fd);
+  TestHaltDuringLongWrite(fd);
   ::close(fd);
   TestCloseInTheHoldWindow();
   TestOutside();

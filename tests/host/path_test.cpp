@@ -456,6 +456,160 @@ TEST(PathRun, SlowWriterNeverBreaksTheLimits) {
   EXPECT_GT(p.Status().starved, 0u);
 }
 
+// ---- the planner's cost (issue 28 item 6) -------------------------------------
+
+// Short segments whose queue is far shorter than their stop distance (4
+// steps each, 20000 steps/s, 1000 steps/s^2: 200 000 steps to stop, a
+// queue of 4096 holds 16 384): every push can raise every entry.
+x4_segment Short() { return Seg(4, 0, 0, 0, 4, 20000, 1000, 20000); }
+
+// The plan of the whole queue at once, from the slots (x4_path.c's rule):
+// each entry as high as its limit and the stop of what follows allow.
+std::vector<uint32_t> FullPlan(const x4_engine &e) {
+  const x4_path &pa = e.path;
+  std::vector<uint32_t> v(pa.tail - pa.head);
+  uint64_t exit = 0;
+  for (size_t i = v.size(); i-- > 1;) {
+    const x4_path_slot &s = pa.slot[(pa.head + i) & (pa.depth - 1)];
+    v[i] = uint32_t(std::min<uint64_t>(s.limit, x4_isqrt(exit * exit + s.two_as)));
+    exit = v[i];
+  }
+  return v;
+}
+
+// The queue as planned ends at rest: every segment can brake from its
+// entry to the next one's (the last one's to rest), within its limit.
+void ExpectSafe(const x4_engine &e, const std::string &when) {
+  const x4_path &pa = e.path;
+  uint64_t exit = 0;
+  for (uint32_t i = pa.tail - pa.head; i-- > 1;) {
+    const uint32_t k = pa.head + i;
+    const x4_path_slot &s = pa.slot[k & (pa.depth - 1)];
+    ASSERT_LE(s.entry, s.limit) << when << ", slot " << k;
+    ASSERT_LE(uint64_t(s.entry) * s.entry, exit * exit + s.two_as)
+        << when << ": slot " << k << " cannot stop";
+    exit = s.entry;
+  }
+}
+
+// A path of `n` Short() segments streamed through a queue of `depth`: the
+// writer pushes whenever there is room, the timer runs between. Bounded:
+// the module's push, and its work item going on with the pass every 4 ms
+// (a jiffy at 250 Hz), X4_PATH_PLAN_WORK entries; else every pass run
+// through at each push (the planner before it was bounded). Returns the
+// path's time; *most: the most entries one push planned.
+double Stream(Path &p, size_t n, bool bounded, uint64_t *most, const char *what) {
+  Recording r;
+  size_t next = 0;
+  uint64_t work_at = 0;
+  *most = 0;
+  while (next < n || x4_engine_busy(&p.e)) {
+    const uint64_t t = r.events.empty() ? kStart : r.events.back().t_ns;
+    if (bounded && t >= work_at) {  // x4_path_plan_work()
+      x4_path_plan(&p.e, X4_PATH_PLAN_WORK);
+      if (p.e.path.state != X4_PATH_IDLE) x4_path_kick(&p.e, t);
+      work_at = t + 4000000;
+    }
+    while (next < n && x4_path_room(&p.e)) {
+      const uint64_t before = p.e.path.planned;
+      const x4_segment s = Short();
+      const uint64_t now = r.events.empty() ? kStart : r.events.back().t_ns;
+      if (x4_path_check(&p.e, &s)) {
+        ADD_FAILURE() << "refused";
+        return 0;
+      }
+      x4_path_push(&p.e, &s);
+      if (!bounded)
+        while (x4_path_plan(&p.e, UINT32_MAX)) {
+        }
+      *most = std::max(*most, p.e.path.planned - before);
+      p.sent.push_back(s);
+      p.target[0] += s.steps[0];
+      x4_path_kick(&p.e, now);
+      if (next % 97 == 0) ExpectSafe(p.e, std::string(what) + ", push " + std::to_string(next));
+      next++;
+    }
+    record(p.e, r, 1);
+  }
+  RunToEnd(p, r);
+  return (r.events.back().t_ns - kStart) * 1e-9;
+}
+
+// With the queue shorter than the stop distance, every push raised every
+// entry back to the head: thousands of entries per push at depth 4096.
+// Now a push plans at most X4_PATH_PLAN_BUDGET entries, whatever the
+// depth, and the queue as planned still ends at rest after every push;
+// the path obeys the physics and its time is within 1 % of the unbounded
+// planner's (the entries near the head lag behind by a few passes).
+TEST(PathPlanner, BoundedWorkPerPush) {
+  for (uint32_t depth : {256u, 4096u}) {
+    const size_t n = 3 * depth;
+    Path ref(depth), p(depth);
+    uint64_t ref_most = 0, most = 0;
+    const double t_ref = Stream(ref, n, false, &ref_most, "unbounded");
+    const double t = Stream(p, n, true, &most, "bounded");
+    std::printf(
+        "[ planner  ] depth %u, %zu short segments: most entries a push planned %llu (unbounded %llu); "
+        "path %.4f s (unbounded %.4f s, %+.3f %%)\n",
+        depth, n, (unsigned long long)most, (unsigned long long)ref_most, t, t_ref, (t / t_ref - 1) * 100);
+    EXPECT_GT(ref_most, depth / 2) << "a push raises about every entry unbounded: the worst case";
+    EXPECT_LE(most, uint64_t(X4_PATH_PLAN_BUDGET));
+    EXPECT_LE(t, t_ref * 1.01);
+  }
+}
+
+// Where the stop distance is shorter than a segment, an entry that does
+// not change ends the pass: a push plans the entry before it, and stops
+// at the one before that (at its limit).
+TEST(PathPlanner, UnchangedEntryEndsThePass) {
+  Path p(4096);
+  const x4_segment s = Seg(1000, 0, 0, 0, 1000, 2000, 20000, 2000);  // 100 steps to stop
+  uint64_t most = 0;
+  for (int k = 0; k < 4096; k++) {
+    const uint64_t before = p.e.path.planned;
+    ASSERT_EQ(x4_path_check(&p.e, &s), X4_OK);
+    x4_path_push(&p.e, &s);
+    most = std::max(most, p.e.path.planned - before);
+  }
+  EXPECT_LE(most, 2u);
+  EXPECT_EQ(FullPlan(p.e)[4000], 2000u);
+  EXPECT_EQ(p.e.path.slot[4000].entry, 2000u);
+}
+
+// A pass that has not come through leaves entries lower, never higher,
+// than the full plan; given the pushes' budget again and again it comes
+// to exactly the full plan.
+TEST(PathPlanner, ConvergesToTheFullPlan) {
+  Path p(4096);
+  for (int k = 0; k < 4096; k++) {
+    const x4_segment s = Short();
+    ASSERT_EQ(x4_path_check(&p.e, &s), X4_OK);
+    x4_path_push(&p.e, &s);  // not started: the head stays
+  }
+  const std::vector<uint32_t> full = FullPlan(p.e);
+  const x4_path &pa = p.e.path;
+  size_t lower = 0;
+  for (size_t i = 1; i < full.size(); i++) {
+    const uint32_t entry = pa.slot[(pa.head + i) & (pa.depth - 1)].entry;
+    ASSERT_LE(entry, full[i]) << "slot " << i;
+    lower += entry < full[i];
+  }
+  EXPECT_GT(lower, 0u) << "the last pass had not come through";
+  int calls = 0;
+  while (x4_path_plan(&p.e, X4_PATH_PLAN_BUDGET) && calls < 4096) calls++;
+  EXPECT_LE(calls, 4096 / X4_PATH_PLAN_BUDGET + 1);
+  for (size_t i = 1; i < full.size(); i++)
+    ASSERT_EQ(pa.slot[(pa.head + i) & (pa.depth - 1)].entry, full[i]) << "slot " << i;
+  EXPECT_FALSE(x4_path_plan(&p.e, X4_PATH_PLAN_BUDGET)) << "through: nothing left";
+  ExpectSafe(p.e, "converged");
+  // The path it runs stops at its end, within the physics.
+  p.sent.assign(4096, Short());
+  p.target[0] = 4096 * 4;
+  ASSERT_TRUE(x4_path_kick(&p.e, kStart));
+  Recording r;
+  RunToEnd(p, r);
+}
+
 // ---- hold, resume, abort, override -----------------------------------------
 
 TEST(PathHold, HoldAndResumeChangeNoStep) {

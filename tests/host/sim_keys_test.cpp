@@ -141,6 +141,26 @@ TEST_F(SimKeys, KeyLeavesAHeldPathHeld) {
   EXPECT_EQ(path.status().state, x4step::path_state::held);
 }
 
+// Issue 28, item 9: a write() to a held path kicks it after its chunk;
+// the kick starts nothing, so the key's code stays the last brake code.
+TEST_F(SimKeys, AppendToAHeldPathKeepsTheBrakeCode) {
+  controller c("sim");
+  c.set_brake_codes({57});
+  auto p = x4step::sim::port::find(0);
+  x4step::path path(c);
+  path.append(line(100));
+  p->run_until(p->engine_now() + 500000000u);
+  EXPECT_TRUE(p->key(57));
+  ASSERT_TRUE(path.wait(10s));
+  ASSERT_EQ(path.status().state, x4step::path_state::held);
+  ASSERT_EQ(c.get_status().last_brake_code, 57);
+  path.append(line(20));
+  EXPECT_EQ(path.status().state, x4step::path_state::held);
+  EXPECT_EQ(c.get_status().last_brake_code, 57);
+  path.resume();  // a start: it clears the code
+  EXPECT_EQ(c.get_status().last_brake_code, 0);
+}
+
 TEST_F(SimKeys, RealTimeKeyComesAtItsTime) {
   setenv("X4STEP_SIM_TIME", "real", 1);
   setenv("X4STEP_SIM_KEYS", "150ms:esc", 1);
