@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0
-// x4ctl: the TEST.EXE command language and its interpreter.
+// x4ctl: the TEST.EXE command language and its interpreter (lang.hpp).
 #include "lang.hpp"
 
 #include <algorithm>
