@@ -195,15 +195,16 @@ std::string message(x4step::errc e) { return x4step::make_error_code(e).message(
 int default_ramp_ms(int freq_hz) { return std::min(50, freq_hz); }
 
 // The simulated port of --sim (or X4STEP_SIM=1) is named sim:0..3; so
-// is -d sim:N. X4STEP_SIM as the library takes it: 1, or 0 / empty.
+// is -d sim:N. X4STEP_SIM as the library takes it (x4step::env_wants_sim),
+// a bad value said in x4ctl's words.
 bool sim_wanted(const config &c) {
   if (c.sim || is_sim_device(c.device)) return true;
-  const char *env = std::getenv("X4STEP_SIM");
-  if (!env || !*env || std::string(env) == "0") return false;
-  if (std::string(env) != "1")
-    throw usage_error(std::string("X4STEP_SIM=") + env +
+  try {
+    return x4step::env_wants_sim();
+  } catch (const x4step::error &) {
+    throw usage_error(std::string("X4STEP_SIM=") + std::getenv("X4STEP_SIM") +
                       ": use 1 (the simulated ports sim:0..3 for LPT1..4) or 0; -p chooses the port");
-  return true;
+  }
 }
 
 std::string device_of(const config &c) {

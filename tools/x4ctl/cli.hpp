@@ -130,10 +130,6 @@ int default_ramp_ms(int freq_hz);
 
 constexpr int default_freq_hz = 1000;
 
-/// Any configured step time is at most 1 ms; a pulse that is not 0 at least 1 us.
-constexpr long timing_max_ns = 1000000;
-constexpr long pulse_min_ns = 1000;
-
 /// Whether the command line, or X4STEP_SIM, asks for a simulated port.
 bool sim_wanted(const config &c);
 

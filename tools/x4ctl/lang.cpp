@@ -111,8 +111,8 @@ command parse_command(const std::string &text) {
       freq_check(c.args[0]);
       freq_check(c.args[1]);
       if (c.args[2] < 1 || c.args[2] > x4step::freq_max_hz)
-        throw usage_error(ctx + "frequency step " + std::to_string(c.args[2]) +
-                          " out of range: use 1 to 20000 Hz");
+        throw usage_error(ctx + "frequency step " + std::to_string(c.args[2]) + " out of range: use 1 to " +
+                          std::to_string(x4step::freq_max_hz) + " Hz");
       break;
     case 'T':
       c.what = verb::toggle;
@@ -173,13 +173,22 @@ std::vector<command> parse_line(const std::string &line) {
 }
 
 std::string language_help() {
+  const std::string steps = std::to_string(x4step::steps_max);
   return "Commands of the test program (X4Step's TEST.EXE); case does not matter:\n"
          "  x->     the prompt shows the selected axis x\n"
          "  Q       quit\n"
          "  Sx      select axis x (1..4); D, F and R set values of the selected axis\n"
-         "  Dx      distance of the axis in steps, -16777216..16777216 (0: it stays)\n"
-         "  Fx      frequency of the axis, 10..20000 Hz (default 1000)\n"
-         "  Rx      ramp time of the axis, 0..1000 ms, at most F in Hz (default 50)\n"
+         "  Dx      distance of the axis in steps, -" +
+         steps + ".." + steps +
+         " (0: it stays)\n"
+         "  Fx      frequency of the axis, " +
+         std::to_string(x4step::freq_min_hz) + ".." + std::to_string(x4step::freq_max_hz) + " Hz (default " +
+         std::to_string(default_freq_hz) +
+         ")\n"
+         "  Rx      ramp time of the axis, 0.." +
+         std::to_string(x4step::ramp_max.count()) + " ms, at most F in Hz (default " +
+         std::to_string(default_ramp_ms(default_freq_hz)) +
+         ")\n"
          "  G       go: move every axis with a distance, interpolated (all start and\n"
          "          stop together), at the frequency and ramp of the leader axis, the\n"
          "          one with the longest distance\n"

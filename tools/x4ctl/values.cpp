@@ -31,7 +31,9 @@ int parse_freq(const std::string &text, const std::string &prefix) {
 int parse_ramp(const std::string &text, const std::string &prefix) {
   const long v = parse_number(text, prefix + "ramp");
   if (v > x4step::ramp_max.count()) throw usage_error(prefix + message(x4step::errc::ramp_too_high));
-  if (v < 0) throw usage_error(prefix + "ramp " + text + " out of range: use 0 to 1000 ms");
+  if (v < 0)
+    throw usage_error(prefix + "ramp " + text + " out of range: use 0 to " +
+                      std::to_string(x4step::ramp_max.count()) + " ms");
   return static_cast<int>(v);
 }
 
@@ -58,6 +60,7 @@ milliseconds parse_time(const std::string &text, const std::string &prefix) {
 std::chrono::nanoseconds parse_ns(const std::string &text, const std::string &what, bool pulse,
                                   const std::string &prefix) {
   const long v = parse_number(text, prefix + what);
+  const long timing_max_ns = x4step::timing_max.count(), pulse_min_ns = x4step::pulse_min.count();
   if (pulse && (v < 0 || v > timing_max_ns || (v != 0 && v < pulse_min_ns)))
     throw usage_error(prefix + what + " " + text + " out of range: use 0 (symmetric clock) or " +
                       std::to_string(pulse_min_ns) + " to " + std::to_string(timing_max_ns) + " ns");

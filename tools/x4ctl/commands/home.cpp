@@ -56,6 +56,7 @@ int run(const config &c) { return c.machine_units() ? cmd_home_machine(c) : run_
 const subcommand &home_subcommand() {
   static const subcommand c = [] {
     subcommand c;
+    const std::string vel = std::to_string(x4step::vel_max);
     c.name = "home";
     c.usage = {"[OPTIONS] AXIS", "[--machine FILE] [LETTERS...]"};
     c.synopsis = "AXIS";
@@ -85,8 +86,9 @@ const subcommand &home_subcommand() {
         "does not home stops the later sequences.\n";
     c.options = {
         {"vref1", 0, "V",
-         "phase 1 speed, signed: -100000..-1 or 1..100000 steps/s,\n"
-         "the sign is the direction (default -1000)",
+         "phase 1 speed, signed: -" + vel + "..-1 or 1.." + vel +
+             " steps/s,\n"
+             "the sign is the direction (default -1000)",
          [](parse_state &s, const option_value &o) {
            s.c.homing.phase1_speed(parse_vref(o.value, "vref1", s.prefix));
          }},

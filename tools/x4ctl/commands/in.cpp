@@ -29,7 +29,7 @@ class input_reader {
   // the watch); a simulated port in virtual time passes it too.
   void pause(milliseconds d) {
     nap(d);
-    if (ctl_ && !port_clock_runs(*ctl_)) port_pass(*ctl_, d);
+    if (ctl_ && !ctl_->clock_runs()) ctl_->sleep_for(d);
   }
 
   x4step::status read() {

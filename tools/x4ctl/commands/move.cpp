@@ -92,19 +92,20 @@ int run(const config &c) {
 const subcommand &move_subcommand() {
   static const subcommand c = [] {
     subcommand c;
+    const std::string steps = std::to_string(x4step::steps_max);
     c.name = "move";
     c.usage = {"[OPTIONS] STEPS1 [STEPS2 [STEPS3 [STEPS4]]]",
                "[OPTIONS] STEPS... --then STEPS... [--then STEPS...]..."};
     c.synopsis = "STEPS...";
     c.summary = "interpolated move of up to four axes";
-    c.prose =
-        "Move axes 1..4 by the given steps (signed, -16777216..16777216; missing\n"
-        "axes stay) interpolated (X4Load, X4Start): the axis with the longest path\n"
-        "runs at the frequency, the others follow it, all start and stop together.\n"
-        "Each --then is one more move at the same frequency and ramp: it is\n"
-        "preloaded while the move before it runs, and started the moment that one ends\n"
-        "(X4Load during the move, X4Start once X4GetState is 0): no pause for planning.\n"
-        "A move that is braked or stopped ends the sequence: the rest do not start.\n";
+    c.prose = "Move axes 1..4 by the given steps (signed, -" + steps + ".." + steps +
+              "; missing\n"
+              "axes stay) interpolated (X4Load, X4Start): the axis with the longest path\n"
+              "runs at the frequency, the others follow it, all start and stop together.\n"
+              "Each --then is one more move at the same frequency and ramp: it is\n"
+              "preloaded while the move before it runs, and started the moment that one ends\n"
+              "(X4Load during the move, X4Start once X4GetState is 0): no pause for planning.\n"
+              "A move that is braked or stopped ends the sequence: the rest do not start.\n";
     c.options = {
         freq_option(),
         ramp_option(),

@@ -21,6 +21,7 @@ int run(const config &c) { return with_port(c, profile_command, c.v0 || c.ve || 
 const subcommand &profile_subcommand() {
   static const subcommand c = [] {
     subcommand c;
+    const std::string vel = std::to_string(x4step::vel_max), acc = std::to_string(x4step::acc_max);
     c.name = "profile";
     c.usage = {"[OPTIONS] AXIS"};
     c.synopsis = "AXIS";
@@ -32,17 +33,18 @@ const subcommand &profile_subcommand() {
         "too short for vm turns where the ramps meet. The module keeps the profile\n"
         "after x4ctl exits.\n";
     c.options = {
-        {"v0", 0, "V", "start velocity, 0..100000 steps/s (default 0)",
+        {"v0", 0, "V", "start velocity, 0.." + vel + " steps/s (default 0)",
          [](parse_state &s, const option_value &o) { s.c.v0 = parse_speed(o.value, "v0", 0, s.prefix); }},
-        {"ve", 0, "V", "stop velocity, 0..100000 steps/s (default 0)",
+        {"ve", 0, "V", "stop velocity, 0.." + vel + " steps/s (default 0)",
          [](parse_state &s, const option_value &o) { s.c.ve = parse_speed(o.value, "ve", 0, s.prefix); }},
-        {"vm", 0, "V", "maximum velocity, 1..100000 steps/s (default 1000)",
+        {"vm", 0, "V", "maximum velocity, 1.." + vel + " steps/s (default 1000)",
          [](parse_state &s, const option_value &o) { s.c.vm = parse_speed(o.value, "vm", 1, s.prefix); }},
         {"a0", 0, "A",
-         "acceleration, 0..1000000 steps/s^2 (default 1000);\n"
-         "0: no ramp, the axis jumps to vm",
+         "acceleration, 0.." + acc +
+             " steps/s^2 (default 1000);\n"
+             "0: no ramp, the axis jumps to vm",
          [](parse_state &s, const option_value &o) { s.c.a0 = parse_acceleration(o.value, "a0", s.prefix); }},
-        {"ae", 0, "A", "deceleration, 0..1000000 steps/s^2 (default 1000)",
+        {"ae", 0, "A", "deceleration, 0.." + acc + " steps/s^2 (default 1000)",
          [](parse_state &s, const option_value &o) { s.c.ae = parse_acceleration(o.value, "ae", s.prefix); }},
         json_option("one JSON object instead of text"),
     };

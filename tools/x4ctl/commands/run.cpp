@@ -114,38 +114,7 @@ const subcommand &run_subcommand() {
         {"echo", 'e', "", "print each command after the prompt before it runs",
          [](parse_state &s, const option_value &) { s.c.echo = true; }},
     };
-    c.epilogue =
-        "Commands of the test program (X4Step's TEST.EXE); case does not matter:\n"
-        "  x->     the prompt shows the selected axis x\n"
-        "  Q       quit\n"
-        "  Sx      select axis x (1..4); D, F and R set values of the selected axis\n"
-        "  Dx      distance of the axis in steps, -16777216..16777216 (0: it stays)\n"
-        "  Fx      frequency of the axis, 10..20000 Hz (default 1000)\n"
-        "  Rx      ramp time of the axis, 0..1000 ms, at most F in Hz (default 50)\n"
-        "  G       go: move every axis with a distance, interpolated (all start and\n"
-        "          stop together), at the frequency and ramp of the leader axis, the\n"
-        "          one with the longest distance\n"
-        "  I       show the values of all axes and the leader\n"
-        "  M+      move the selected axis endlessly (its F and R) until ESC\n"
-        "  M-      the same in the negative direction\n"
-        "  C       jog the selected axis with the cursor keys LEFT and RIGHT: it moves\n"
-        "          while the key is held and brakes when it is released; ESC ends\n"
-        "  Ax,y,z  frequency sweep, to find resonances: the axis moves its distance at\n"
-        "          x Hz, x+z Hz, ... y Hz, alternately forth and back (its R)\n"
-        "  T       move the selected axis back and forth by its distance until ESC\n"
-        "  E       show the five inputs continuously until ESC\n"
-        "  H, ?    this help\n"
-        "x4ctl's additions:\n"
-        "  On,v    set output signal n (1: pin 1, 2: pin 14) on (v=1) or off (v=0)\n"
-        "  Kc,...  brake keys: set-1 scan codes that brake a move (ESC always does)\n"
-        "  Wt      wait t ms\n"
-        "Several commands fit on a line, separated by ';'; '#' starts a comment.\n"
-        "While a move runs, ESC or Ctrl-C brakes it (twice Ctrl-C: stop at once).\n"
-        "Without a terminal (x4ctl run) there is no ESC: M+, M-, T and E take a time\n"
-        "in ms, e.g. 'M+ 500' brakes after 500 ms, 'E 1000' shows the inputs for 1 s;\n"
-        "without one, M+, M- and T run until a brake key or ESC on the console\n"
-        "keyboard, Ctrl-C or 'x4ctl brake', and E shows the inputs once. C needs a\n"
-        "terminal.\n";
+    c.epilogue = language_help();
     c.operands = operands;
     c.run = run;
     return c;

@@ -36,6 +36,7 @@ int run(const config &c) {
 const subcommand &timing_subcommand() {
   static const subcommand c = [] {
     subcommand c;
+    const std::string max = std::to_string(x4step::timing_max.count());
     c.name = "timing";
     c.usage = {"[OPTIONS]"};
     c.summary = "show or set the step signal timing (pulse, space, ...)";
@@ -46,21 +47,23 @@ const subcommand &timing_subcommand() {
     c.options = {
         {"pulse", 0, "NS",
          "clock high time: 0 (symmetric clock, half a period high,\n"
-         "as X4Step does) or 1000..1000000 ns",
+         "as X4Step does) or " +
+             std::to_string(x4step::pulse_min.count()) + ".." + max + " ns",
          [](parse_state &s, const option_value &o) {
            s.c.pulse = parse_ns(o.value, "pulse", true, s.prefix);
          }},
-        {"space", 0, "NS", "minimum clock low time, 0..1000000 ns",
+        {"space", 0, "NS", "minimum clock low time, 0.." + max + " ns",
          [](parse_state &s, const option_value &o) {
            s.c.space = parse_ns(o.value, "space", false, s.prefix);
          }},
         {"setup", 0, "NS",
-         "directions out before the first step, 0..1000000 ns\n"
-         "(X4Step: 100000)",
+         "directions out before the first step, 0.." + max +
+             " ns\n"
+             "(X4Step: 100000)",
          [](parse_state &s, const option_value &o) {
            s.c.dir_setup = parse_ns(o.value, "setup", false, s.prefix);
          }},
-        {"hold", 0, "NS", "directions kept after the last step, 0..1000000 ns",
+        {"hold", 0, "NS", "directions kept after the last step, 0.." + max + " ns",
          [](parse_state &s, const option_value &o) {
            s.c.dir_hold = parse_ns(o.value, "hold", false, s.prefix);
          }},
