@@ -106,6 +106,10 @@ constexpr int freq_min_hz = 10;
 constexpr int freq_max_hz = 20000;
 constexpr std::chrono::milliseconds ramp_max{1000};
 constexpr long steps_max = 16777216;
+/// step_timing: any time at most timing_max; a pulse that is not 0 (the
+/// symmetric clock) at least pulse_min.
+constexpr std::chrono::nanoseconds timing_max{1000000};
+constexpr std::chrono::nanoseconds pulse_min{1000};
 
 /// One axis: 1..4, the X4Step manual's motor numbers. Made from a number
 /// only explicitly, and checked: axis{5} throws param_fail (and does not
@@ -493,6 +497,22 @@ std::string device_path(int lpt);
 /// The library's version, "major.minor.patch" (libx4stepcxx.so.major).
 const char *version() noexcept;
 
+/// Whether name is meant for the simulated port rather than a device node:
+/// "sim", "sim:N", and misspellings such as "sim0" or "sim:7" (names that
+/// start with "sim" without a '/'), which the constructors refuse saying so.
+bool is_sim_name(const std::string &name) noexcept;
+/// Whether X4STEP_SIM asks for the simulated ports: true for "1" (LPT1..4
+/// are sim:0..3), false when it is unset, "" or "0". Any other value throws
+/// lpt_not_found, its what() naming the value and the good ones.
+bool env_wants_sim();
+/// The reference and limit switches of the simulated machine
+/// (X4STEP_SIM_MACHINE), as set_switches() takes them: a simulated port
+/// keeps no settings between programs, so a program that relies on the
+/// switches sets them. None when no machine is set or it has no switches.
+/// Throws lpt_not_found, naming the file and line, for a bad machine file
+/// (as opening a simulated port does).
+std::optional<switches> sim_machine_switches();
+
 namespace detail {
 struct access;
 }
@@ -587,6 +607,18 @@ class controller {
   /// up to timeout (negative: for ever); none on timeout or signal.
   /// Throws lpt_not_found once the port is gone and every event was read.
   std::optional<event> read_event(std::chrono::milliseconds timeout = std::chrono::milliseconds(-1)) const;
+
+  /// The port's clock, on which the timeouts of the waits count: the
+  /// steady clock, or a simulated port's own in virtual time
+  /// (X4STEP_SIM_TIME=virtual).
+  std::chrono::steady_clock::time_point now() const;
+  /// False for a simulated port in virtual time: its clock moves only in
+  /// this library's calls (waits, status reads, sleep_for()).
+  bool clock_runs() const;
+  /// Lets d pass on the port's clock: sleeps for d; a simulated port in
+  /// virtual time instead moves its clock by d at once, running the moves
+  /// and events due meanwhile.
+  void sleep_for(std::chrono::nanoseconds d);
 
   /// Release the port now (what the destructor does); idempotent. Brakes
   /// running motors along their ramps and waits until they stand (for as

@@ -15,6 +15,7 @@
 #include <climits>
 #include <fstream>
 #include <ostream>
+#include <thread>
 #include <utility>
 
 #include "detail.hpp"
@@ -27,6 +28,9 @@ extern "C" {
 namespace x4step {
 
 static_assert(axes == X4STEP_AXES);
+static_assert(freq_min_hz == X4_FREQ_MIN_HZ && freq_max_hz == X4_FREQ_MAX_HZ &&
+              ramp_max.count() == X4_RAMP_MAX_MS);
+static_assert(timing_max.count() == X4_TIMING_MAX_NS && pulse_min.count() == X4_PULSE_MIN_NS);
 static_assert(vel_max == X4STEP_VEL_MAX && acc_max == X4STEP_ACC_MAX);
 static_assert(vel_max == X4_VEL_MAX && acc_max == X4_ACC_MAX);
 static_assert(axis_error::ref_travel == X4STEP_AXERR_REF_TRAVEL &&
@@ -49,11 +53,11 @@ class category_impl : public std::error_category {
       case errc::no_steps:
         return "no steps: give at least one axis a non-zero path";
       case errc::freq_too_high:
-        return "frequency too high: use at most 20000 Hz";
+        return "frequency too high: use at most " + std::to_string(freq_max_hz) + " Hz";
       case errc::freq_too_low:
-        return "frequency too low: use at least 10 Hz";
+        return "frequency too low: use at least " + std::to_string(freq_min_hz) + " Hz";
       case errc::ramp_too_high:
-        return "ramp too long: use at most 1000 ms";
+        return "ramp too long: use at most " + std::to_string(ramp_max.count()) + " ms";
       case errc::ramp_freq:
         return "ramp too long for the frequency: ramp (ms) must not exceed frequency (Hz)";
       case errc::lpt_not_found:
@@ -647,6 +651,18 @@ void controller::close() noexcept {
   } catch (...) {
   }
   impl_.reset();
+}
+
+std::chrono::steady_clock::time_point controller::now() const { return detail::access::io(*this).now(); }
+
+bool controller::clock_runs() const { return !detail::access::io(*this).virtual_time(); }
+
+void controller::sleep_for(std::chrono::nanoseconds d) {
+  detail::port_io &io = detail::access::io(*this);
+  if (io.virtual_time())
+    io.pass(d);
+  else if (d.count() > 0)
+    std::this_thread::sleep_for(d);
 }
 
 namespace detail {

@@ -120,8 +120,12 @@ void dos_state(x4step::controller &c) {
 // manual's program learns only X4ErrLPTNotFound, so what to fix goes to
 // stderr, once, without the general "is x4step loaded" of the code.
 void tell_sim_refusal(const x4step::error &e) noexcept {
-  const char *sim = std::getenv("X4STEP_SIM");
-  if (!sim || !*sim || std::strcmp(sim, "0") == 0 || e.code() != x4step::errc::lpt_not_found) return;
+  if (e.code() != x4step::errc::lpt_not_found) return;
+  try {
+    if (!x4step::env_wants_sim()) return;
+  } catch (const x4step::error &) {
+    // a bad X4STEP_SIM: the refusal names it
+  }
   try {
     std::string text = e.what();
     const std::string general = ": " + e.code().message();

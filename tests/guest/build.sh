@@ -58,10 +58,10 @@ job $cxx -I"$top/include/uapi" -I"$top/tests/host" -I"$top/kmod/engine" -o "$out
 	"$top/tests/guest/timing_bench.cpp" "$top/tests/host/engine_ref.cpp" $engine_objs
 job $cxx -I"$top/include/uapi" -o "$out/speed_bench" "$top/tests/guest/speed_bench.cpp"
 job $cxx -I"$stage/include" -I"$top/include/uapi" -o "$out/cpp_test" "$top/tests/guest/cpp_test.cpp" "$lib"
-# x4ctl: the interpreter and the planner are in the tree, not installed; its
-# sim.cpp reads the library's internals (lib/, as tools/x4ctl/CMakeLists.txt).
-job $cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -I"$top/lib" -I"$top/include/uapi" \
-	-o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp \
+# x4ctl: the interpreter and the planner are in the tree, not installed; the
+# library only through its installed headers, as any program.
+job $cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -I"$top/tools/x4ctl" \
+	-o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$top"/tools/x4ctl/commands/*.cpp \
 	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"
 job $cxx -I"$stage/include" -o "$out/phase_test" "$top/tests/guest/phase_test.cpp" "$lib"
 job $cxx -I"$stage/include" -o "$out/positioning_test" "$top/tests/guest/positioning_test.cpp" "$lib"

@@ -368,6 +368,57 @@ TEST_F(Sim, RealTimeTakesTheMovesTime) {
   EXPECT_EQ(c.steps(axis(1)), 1000);
 }
 
+// The public clock: a simulated port in virtual time has its own, which
+// sleep_for() moves at once, running the move due meanwhile; the steady
+// clock otherwise (only the lower bound of host time is checked).
+TEST_F(Sim, PortClockAndSleepingOnIt) {
+  controller c("sim");
+  EXPECT_FALSE(c.clock_runs());
+  c.load({{1000, 0, 0, 0}, 1000, 0ms});  // 1 s
+  c.start();
+  const auto t0 = c.now();
+  c.sleep_for(500ms);
+  EXPECT_GE(c.now() - t0, 500ms);
+  EXPECT_TRUE(c.get_status().active);
+  c.sleep_for(600ms);
+  EXPECT_FALSE(c.get_status().active);
+  EXPECT_EQ(c.steps(axis(1)), 1000);
+  EXPECT_LT(c.now() - t0, 1200ms);  // its own clock: no host time in it
+
+  setenv("X4STEP_SIM_TIME", "real", 1);
+  controller r("sim:1");
+  EXPECT_TRUE(r.clock_runs());
+  const auto t1 = std::chrono::steady_clock::now();
+  r.sleep_for(20ms);
+  EXPECT_GE(std::chrono::steady_clock::now() - t1, 20ms);
+}
+
+// Whether a name or X4STEP_SIM asks for the simulator: one rule, public.
+TEST_F(Sim, PublicNamesAndEnvironment) {
+  for (const char *name : {"sim", "sim:3", "sim0", "sim:7", "simx"})
+    EXPECT_TRUE(x4step::is_sim_name(name)) << name;
+  for (const char *name : {"/dev/x4step0", "./sim0", "x4sim", ""})
+    EXPECT_FALSE(x4step::is_sim_name(name)) << name;
+  EXPECT_FALSE(x4step::env_wants_sim());
+  for (const char *v : {"", "0"}) {
+    setenv("X4STEP_SIM", v, 1);
+    EXPECT_FALSE(x4step::env_wants_sim()) << v;
+  }
+  setenv("X4STEP_SIM", "1", 1);
+  EXPECT_TRUE(x4step::env_wants_sim());
+  for (const char *v : {"2", "yes", "10"}) {
+    setenv("X4STEP_SIM", v, 1);
+    try {
+      x4step::env_wants_sim();
+      ADD_FAILURE() << v;
+    } catch (const x4step::error &e) {
+      EXPECT_EQ(e.code(), x4step::errc::lpt_not_found);
+      EXPECT_NE(std::string(e.what()).find(std::string("X4STEP_SIM=") + v + ": use 1"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 // ---- the machine model (X4STEP_SIM_MACHINE, X4STEP_SIM_INPUTS) ----
 
 // Homing: phase 1 runs onto REF (active at -300 and below) and stops on
@@ -438,6 +489,23 @@ TEST_F(Sim, ScriptedInputsChangeAtTheirTimes) {
 
 // Every layout error names the file or variable, the line or item, and
 // what to fix; nothing is simulated.
+// The simulated machine's switches, public, as set_switches() takes them.
+TEST_F(Sim, PublicMachineSwitches) {
+  EXPECT_FALSE(x4step::sim_machine_switches());
+  Machine("position 1 200\n");
+  EXPECT_FALSE(x4step::sim_machine_switches());  // a machine without switches
+  Machine(kAxis1);
+  const auto sw = x4step::sim_machine_switches();
+  ASSERT_TRUE(sw);
+  const x4step::switches want = Axis1Switches();
+  EXPECT_EQ(sw->ref, want.ref);
+  EXPECT_EQ(sw->plus, want.plus);
+  EXPECT_EQ(sw->minus, want.minus);
+  EXPECT_EQ(sw->nc, want.nc);
+  Machine("ref 9 below 0 pin10 no\n");
+  EXPECT_THROW(x4step::sim_machine_switches(), x4step::error);
+}
+
 TEST_F(Sim, MachineLayoutErrorsSayWhereAndWhatToFix) {
   const struct {
     const char *file;

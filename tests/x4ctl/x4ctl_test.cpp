@@ -11,6 +11,7 @@
 #include <deque>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <sstream>
 #include <tuple>
 #include <utility>
@@ -23,6 +24,7 @@
 #include "path.hpp"
 #include "position.hpp"
 #include "show.hpp"
+#include "subcommand.hpp"
 #include "term.hpp"
 
 namespace x4ctl {
@@ -53,14 +55,14 @@ bool contains(const std::string &text, const std::string &part) {
 
 TEST(Cli, NoCommandIsInteractiveOnLpt1) {
   const config c = parse({});
-  EXPECT_EQ(c.cmd, subcommand::interactive);
+  EXPECT_EQ(c.cmd, &main_command());
   EXPECT_EQ(c.lpt, 1);
   EXPECT_EQ(device_of(c), "/dev/x4step0");
 }
 
 TEST(Cli, PortLikeTestExe) {
   EXPECT_EQ(parse({"2"}).lpt, 2);  // TEST 2
-  EXPECT_EQ(parse({"2"}).cmd, subcommand::interactive);
+  EXPECT_EQ(parse({"2"}).cmd, &main_command());
   EXPECT_EQ(usage_message({"5"}), "port 5 out of range: use 1 to 4 (LPT1..LPT4)");
 }
 
@@ -89,7 +91,7 @@ TEST(Cli, UnknownThings) {
 
 TEST(Cli, Move) {
   const config c = parse({"move", "1000", "-800", "600", "-400", "--freq", "2000", "-r", "40", "-w"});
-  EXPECT_EQ(c.cmd, subcommand::move);
+  EXPECT_EQ(c.cmd->name, "move");
   EXPECT_EQ(c.move.steps, (std::array<long, 4>{1000, -800, 600, -400}));
   EXPECT_EQ(c.move.freq_hz, 2000);
   EXPECT_EQ(c.move.ramp, milliseconds(40));
@@ -246,7 +248,7 @@ TEST(Cli, OutKeysMonitorRunStatus) {
 
   EXPECT_TRUE(parse({"status", "--json"}).json);
   EXPECT_TRUE(parse({"in", "-w"}).watch);
-  EXPECT_EQ(parse({"watch"}).cmd, subcommand::watch);
+  EXPECT_EQ(parse({"watch"}).cmd->name, "watch");
   EXPECT_TRUE(parse({"watch", "-j"}).json);
   EXPECT_EQ(parse({"watch", "-n", "5"}).count, 5);
   EXPECT_FALSE(parse({"watch"}).count);
@@ -255,13 +257,13 @@ TEST(Cli, OutKeysMonitorRunStatus) {
   EXPECT_TRUE(parse({"in", "--read-only"}).read_only);
   EXPECT_TRUE(parse({"in", "-r", "-w"}).read_only);
   EXPECT_FALSE(parse({"in"}).read_only);
-  EXPECT_EQ(parse({"help", "jog"}).topic, subcommand::jog);
+  EXPECT_EQ(parse({"help", "jog"}).topic->name, "jog");
   EXPECT_EQ(usage_message({"help", "fly"}), "help: no command 'fly'");
 }
 
 TEST(Cli, Timing) {
   config c = parse({"timing"});
-  EXPECT_EQ(c.cmd, subcommand::timing);
+  EXPECT_EQ(c.cmd->name, "timing");
   EXPECT_FALSE(c.pulse || c.space || c.dir_setup || c.dir_hold);
   EXPECT_FALSE(c.json);
   c = parse({"timing", "--pulse", "5000", "--space=20000", "--setup", "0", "--hold", "1000000", "-j"});
@@ -298,7 +300,7 @@ TEST(Cli, Timing) {
 
 TEST(Cli, Mode) {
   config c = parse({"mode"});
-  EXPECT_EQ(c.cmd, subcommand::mode);
+  EXPECT_EQ(c.cmd->name, "mode");
   EXPECT_FALSE(c.mode);
   EXPECT_EQ(parse({"mode", "clock-dir"}).mode, x4step::output_mode::clock_dir);
   EXPECT_EQ(parse({"mode", "smc-phase"}).mode, x4step::output_mode::smc_phase);
@@ -314,7 +316,7 @@ TEST(Cli, Mode) {
 
 TEST(Cli, Profile) {
   config c = parse({"profile", "2"});
-  EXPECT_EQ(c.cmd, subcommand::profile);
+  EXPECT_EQ(c.cmd->name, "profile");
   EXPECT_EQ(c.axis, x4step::axis::y);
   EXPECT_FALSE(c.v0 || c.ve || c.vm || c.a0 || c.ae);
   c = parse({"profile", "4", "--v0", "0", "--ve=100000", "--vm", "100000", "--a0", "1000000", "--ae=0"});
@@ -340,7 +342,7 @@ TEST(Cli, Profile) {
 
 TEST(Cli, Goto) {
   config c = parse({"goto", "1=1000", "3=-2147483648"});
-  EXPECT_EQ(c.cmd, subcommand::go_to);
+  EXPECT_EQ(c.cmd->name, "goto");
   EXPECT_EQ(c.axes.mask(), 0x5u);
   EXPECT_EQ(c.targets, (std::array<long, 4>{1000, 0, -2147483648L, 0}));
   EXPECT_FALSE(c.relative);
@@ -367,7 +369,7 @@ TEST(Cli, Goto) {
 
 TEST(Cli, Home) {
   config c = parse({"home", "3"});
-  EXPECT_EQ(c.cmd, subcommand::home);
+  EXPECT_EQ(c.cmd->name, "home");
   EXPECT_EQ(c.axis, x4step::axis::z);
   EXPECT_EQ(c.homing.phase1_speed(), -1000);  // the library's defaults
   EXPECT_EQ(c.homing.phase2_speed(), 100);
@@ -412,7 +414,7 @@ TEST(Cli, MachineUnits) {
   EXPECT_EQ(usage_message({"home", "--machine", "m.ini", "1"}),
             "home: '1': give axis letters (X Y Z A B C), or one AXIS 1..4");
   c = parse({"jog", "z-", "--machine", "m.ini", "--feed", "120.5", "--distance", "0.25"});
-  EXPECT_EQ(c.cmd, subcommand::jog);
+  EXPECT_EQ(c.cmd->name, "jog");
   EXPECT_EQ(c.letters, "Z");
   EXPECT_EQ(c.dir, x4step::direction::negative);
   EXPECT_EQ(c.feed, 120.5);
@@ -433,7 +435,7 @@ TEST(Cli, MachineUnits) {
   EXPECT_EQ(usage_message({"jog", "X+", "--feed", "fast"}),
             "jog: feed 'fast': use a number above 0 units/min");
   c = parse({"panel", "-m", "m.ini", "--feed", "300"});
-  EXPECT_EQ(c.cmd, subcommand::panel);
+  EXPECT_EQ(c.cmd->name, "panel");
   EXPECT_EQ(c.machine, "m.ini");
   EXPECT_EQ(c.feed, 300.0);
   EXPECT_EQ(usage_message({"panel", "X"}), "panel: unexpected argument 'X'");
@@ -441,7 +443,7 @@ TEST(Cli, MachineUnits) {
 
 TEST(Cli, ZeroHaltLimits) {
   config c = parse({"zero", "1", "4"});
-  EXPECT_EQ(c.cmd, subcommand::zero);
+  EXPECT_EQ(c.cmd->name, "zero");
   EXPECT_EQ(c.axes.mask(), 0x9u);
   EXPECT_EQ(c.at, 0);
   EXPECT_EQ(parse({"zero", "2", "--at", "-1500"}).at, -1500);
@@ -451,7 +453,7 @@ TEST(Cli, ZeroHaltLimits) {
             "zero: position 2147483648 out of range: use -2147483648 to 2147483647");
 
   c = parse({"halt", "2", "3"});
-  EXPECT_EQ(c.cmd, subcommand::halt);
+  EXPECT_EQ(c.cmd->name, "halt");
   EXPECT_EQ(c.axes.mask(), 0x6u);
   EXPECT_FALSE(c.halt_stop);
   EXPECT_TRUE(parse({"halt", "1", "--stop"}).halt_stop);
@@ -460,7 +462,7 @@ TEST(Cli, ZeroHaltLimits) {
   EXPECT_EQ(usage_message({"halt", "0"}), "halt: axis 0 out of range: use 1 to 4");
 
   c = parse({"limits"});
-  EXPECT_EQ(c.cmd, subcommand::limits);
+  EXPECT_EQ(c.cmd->name, "limits");
   EXPECT_TRUE(c.axes.empty());
   EXPECT_FALSE(c.ref || c.plus || c.minus || c.nc);
   c = parse({"limits", "2", "--ref", "3", "--plus=1", "--minus", "none"});
@@ -493,66 +495,100 @@ TEST(Cli, ZeroHaltLimits) {
 TEST(Cli, HelpWinsOverMissingArguments) {
   EXPECT_TRUE(parse({"move", "--help"}).help);
   EXPECT_TRUE(parse({"sweep", "-h"}).help);
-  EXPECT_EQ(parse({"--help", "jog"}).cmd, subcommand::jog);
+  EXPECT_EQ(parse({"--help", "jog"}).cmd->name, "jog");
   EXPECT_TRUE(parse({"-h"}).help);
   EXPECT_TRUE(parse({"--version"}).version);
 }
 
-// Every subcommand has a help with a Usage line and mentions each of its options.
+// Every command of the registry has a help with a Usage line, lines of at
+// most 80 columns, and each of its options; the overview lists it; the
+// parser takes every option its help lists. The words are what the help of
+// some commands must say besides.
 TEST(Cli, HelpTexts) {
-  const std::vector<std::pair<subcommand, std::vector<std::string>>> expected = {
-      {subcommand::interactive,
+  const std::map<std::string, std::vector<std::string>> expected = {
+      {"x4ctl",
        {"--port",    "--device", "--help",      "--version", "move",         "jog",           "brake",
         "stop",      "status",   "in",          "out",       "keys",         "sweep",         "monitor",
         "run",       "timing",   "mode [MODE]", "smc-phase", "profile AXIS", "goto AXIS=POS", "home AXIS",
         "zero AXIS", "limits",   "halt AXIS",   "watch",     "Exit status"}},
-      {subcommand::profile,
+      {"profile",
        {"--v0", "--ve", "--vm", "--a0", "--ae", "0..100000 steps/s", "1..100000", "0..1000000 steps/s^2",
         "3600 s", "--port", "--device", "--help", "Exit status"}},
-      {subcommand::go_to,
+      {"goto",
        {"--relative", "--no-wait", "-2147483648..2147483647", "limit switch", "x4ctl halt", "--port",
         "--device", "--help", "Exit status"}},
-      {subcommand::home,
+      {"home",
        {"--vref1", "--vref2", "--sref", "--phase", "sign is the direction", "--ref INPUT", "--port",
         "--device", "--help", "Exit status"}},
-      {subcommand::zero, {"--at", "synchronized", "--port", "--device", "--help", "Exit status"}},
-      {subcommand::limits,
+      {"zero", {"--at", "synchronized", "--port", "--device", "--help", "Exit status"}},
+      {"limits",
        {"--ref", "--plus", "--minus", "--nc", "pins 15, 13", "normally closed", "ambiguous", "--port",
         "--device", "--help", "Exit status"}},
-      {subcommand::halt, {"--stop", "goto --no-wait", "--port", "--device", "--help", "Exit status"}},
-      {subcommand::move,
+      {"halt", {"--stop", "goto --no-wait", "--port", "--device", "--help", "Exit status"}},
+      {"move",
        {"--freq", "--ramp", "--wait", "--then", "--port", "--device", "--help", "Exit status", "background",
         "preload", "the rest do not start"}},
-      {subcommand::jog, {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
-      {subcommand::brake, {"--port", "--device", "--help", "Exit status"}},
-      {subcommand::stop, {"--port", "--device", "--help", "Exit status"}},
-      {subcommand::status, {"--json", "--port", "--device", "--help", "coordinate", "synchronized"}},
-      {subcommand::in,
-       {"--watch", "--read-only", "--port", "--device", "--help", "pins 15, 13, 12, 10", "stale"}},
-      {subcommand::out, {"--time", "--port", "--device", "--help", "pin 14"}},
-      {subcommand::keys, {"--port", "--device", "--help", "ESC (1)"}},
-      {subcommand::sweep, {"--ramp", "--port", "--device", "--help"}},
-      {subcommand::monitor, {"--moves", "--port", "--device", "--help", "read-only"}},
-      {subcommand::watch,
-       {"--json", "--count", "--port", "--device", "--help", "read-only", "missed N events"}},
-      {subcommand::run, {"--check", "--echo", "--port", "--device", "--help", "Ax,y,z", "M+ 500"}},
-      {subcommand::timing,
+      {"jog", {"--freq", "--ramp", "--time", "--wait", "--port", "--device", "--help"}},
+      {"brake", {"--port", "--device", "--help", "Exit status"}},
+      {"stop", {"--port", "--device", "--help", "Exit status"}},
+      {"status", {"--json", "--port", "--device", "--help", "coordinate", "synchronized"}},
+      {"in", {"--watch", "--read-only", "--port", "--device", "--help", "pins 15, 13, 12, 10", "stale"}},
+      {"out", {"--time", "--port", "--device", "--help", "pin 14"}},
+      {"keys", {"--port", "--device", "--help", "ESC (1)"}},
+      {"sweep", {"--ramp", "--port", "--device", "--help"}},
+      {"monitor", {"--moves", "--port", "--device", "--help", "read-only"}},
+      {"watch", {"--json", "--count", "--port", "--device", "--help", "read-only", "missed N events"}},
+      {"run", {"--check", "--echo", "--port", "--device", "--help", "Ax,y,z", "M+ 500"}},
+      {"timing",
        {"--pulse", "--space", "--setup", "--hold", "--json", "--port", "--device", "--help",
         "0 (symmetric clock", "1000..1000000 ns", "0..1000000 ns", "frequency too high", "after x4ctl exits",
         "Exit status"}},
-      {subcommand::mode,
+      {"mode",
        {"clock-dir", "smc-phase", "smc-hold", "SMC800/SMC1500", "motors off at rest",
         "reduced holding current", "axis 4", "--port", "--device", "--help", "after x4ctl exits",
         "Exit status"}},
   };
-  for (const auto &[cmd, words] : expected) {
-    const std::string h = help_text(cmd);
+  std::vector<const subcommand *> all = {&main_command()};
+  for (const command_group &g : command_groups()) all.insert(all.end(), g.commands.begin(), g.commands.end());
+  EXPECT_EQ(all.size(), 27u);
+  const std::string overview = help_text(main_command());
+  for (const subcommand *cmd : all) {
+    const std::string name = name_of(*cmd);
+    const std::string h = help_text(*cmd);
     const std::string usage =
-        cmd == subcommand::interactive ? "Usage: x4ctl [" : std::string("Usage: x4ctl ") + name_of(cmd) + " ";
+        cmd->name.empty() || cmd->overview ? "Usage: x4ctl [" : "Usage: x4ctl " + name + " ";
     EXPECT_EQ(h.rfind(usage, 0), 0u) << h;
-    for (const auto &w : words) EXPECT_TRUE(contains(h, w)) << name_of(cmd) << " help lacks " << w;
+    if (!cmd->name.empty()) {
+      EXPECT_TRUE(contains(overview, "\n  " + name + " ")) << name;
+    }
+    if (const auto w = expected.find(name); w != expected.end()) {
+      for (const auto &word : w->second) EXPECT_TRUE(contains(h, word)) << name << " help lacks " << word;
+    }
+    for (const option &o : cmd->options) {
+      if (!o.help.empty()) {
+        EXPECT_TRUE(contains(h, "--" + o.name)) << name << " help lacks --" << o.name;
+      }
+    }
     std::istringstream lines(h);
-    for (std::string line; std::getline(lines, line);) EXPECT_LE(line.size(), 80u) << line;
+    for (std::string line; std::getline(lines, line);) {
+      EXPECT_LE(line.size(), 80u) << line;
+      // "  -f, --freq=HZ ..." or "      --then STEPS...": the parser knows it.
+      const size_t dashes = line.find("--");
+      if (!(line.rfind("  -", 0) == 0 || line.rfind("      --", 0) == 0) || dashes == std::string::npos)
+        continue;
+      const std::string opt = line.substr(dashes, line.find_first_of("= ", dashes) - dashes);
+      const bool value = line[dashes + opt.size()] == '=' || opt == "--then";
+      std::vector<std::string> args = {"x4ctl"};
+      if (!cmd->name.empty() && !cmd->overview) args.push_back(name);
+      args.push_back(opt);
+      if (value) args.push_back("1");
+      args.push_back("--help");
+      try {
+        parse_args(args);
+      } catch (const usage_error &e) {
+        EXPECT_FALSE(contains(e.what(), "unknown option")) << name << ": " << e.what();
+      }
+    }
   }
 }
 
@@ -2422,7 +2458,7 @@ TEST(Path, BadLinesNameFileLineAndColumn) {
 TEST(Path, CommandLine) {
   const config c =
       parse({"path", "-s", "2000", "--accel", "30000", "--deviation", "0.25", "-o", "150", "p.txt"});
-  EXPECT_EQ(c.cmd, subcommand::path);
+  EXPECT_EQ(c.cmd->name, "path");
   EXPECT_EQ(c.path.speed, 2000u);
   EXPECT_EQ(c.path.accel, 30000u);
   EXPECT_DOUBLE_EQ(c.path.deviation, 0.25);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0
-// x4ctl: the command line: one config struct for all subcommands, the
-// parser that fills it and the help texts.
+// x4ctl: the command line: one config struct for all commands, and the
+// parser that fills it from the commands' records (command.hpp).
 #ifndef X4CTL_CLI_HPP
 #define X4CTL_CLI_HPP
 
@@ -31,35 +31,9 @@ class failure : public std::runtime_error {
   int err_;
 };
 
-enum class subcommand {
-  interactive,
-  move,
-  jog,
-  brake,
-  stop,
-  status,
-  in,
-  out,
-  keys,
-  sweep,
-  monitor,
-  run,
-  timing,
-  mode,
-  profile,
-  go_to,  ///< goto
-  home,
-  zero,
-  limits,
-  halt,
-  watch,
-  list,
-  path,
-  gcode,
-  mdi,
-  panel,
-  help
-};
+struct subcommand;
+/// x4ctl without a command: the test program (command.hpp).
+const subcommand &main_command();
 
 /// x4ctl path: what a line of the path does not say.
 struct path_defaults {
@@ -70,13 +44,13 @@ struct path_defaults {
 
 /// Everything the command line says.
 struct config {
-  subcommand cmd = subcommand::interactive;
+  const subcommand *cmd = &main_command();  ///< the command given
   int lpt = 1;
   std::string device;  ///< -d PATH; empty: the device of lpt
   bool sim = false;    ///< --sim: the simulated port sim:lpt-1
   bool help = false;   ///< --help: show the help of cmd
   bool version = false;
-  subcommand topic = subcommand::interactive;  ///< help COMMAND
+  const subcommand *topic = &main_command();  ///< help COMMAND
 
   x4step::move move;  ///< move, sweep (the distance on axis): steps, freq, ramp
   /// move --then: the moves after move, each with its freq and ramp; started
@@ -136,12 +110,10 @@ struct config {
 /// Throws usage_error.
 config parse_args(const std::vector<std::string> &args);
 
-/// The subcommand called name, if there is one.
-std::optional<subcommand> find_command(const std::string &name);
-
-/// The `Usage:` text of a subcommand (interactive: the program's).
-std::string help_text(subcommand c);
-const char *name_of(subcommand c);
+/// The help of a command (main_command(): the program's, with every command).
+std::string help_text(const subcommand &c);
+/// The command's name; "x4ctl" for main_command().
+std::string name_of(const subcommand &c);
 std::string version_text();
 
 /// /dev/x4stepN of -p, or -d.
@@ -158,9 +130,8 @@ int default_ramp_ms(int freq_hz);
 
 constexpr int default_freq_hz = 1000;
 
-/// Any configured step time is at most 1 ms; a pulse that is not 0 at least 1 us.
-constexpr long timing_max_ns = 1000000;
-constexpr long pulse_min_ns = 1000;
+/// Whether the command line, or X4STEP_SIM, asks for a simulated port.
+bool sim_wanted(const config &c);
 
 }  // namespace x4ctl
 

@@ -97,9 +97,11 @@ class controller_port : public port {
   bool wait_axes(x4step::axis_set axes, milliseconds timeout) const override {
     return c_.wait_axes(axes, timeout);
   }
-  std::chrono::steady_clock::time_point now() const override { return port_now(c_); }
-  bool clock_runs() const override { return port_clock_runs(c_); }
-  void pass(milliseconds d) override { port_pass(c_, d); }
+  std::chrono::steady_clock::time_point now() const override { return c_.now(); }
+  bool clock_runs() const override { return c_.clock_runs(); }
+  void pass(milliseconds d) override {
+    if (!c_.clock_runs()) c_.sleep_for(d);
+  }
   bool simulated() const override { return is_sim_device(c_.path()); }
 
  private:

@@ -1,17 +1,13 @@
 // SPDX-License-Identifier: GPL-2.0
-// x4ctl on a simulated port (sim.hpp). The clock and the machine file are
-// the library's (its internals: x4ctl links libx4step statically).
+// x4ctl on a simulated port (sim.hpp), through the library's public API.
 #include "sim.hpp"
 
 #include <cstdlib>
 #include <string>
 
-#include "detail.hpp"
-#include "sim/options.hpp"
-
 namespace x4ctl {
 
-bool is_sim_device(const std::string &dev) { return x4step::sim::is_sim_name(dev); }
+bool is_sim_device(const std::string &dev) { return x4step::is_sim_name(dev); }
 
 std::string sim_error_text(const x4step::error &e) {
   std::string text = e.what();
@@ -48,36 +44,10 @@ bool sim_keys_scripted() {
   return v != "none" && v != "tty";
 }
 
-std::chrono::steady_clock::time_point port_now(const x4step::controller &c) {
-  return x4step::detail::access::io(c).now();
-}
-
-bool port_clock_runs(const x4step::controller &c) { return !x4step::detail::access::io(c).virtual_time(); }
-
-void port_pass(x4step::controller &c, std::chrono::milliseconds d) { x4step::detail::access::io(c).pass(d); }
-
 void wire_machine_switches(x4step::controller &c) {
   if (!is_sim_device(c.path())) return;
   // The library has read the file when it opened the port: it is good.
-  const x4step::sim::options o = x4step::sim::options_from_env();
-  if (o.model.switches().empty()) return;
-  x4step::switches s;
-  for (const x4step::sim::machine_switch &w : o.model.switches()) {
-    const int input = w.bit + 1;
-    switch (w.what) {
-      case x4step::sim::machine_switch::kind::ref:
-        s.ref[static_cast<std::size_t>(w.axis)] = input;
-        break;
-      case x4step::sim::machine_switch::kind::plus:
-        s.plus[static_cast<std::size_t>(w.axis)] = input;
-        break;
-      case x4step::sim::machine_switch::kind::minus:
-        s.minus[static_cast<std::size_t>(w.axis)] = input;
-        break;
-    }
-    if (w.nc) s.nc |= 1u << w.bit;
-  }
-  c.set_switches(s);
+  if (const auto s = x4step::sim_machine_switches()) c.set_switches(*s);
 }
 
 }  // namespace x4ctl

@@ -29,14 +29,6 @@ std::string sim_forgets_text(const std::string &dev);
 /// A brake key comes without a terminal: X4STEP_SIM_KEYS holds a script.
 bool sim_keys_scripted();
 
-/// The port's clock (the simulated port's own in virtual time).
-std::chrono::steady_clock::time_point port_now(const x4step::controller &c);
-/// False for a simulated port in virtual time: its clock moves only as the
-/// library lets time pass.
-bool port_clock_runs(const x4step::controller &c);
-/// Virtual time: lets d pass on the port (its moves run meanwhile).
-void port_pass(x4step::controller &c, std::chrono::milliseconds d);
-
 /// A simulated port with a machine (X4STEP_SIM_MACHINE): its switches are
 /// named the engine's reference and limit inputs, as 'x4ctl limits' would
 /// have set them once on the module (a simulated port keeps no settings

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: GPL-2.0
+// x4ctl panel: the full-screen operator panel of a machine (panel.cpp).
+#include "panel.hpp"
+
+#include "commands.hpp"
+#include "options.hpp"
+#include "subcommand.hpp"
+
+namespace x4ctl {
+
+const subcommand &panel_subcommand() {
+  static const subcommand c = [] {
+    subcommand c;
+    c.name = "panel";
+    c.usage = {"[OPTIONS]"};
+    c.summary =
+        "full-screen operator panel of a machine: positions, jog,\n"
+        "set zero, go to, home";
+    c.prose =
+        "A full-screen operator panel for a machine file's machine, as the SMC1500\n"
+        "program's screen: each axis' position in work and machine coordinates\n"
+        "(updated while it moves), homed or not, the jog feed and step, the state.\n"
+        "Keys:\n"
+        "  Right/Left  jog X+/X-        Up/Down  jog Y+/Y-     PgUp/PgDn  jog Z+/Z-\n"
+        "  ] / [       jog A+/A-\n"
+        "  i           jog step: continuous (to the soft limit), or 1, 0.1, 0.01 units\n"
+        "  + / -       jog and go-to feed up/down (1-2-5 steps, at most MAX_VELOCITY)\n"
+        "  z or 0      set the work zero of every axis where it stands: a work offset\n"
+        "              for this session only (machine coordinates and soft limits\n"
+        "              stay; nothing is written to the port)\n"
+        "  g           go to a position in work coordinates (typed: X10 Y-5; Enter\n"
+        "              goes, ESC cancels); each axis on its own at the feed\n"
+        "  h           home (as 'x4ctl home --machine FILE')\n"
+        "  space, ESC  stop: while anything moves, every key brakes it\n"
+        "  q           quit (also Ctrl-C)\n"
+        "Moves keep to the soft limits. Nothing is left running when the panel ends:\n"
+        "a move is braked first (also at SIGINT, SIGTERM or a hang-up). Needs a\n"
+        "terminal; the machine file's PORT is the port unless -d is given.\n";
+    c.options = {
+        machine_option(machine_file_help),
+        feed_option("the feed to start with, units/min, at most the fastest\n"
+                    "axis' MAX_VELOCITY (default: a quarter of that)"),
+    };
+    c.epilogue =
+        "Exit status: 0 quit; 1 the port refused, or no terminal; 2 bad usage or\n"
+        "machine file.\n"
+        "Example: x4ctl panel --machine machines/smc1500-mill.ini\n";
+    c.run = cmd_panel;
+    return c;
+  }();
+  return c;
+}
+
+}  // namespace x4ctl
