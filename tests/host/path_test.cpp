@@ -1141,7 +1141,7 @@ TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].type, uint32_t(X4STEP_EV_MOVE_ENDED));
   EXPECT_EQ(pushed[0].how, uint32_t(X4STEP_END_ABORTED));
-  EXPECT_EQ(pushed[0].axes, 1u);
+  EXPECT_EQ(pushed[0].axes, 0x0fu) << "the path's axes: every axis of the mode";
   pushed.clear();
   EXPECT_NE(x4_track_path_abort(&t, &p.e), X4_OK);  // no path: nothing to tell
   EXPECT_FALSE(t.path_aborting);
@@ -1153,6 +1153,51 @@ TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
   EXPECT_EQ(p.Status().queued, 0u);
   EXPECT_FALSE(t.path_aborting);
   EXPECT_TRUE(pushed.empty());
+}
+
+// Item 9: a path's events name the path's axes, every axis of the output
+// mode (a path owns them all while it is active), not those of the segment
+// that happened to run when it started or came to rest: a path that starts
+// with an X segment, is held in a Y segment, resumed and aborted there.
+TEST(PathAbort, EventsNameThePathsAxes) {
+  for (const int mode : {int(X4_MODE_CLOCK_DIR), int(X4_MODE_SMC_PHASE)}) {
+    x4_track t{};
+    t.push = PushEvent;
+    pushed.clear();
+    Path p;
+    ASSERT_EQ(x4_engine_configure(&p.e, &p.e.timing, mode), X4_OK);
+    const uint32_t all = mode == X4_MODE_CLOCK_DIR ? 0x0f : 0x07;  // the axes of the mode
+    ASSERT_EQ(p.Push(Seg(200, 0, 0, 0, 200, 4000, 40000, 0)), X4_OK);
+    ASSERT_EQ(p.Push(Seg(0, 2000, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+    x4_track_update(&t, &p.e, -1, X4STEP_KIND_PATH);
+    Recording r;
+    const auto run = [&](size_t events) {
+      record(p.e, r, events, [&] { x4_track_fired(&t, &p.e, 0); });
+      x4_track_fired(&t, &p.e, 0);
+    };
+    run(600);  // into the Y segment
+    ASSERT_GT(p.e.steps[1], 0);
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    run(SIZE_MAX);
+    ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+    ASSERT_EQ(x4_path_resume(&p.e, r.events.back().t_ns + 1000000), X4_OK);
+    x4_track_update(&t, &p.e, -1, X4STEP_KIND_PATH);
+    run(50);
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    run(SIZE_MAX);
+    ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+    ASSERT_EQ(x4_track_path_abort(&t, &p.e), X4_OK);
+    const std::vector<std::pair<uint32_t, uint32_t>> want = {
+        {X4STEP_EV_MOVE_STARTED, X4STEP_KIND_PATH}, {X4STEP_EV_MOVE_ENDED, X4STEP_END_HELD},
+        {X4STEP_EV_MOVE_STARTED, X4STEP_KIND_PATH}, {X4STEP_EV_MOVE_ENDED, X4STEP_END_HELD},
+        {X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED}};
+    ASSERT_EQ(pushed.size(), want.size()) << "mode " << mode;
+    for (size_t i = 0; i < want.size(); i++) {
+      EXPECT_EQ(pushed[i].type, want[i].first) << "event " << i;
+      EXPECT_EQ(pushed[i].how, want[i].second) << "event " << i;
+      EXPECT_EQ(pushed[i].axes, all) << "event " << i << ", mode " << mode;
+    }
+  }
 }
 
 // ---- issue 28: an override never jumps, a resume keeps the plan, junctions in steps
