@@ -1084,6 +1084,42 @@ TEST_P(PathSettle, ResumeWhileAHoldEndsAtTheQueuesEnd) {
   EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
 }
 
+// Item 9: in the SMC phase modes a segment that comes in the settle window
+// after a dry end restarts the path: the motors stay energized, as through
+// any junction (the rest writes were cut short: motor X went off, and stayed
+// off through a segment that moves only Y). Every pattern written until the
+// path really ends is a motor's running pattern.
+TEST(PathSettleSmc, RestartAfterADryEndKeepsTheMotorsOn) {
+  const uint8_t kRun[8] = {0x03, 0x09, 0x38, 0x29, 0x27, 0x2d, 0x1c, 0x0d};  // x4_phase.c: smc_run
+  for (const int mode : {int(X4_MODE_SMC_PHASE), int(X4_MODE_SMC_PHASE_HOLD)}) {
+    Path p(16);
+    Configure(p, mode);
+    ASSERT_EQ(p.Push(Seg(50, 0, 0, 0, 50, 2000, 20000, 0)), X4_OK);
+    ASSERT_EQ(p.Push(Seg(0, 20, 0, 0, 20, 2000, 20000, 0)), X4_OK);
+    Recording r;
+    RecordToEnd(p, r);
+    ASSERT_TRUE(x4_engine_busy(&p.e));
+    ASSERT_EQ(p.e.path.head, p.e.path.tail);
+    const size_t from = r.events.size();
+    ASSERT_EQ(p.Push(Seg(0, 300, 0, 0, 300, 2000, 20000, 0), x4_engine_due(&p.e) - 1), X4_OK);
+    size_t y_steps = 0;
+    do {  // from the end of the settle window to the end of the new segment
+      record(p.e, r, 1);
+      const uint8_t d = r.events.back().data;
+      const int motor = d >> 6;
+      if (motor < 2) {
+        EXPECT_NE(std::find(std::begin(kRun), std::end(kRun), d & 0x3f), std::end(kRun))
+            << "motor " << motor << " at rest (pattern " << (d & 0x3f) << ") at event " << r.events.size() - from;
+      }
+      y_steps += motor == 1;
+    } while (x4_engine_busy(&p.e) && p.e.ch[0].phase != X4_END);
+    EXPECT_GE(y_steps, 300u);
+    record(p.e, r);
+    EXPECT_EQ(p.e.pos_base[1] + uint32_t(p.e.steps[1]), 320u);
+    EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, PathSettle, ::testing::Values(int(X4_MODE_CLOCK_DIR), int(X4_MODE_SMC_PHASE)),
                          [](const ::testing::TestParamInfo<int> &i) {
                            return std::string(i.param ? "SmcPhase" : "ClockDir");
