@@ -874,6 +874,49 @@ TEST(PathSignals, ReversingAxisCapsTheJunctionSpeed) {
   }
 }
 
+// The same where the segments' leader steps differ in length (units of
+// 1/10 step; the second segment led by Y, whose steps are longer or
+// shorter than the first's along the path): the high time of the step
+// before the junction is the first segment's, the first step after it the
+// second's. Y reverses, X does not.
+TEST(PathSignals, ReversalCapAcrossDifferentStepLengths) {
+  struct Case {
+    int32_t x1, y1, x2, y2;
+    uint32_t len1, len2;
+  };
+  const Case cases[] = {{2000, 1000, 500, -1000, 22360, 11180},
+                        {2000, 1000, 1000, -1000, 22360, 14142},
+                        {1000, 2000, 3000, -1000, 22360, 31623}};
+  for (const Case &k : cases) {
+    SCOPED_TRACE("len " + std::to_string(k.len1) + ", " + std::to_string(k.len2));
+    Path p;
+    x4_timing t = p.e.timing;
+    t.dir_hold_ns = 20000;
+    ASSERT_EQ(x4_engine_configure(&p.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
+    ASSERT_EQ(p.Push(Seg(k.x1, k.y1, 0, 0, k.len1, 300000, 5000000, 0)), X4_OK);
+    ASSERT_EQ(p.Push(Seg(k.x2, k.y2, 0, 0, k.len2, 300000, 5000000, 300000)), X4_OK);
+    Recording r;
+    uint64_t dir_change = 0, first_step = 0;
+    uint8_t data = p.e.data;
+    bool started = false;
+    while (x4_engine_busy(&p.e)) {
+      const x4_event ev = fire(p.e);
+      if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) dir_change = ev.t_ns;
+      if (dir_change && !first_step && (ev.data & ~data & X4_CLK_BIT(1))) first_step = ev.t_ns;
+      started = started || (ev.data & X4_CLK_MASK);
+      data = ev.data;
+      r.events.push_back(ev);
+    }
+    p.ExpectAtTarget();
+    p.ExpectPinsAtTarget(r);
+    ASSERT_NE(first_step, 0u);
+    EXPECT_GT(first_step - dir_change, X4_DIR_SETUP_NS)
+        << "stepped before its direction setup, or waited for it";
+    EXPECT_LT(first_step - dir_change, X4_DIR_SETUP_NS + 20000) << "a needlessly slow junction";
+    EXPECT_LT(CheckPhysics(LeaderSteps(r, p.sent), p.sent), 0.01) << "the path stalled at the junction";
+  }
+}
+
 // A minor axis whose first step after the joint comes later than its setup
 // time anyway (Y: 20 steps against 2000) does not make the path wait.
 TEST(PathSignals, SlowReversingAxisLetsThePathRunOn) {
