@@ -917,6 +917,36 @@ TEST(PathSignals, ReversalCapAcrossDifferentStepLengths) {
   }
 }
 
+// The cap plans the junction on time; a timer late for the direction
+// change still makes the reversing axis wait for its setup time
+// (dir_wait()), and only then: the junction's SETUP fired 60 us late.
+TEST(PathSignals, LateDirectionChangeStillWaitsForTheSetup) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(2000, 1000, 0, 0, 2000, 40000, 1000000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(2000, -1000, 0, 0, 2000, 40000, 1000000, 40000)), X4_OK);
+  Recording r;
+  uint64_t dir_change = 0, first_step = 0;
+  uint8_t data = p.e.data;
+  bool started = false, late = false;
+  while (x4_engine_busy(&p.e)) {
+    const bool junction = started && p.e.ch[0].phase == X4_SETUP && p.e.ch[0].dir_fresh;
+    late = late || junction;
+    const uint64_t at = junction ? x4_engine_due(&p.e) + 60000 : 0;
+    const x4_event ev = fire(p.e, at);
+    if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) dir_change = at ? at : ev.t_ns;  // when it went out
+    if (dir_change && !first_step && (ev.data & ~data & X4_CLK_BIT(1))) first_step = ev.t_ns;
+    started = started || (ev.data & X4_CLK_MASK);
+    data = ev.data;
+    r.events.push_back(ev);
+  }
+  ASSERT_TRUE(late);
+  p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
+  ASSERT_NE(first_step, 0u);
+  EXPECT_GE(first_step - dir_change, X4_DIR_SETUP_NS) << "stepped before its direction setup";
+  EXPECT_LT(first_step - dir_change, X4_DIR_SETUP_NS + 1000) << "and waited no longer";
+}
+
 // A minor axis whose first step after the joint comes later than its setup
 // time anyway (Y: 20 steps against 2000) does not make the path wait.
 TEST(PathSignals, SlowReversingAxisLetsThePathRunOn) {
