@@ -144,8 +144,10 @@ static void set_limit(const struct x4_engine *e, struct x4_path_slot *s)
 #define X4_REVERSAL_MARGIN_NS 1000
 
 /*
- * The rate v with x >= 2 v h + a d^2 (x: 2^16 times the steps before the
- * reversing axis' step; d, h: ns) as 10^9 v / 2^17.
+ * The fastest rate v (steps/s) with x >= 2^16 (2 v h + a d^2): x is 2^16
+ * times twice the leader steps up to the reversing axis' step (less those
+ * the high time takes, where it is not the pulse), h the time v runs on
+ * before the step, d the time the ramp adds to (ns; a in steps/s^2).
  */
 static u64 reversal_ramp(u64 x, u64 d, u64 h, u64 a)
 {
