@@ -135,10 +135,134 @@ u32 x4_path_room(const struct x4_engine *e)
 	       (x4_read_once(pa->tail) - x4_load_acquire(&pa->head));
 }
 
-/* Slot s's entry limit: its corner, its top speed (at the override). */
+/*
+ * Slot s's entry limit: its corner, its axes' reversals, its top speed
+ * (at the override).
+ */
 static void set_limit(const struct x4_engine *e, struct x4_path_slot *s)
 {
-	s->limit = (u32)min_u64(s->seg.v_entry, top_speed(e, s));
+	s->limit = (u32)min_u64(min_u64(s->seg.v_entry, s->v_rev),
+				top_speed(e, s));
+}
+
+/*
+ * What the rates' rounding to whole steps/s and the times' to whole ns may
+ * take from the time before a reversing axis' step.
+ */
+#define X4_REVERSAL_MARGIN_NS 1000
+
+/*
+ * The fastest rate v (steps/s) with x >= 2^16 (2 v h + a d^2): x is 2^16
+ * times twice the leader steps up to the reversing axis' step (less those
+ * the high time takes, where it is not the pulse), h the time v runs on
+ * before the step, d the time the ramp adds to (ns; a in steps/s^2).
+ */
+static u64 reversal_ramp(u64 x, u64 d, u64 h, u64 a)
+{
+	u64 acc;
+
+	if (d > 1u << 22)
+		d = 1u << 22;
+	/* a d^2 * 2^16 (s, steps): what the ramp adds over d */
+	acc = x4_div((x4_div(a * d, 1000000) * d) << 16, 1000000000000ull);
+	if (acc >= x)
+		return 0;
+	return x4_div((x - acc) * 1953125, h << 8);
+}
+
+/*
+ * The fastest leader rate of slot s (steps/s) at its junction with slot
+ * b, before it, where an axis changes direction whose first step in s is
+ * its leader step j: the step must come no sooner than the setup time
+ * after the direction changed, which it does the hold time after the
+ * clock of b's last step fell. So from that step on, the high time (the
+ * pulse, or half the interval: rho / 2 of s's leader steps, rho the leader
+ * steps of s in one of b) and the hold and setup times H pass before step
+ * j: j >= v (high + H) + a (high + H)^2 / 2 at entry v and acceleration a.
+ */
+static u64 reversal_rate(const struct x4_engine *e,
+			 const struct x4_path_slot *b,
+			 const struct x4_path_slot *s, u64 j)
+{
+	const struct x4_timing *t = &e->timing;
+	u64 h = (u64)t->dir_setup_ns + t->dir_hold_ns, x = j << 17;
+	u64 d, rho, v, n;
+	int i;
+
+	if (!h)
+		return X4_VEL_MAX;
+	h += X4_REVERSAL_MARGIN_NS;
+	d = h + t->pulse_ns;
+	if (t->pulse_ns) {
+		h = d;
+		return reversal_ramp(x, d, h, s->accel);
+	}
+	/* rho * 2^16: s->leader * b_length / (b->leader * length) */
+	rho = x4_div((u64)s->leader * b->seg.length, b->leader);
+	if (rho >= (j << 1) * s->seg.length)
+		return 0;
+	n = x4_div(rho, s->seg.length);
+	rho = (n << 16) + x4_div((rho - n * s->seg.length) << 16,
+				 s->seg.length);
+	if (rho >= x)
+		return 0;
+	x -= rho;
+	/*
+	 * The high time depends on v: from the rate without the ramp down to
+	 * where the ramp's part fits (a few rounds: each one's change is a
+	 * tenth of the one before, or less).
+	 */
+	v = x4_div(x * 1953125, h << 8); /* 10^9 / 2^17 */
+	for (i = 0; i < 4 && v; i++)
+		v = reversal_ramp(x, h + x4_div(x4_div(rho * 15625, v) * 125,
+						 256), h, s->accel);
+	return v;
+}
+
+/*
+ * Slot s's direction pins (after it: its axes', the others' as before
+ * it) and, when it joins a segment b before it, the fastest entry that
+ * lets an axis reversing at the junction wait for its setup time
+ * (reversal_rate()), in path units/s. Phase modes have no directions.
+ */
+static void set_reversal(const struct x4_engine *e, struct x4_path_slot *s,
+			 const struct x4_path_slot *b)
+{
+	u8 moving = 0, dirs = 0, rev;
+	u64 j = 0, n, v;
+	int i;
+
+	s->v_rev = X4_PATH_VALUE_MAX;
+	s->dirs = 0;
+	if (x4_phase_mode(e))
+		return;
+	for (i = 0; i < X4_AXES; i++) {
+		if (!s->seg.steps[i])
+			continue;
+		moving |= X4_DIR_BIT(i);
+		if (s->seg.steps[i] > 0)
+			dirs |= X4_DIR_BIT(i);
+	}
+	/* From rest (the queue is empty): the pins, as the path left them. */
+	rev = b ? b->dirs : x4_load_acquire(&e->data) & X4_DIR_MASK;
+	s->dirs = (u8)((rev & ~moving) | dirs);
+	if (!b)
+		return;
+	rev = (u8)(moving & (rev ^ dirs));
+	for (i = 0; i < X4_AXES; i++) {
+		if (!(rev & X4_DIR_BIT(i)))
+			continue;
+		/* Its first step (x4_bres_start()): ceil(leader / 2n). */
+		n = s->seg.steps[i] < 0 ? -(s64)s->seg.steps[i] :
+					  s->seg.steps[i];
+		n = x4_div(s->leader + 2 * n - 1, 2 * n);
+		if (!j || n < j)
+			j = n;
+	}
+	if (!j)
+		return;
+	v = min_u64(reversal_rate(e, b, s, j), rate_max(e));
+	s->v_rev = (u32)min_u64(to_path(s, v), X4_PATH_VALUE_MAX);
 }
 
 /*
@@ -214,6 +338,7 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 	struct x4_path *pa = &e->path;
 	struct x4_path_slot *s = slot_of(pa, pa->tail);
 	u32 leader = x4_segment_leader(seg);
+	bool empty = pa->tail == x4_load_acquire(&pa->head);
 
 	s->seg = *seg;
 	s->leader = leader;
@@ -226,6 +351,7 @@ void x4_path_push(struct x4_engine *e, const struct x4_segment *seg)
 	s->accel = (u32)to_steps(s, seg->accel);
 	s->two_as = x4_div(2ull * s->accel * seg->length, leader) * seg->length;
 	s->entry = 0;
+	set_reversal(e, s, empty ? NULL : slot_of(pa, pa->tail - 1));
 	set_limit(e, s);
 	s->entry = entry_for(s, 0); /* the last segment stops */
 	x4_store_release(&pa->tail, pa->tail + 1);

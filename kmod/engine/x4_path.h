@@ -30,10 +30,12 @@ struct x4_path_slot {
 	struct x4_segment seg;
 	u32 leader; /* the leader axis' steps: max |steps[i]| */
 	u32 v_rate; /* the path speed of the port's fastest leader rate */
-	u32 limit; /* its entry's limit: corner, top speed (override) */
+	u32 limit; /* its entry's limit: corner, reversal, top speed */
 	u32 accel; /* its leader's acceleration, steps/s^2 */
 	u64 two_as; /* 2 a length, path units: v^2 gained or lost along it */
 	u32 entry; /* the writer stores it, the timer reads it (once) */
+	u32 v_rev; /* the fastest entry an axis reversing into it allows */
+	u8 dirs; /* the direction pins after it (X4_DIR_BIT) */
 };
 
 enum x4_path_state {

@@ -501,10 +501,13 @@ void x4_end(struct x4_engine *e, struct x4_chan *c)
 	c->halt_mask = 0;
 	c->deferred = 0;
 	e->ends++;
+	if (path_goes_on) { /* segments came while it ended */
+		/* The motors stay on, as through any junction. */
+		x4_path_kick(e, c->t_pending);
+		return;
+	}
 	if (x4_phase_mode(e))
 		x4_phase_rest(e, c);
-	if (path_goes_on) /* segments came while it ended */
-		x4_path_kick(e, c->t_pending);
 }
 
 /*

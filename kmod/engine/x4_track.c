@@ -6,6 +6,8 @@
  */
 #include "x4_track.h"
 
+#include "x4_internal.h"
+
 #include <linux/x4step.h>
 #ifdef __KERNEL__
 #include <linux/string.h>
@@ -50,6 +52,17 @@ void x4_track_stop(struct x4_track *t, u8 chans)
 	t->stopped |= chans;
 }
 
+/*
+ * The axes of channel i's move in the event stream: a path's are every
+ * axis of the output mode (it owns them all while it is active), not the
+ * segment's that runs when it starts or comes to rest.
+ */
+static u8 x4_track_move_axes(const struct x4_track *t,
+			     const struct x4_engine *e, int i)
+{
+	return !i && t->path ? x4_mode_axes(e) : e->ch[i].run.axes;
+}
+
 int x4_track_path_abort(struct x4_track *t, struct x4_engine *e)
 {
 	bool held = e->path.state == X4_PATH_HELD;
@@ -58,7 +71,7 @@ int x4_track_path_abort(struct x4_track *t, struct x4_engine *e)
 	if (ret)
 		return ret;
 	if (held)
-		t->push(t, X4STEP_EV_MOVE_ENDED, e->ch[0].run.axes,
+		t->push(t, X4STEP_EV_MOVE_ENDED, x4_mode_axes(e),
 			X4STEP_END_ABORTED, 0, 0);
 	else if (x4_path_active(e))
 		t->path_aborting = true; /* its end says so */
@@ -182,7 +195,8 @@ void x4_track_update(struct x4_track *t, const struct x4_engine *e, int c,
 			how = t->stopped & bit ? X4STEP_END_STOPPED :
 			      t->braked & bit ? X4STEP_END_BRAKED :
 			      X4STEP_END_COMPLETED;
-		t->push(t, X4STEP_EV_MOVE_ENDED, e->ch[i].run.axes, how, 0, 0);
+		t->push(t, X4STEP_EV_MOVE_ENDED, x4_track_move_axes(t, e, i),
+			how, 0, 0);
 		t->how[i] = 0;
 	}
 	t->braked &= ~ended;
@@ -192,8 +206,8 @@ void x4_track_update(struct x4_track *t, const struct x4_engine *e, int c,
 		t->path = kind == X4STEP_KIND_PATH;
 	for (i = 0; i < X4_AXES; i++)
 		if (started & (1u << i))
-			t->push(t, X4STEP_EV_MOVE_STARTED, e->ch[i].run.axes,
-				kind, 0, 0);
+			t->push(t, X4STEP_EV_MOVE_STARTED,
+				x4_track_move_axes(t, e, i), kind, 0, 0);
 }
 
 void x4_track_fired(struct x4_track *t, const struct x4_engine *e, int c)

@@ -776,6 +776,13 @@ Trace TestHoldResume(int fd) {
   int starts = 0;
   for (const auto &x : ev) starts += x.type == X4STEP_EV_MOVE_STARTED && x.how == X4STEP_KIND_PATH;
   Check(starts == 2, F("MOVE_STARTED (KIND_PATH) at the start and at the resume: %d", starts));
+  // Issue 28.9: a path's events name the path's axes, every axis of the
+  // mode, not those of the segment that ran when it started or stood.
+  std::string axes;
+  for (const auto &x : ev)
+    if ((x.type == X4STEP_EV_MOVE_STARTED || x.type == X4STEP_EV_MOVE_ENDED) && x.axes != 0x0f)
+      axes += F(" %u/%u: %#x", x.type, x.how, x.axes);
+  Check(axes.empty(), "the path's events name all four axes:" + axes);
   CheckResumed("held and resumed", "HOLD", segs, ref, t_hold, t_resume);
 
   // HOLD then ABORT: the queue is flushed, the end is ABORTED.

@@ -950,20 +950,155 @@ TEST(PathSignals, LateStartShiftsTheWholePath) {
   EXPECT_GE(RisesOf(b, 0).front(), kStart + kLate + X4_DIR_SETUP_NS);
 }
 
-// A minor axis that reverses at a junction and steps right away (Y: half
-// the leader's steps, its first step one leader step after the joint, 50
-// us at 20000 steps/s) waits for its direction setup time (100 us), and
-// the leader with it.
-TEST(PathSignals, ReversingAxisWaitsForItsDirectionSetup) {
+// Item 9: an axis that reverses at a junction must not step before its
+// direction setup time: the planner caps the junction speed so that its
+// first step after the reversal comes late enough (the setup time after the
+// direction change, which comes after the last step's high time and the
+// hold time), rather than the whole path stopping for it in the middle of
+// the junction, a velocity step. Cases: the minor axis Y reversing and due
+// at the first, third and 12th leader step; the leader reversing; each with
+// the default timing, a direction hold time and a configured pulse. The
+// path never stalls (CheckPhysics), the reversing axis waits its setup time
+// (the pins), and the cap costs no more speed than it must.
+struct ReversalCase {
+  int32_t x1, y1, x2, y2;
+  int axis;        // the axis that reverses
+  uint32_t first;  // its first step in the second segment, in leader steps
+};
+
+TEST(PathSignals, ReversingAxisCapsTheJunctionSpeed) {
+  const ReversalCase cases[] = {{2000, 1000, 2000, -1000, 1, 1},
+                                {2000, 400, 2000, -400, 1, 3},
+                                {2000, 90, 2000, -90, 1, 12},
+                                {2000, 0, -2000, 0, 0, 1}};
+  struct Timing {
+    uint32_t setup, hold, pulse;
+  };
+  const Timing timings[] = {{X4_DIR_SETUP_NS, 0, 0}, {100000, 40000, 0}, {50000, 20000, 10000}};
+  for (const ReversalCase &k : cases) {
+    for (const Timing &tm : timings) {
+      SCOPED_TRACE("axis " + std::to_string(k.axis) + " first at " + std::to_string(k.first) + ", setup " +
+                   std::to_string(tm.setup) + " hold " + std::to_string(tm.hold) + " pulse " +
+                   std::to_string(tm.pulse));
+      Path p;
+      x4_timing t = p.e.timing;
+      t.dir_setup_ns = tm.setup;
+      t.dir_hold_ns = tm.hold;
+      t.pulse_ns = tm.pulse;
+      t.space_ns = tm.pulse;
+      ASSERT_EQ(x4_engine_configure(&p.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
+      ASSERT_EQ(p.Push(Seg(k.x1, k.y1, 0, 0, 2000, 40000, 1000000, 0)), X4_OK);
+      ASSERT_EQ(p.Push(Seg(k.x2, k.y2, 0, 0, 2000, 40000, 1000000, 40000)), X4_OK);
+      Recording r;
+      uint64_t dir_change = 0, first_step = 0;
+      uint8_t data = p.e.data;
+      bool started = false;
+      while (x4_engine_busy(&p.e)) {
+        const x4_event ev = fire(p.e);
+        if (started && ((data ^ ev.data) & X4_DIR_BIT(k.axis))) dir_change = ev.t_ns;
+        if (dir_change && !first_step && (ev.data & ~data & X4_CLK_BIT(k.axis))) first_step = ev.t_ns;
+        started = started || (ev.data & X4_CLK_MASK);
+        data = ev.data;
+        r.events.push_back(ev);
+      }
+      p.ExpectAtTarget();
+      p.ExpectPinsAtTarget(r);
+      ASSERT_NE(first_step, 0u);
+      EXPECT_GT(first_step - dir_change, tm.setup) << "stepped before its direction setup, or waited for it";
+      const std::vector<uint64_t> x = RisesOf(r, 0);
+      ASSERT_EQ(x.size(), 4000u);
+      const double worst = CheckPhysics(LeaderSteps(r, p.sent), p.sent);
+      EXPECT_LT(worst, 0.01) << "the path stalled at the junction";
+      // The junction speed: what lets the first step come after the high
+      // time (half the interval, or the pulse), the hold and the setup.
+      // With the ramp from there: j = v D + a D^2 / 2, D = high + hold +
+      // setup, high = 1 / (2 v) or the pulse.
+      const double h = (tm.setup + tm.hold + tm.pulse) * 1e-9, a = 1e6;
+      double cap = 40000;
+      for (int it = 0; it < 50; it++) {
+        const double d = h + (tm.pulse ? 0 : 0.5 / cap);
+        cap = (k.first - (tm.pulse ? 0 : 0.5) - a * d * d / 2) / h;
+      }
+      // The leader's first step after the junction, from the entry speed.
+      cap = std::min(cap, 40000.0);
+      const double t1 = (std::sqrt(cap * cap + 2 * a) - cap) / a, dt = double(x[2000] - x[1999]) * 1e-9;
+      EXPECT_GE(dt, t1 * 0.97) << "the junction is faster than its direction setup allows";
+      EXPECT_LE(dt, t1 * 1.03) << "the junction is slower than it must be";
+    }
+  }
+}
+
+// The same where the segments' leader steps differ in length (units of
+// 1/10 step; the second segment led by Y, whose steps are longer or
+// shorter than the first's along the path): the high time of the step
+// before the junction is the first segment's, the first step after it the
+// second's. Y reverses, X does not.
+TEST(PathSignals, ReversalCapAcrossDifferentStepLengths) {
+  struct Case {
+    int32_t x1, y1, x2, y2;
+    uint32_t len1, len2;
+  };
+  const Case cases[] = {{2000, 1000, 500, -1000, 22360, 11180},
+                        {2000, 1000, 1000, -1000, 22360, 14142},
+                        {1000, 2000, 3000, -1000, 22360, 31623}};
+  for (const Case &k : cases) {
+    SCOPED_TRACE("len " + std::to_string(k.len1) + ", " + std::to_string(k.len2));
+    Path p;
+    x4_timing t = p.e.timing;
+    t.dir_hold_ns = 20000;
+    ASSERT_EQ(x4_engine_configure(&p.e, &t, X4_MODE_CLOCK_DIR), X4_OK);
+    ASSERT_EQ(p.Push(Seg(k.x1, k.y1, 0, 0, k.len1, 300000, 5000000, 0)), X4_OK);
+    ASSERT_EQ(p.Push(Seg(k.x2, k.y2, 0, 0, k.len2, 300000, 5000000, 300000)), X4_OK);
+    Recording r;
+    uint64_t dir_change = 0, first_step = 0;
+    uint8_t data = p.e.data;
+    bool started = false;
+    while (x4_engine_busy(&p.e)) {
+      const x4_event ev = fire(p.e);
+      if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) dir_change = ev.t_ns;
+      if (dir_change && !first_step && (ev.data & ~data & X4_CLK_BIT(1))) first_step = ev.t_ns;
+      started = started || (ev.data & X4_CLK_MASK);
+      data = ev.data;
+      r.events.push_back(ev);
+    }
+    p.ExpectAtTarget();
+    p.ExpectPinsAtTarget(r);
+    ASSERT_NE(first_step, 0u);
+    EXPECT_GT(first_step - dir_change, X4_DIR_SETUP_NS)
+        << "stepped before its direction setup, or waited for it";
+    EXPECT_LT(first_step - dir_change, X4_DIR_SETUP_NS + 20000) << "a needlessly slow junction";
+    EXPECT_LT(CheckPhysics(LeaderSteps(r, p.sent), p.sent), 0.01) << "the path stalled at the junction";
+  }
+}
+
+// The cap plans the junction on time; a timer late for the direction
+// change still makes the reversing axis wait for its setup time
+// (dir_wait()), and only then: the junction's SETUP fired 60 us late.
+TEST(PathSignals, LateDirectionChangeStillWaitsForTheSetup) {
   Path p;
-  const Reversal rv = RunReversal(p, 2000, 1000, 20000, 1000000);
-  ASSERT_NE(rv.dir_change, 0u);
-  ASSERT_NE(rv.y_step, 0u);
-  EXPECT_GE(rv.y_step - rv.dir_change, X4_DIR_SETUP_NS);
-  EXPECT_LT(rv.y_step - rv.dir_change, X4_DIR_SETUP_NS + 1000);  // and no longer
+  ASSERT_EQ(p.Push(Seg(2000, 1000, 0, 0, 2000, 40000, 1000000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(2000, -1000, 0, 0, 2000, 40000, 1000000, 40000)), X4_OK);
+  Recording r;
+  uint64_t dir_change = 0, first_step = 0;
+  uint8_t data = p.e.data;
+  bool started = false, late = false;
+  while (x4_engine_busy(&p.e)) {
+    const bool junction = started && p.e.ch[0].phase == X4_SETUP && p.e.ch[0].dir_fresh;
+    late = late || junction;
+    const uint64_t at = junction ? x4_engine_due(&p.e) + 60000 : 0;
+    const x4_event ev = fire(p.e, at);
+    if (started && ((data ^ ev.data) & X4_DIR_BIT(1))) dir_change = at ? at : ev.t_ns;  // when it went out
+    if (dir_change && !first_step && (ev.data & ~data & X4_CLK_BIT(1))) first_step = ev.t_ns;
+    started = started || (ev.data & X4_CLK_MASK);
+    data = ev.data;
+    r.events.push_back(ev);
+  }
+  ASSERT_TRUE(late);
   p.ExpectAtTarget();
-  p.ExpectPinsAtTarget(rv.r);
-  CheckPhysics(LeaderSteps(rv.r, p.sent), p.sent);
+  p.ExpectPinsAtTarget(r);
+  ASSERT_NE(first_step, 0u);
+  EXPECT_GE(first_step - dir_change, X4_DIR_SETUP_NS) << "stepped before its direction setup";
+  EXPECT_LT(first_step - dir_change, X4_DIR_SETUP_NS + 1000) << "and waited no longer";
 }
 
 // A minor axis whose first step after the joint comes later than its setup
@@ -1238,6 +1373,43 @@ TEST_P(PathSettle, ResumeWhileAHoldEndsAtTheQueuesEnd) {
   EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
 }
 
+// Item 9: in the SMC phase modes a segment that comes in the settle window
+// after a dry end restarts the path: the motors stay energized, as through
+// any junction (the rest writes were cut short: motor X went off, and stayed
+// off through a segment that moves only Y). Every pattern written until the
+// path really ends is a motor's running pattern.
+TEST(PathSettleSmc, RestartAfterADryEndKeepsTheMotorsOn) {
+  const uint8_t kRun[8] = {0x03, 0x09, 0x38, 0x29, 0x27, 0x2d, 0x1c, 0x0d};  // x4_phase.c: smc_run
+  for (const int mode : {int(X4_MODE_SMC_PHASE), int(X4_MODE_SMC_PHASE_HOLD)}) {
+    Path p(16);
+    Configure(p, mode);
+    ASSERT_EQ(p.Push(Seg(50, 0, 0, 0, 50, 2000, 20000, 0)), X4_OK);
+    ASSERT_EQ(p.Push(Seg(0, 20, 0, 0, 20, 2000, 20000, 0)), X4_OK);
+    Recording r;
+    RecordToEnd(p, r);
+    ASSERT_TRUE(x4_engine_busy(&p.e));
+    ASSERT_EQ(p.e.path.head, p.e.path.tail);
+    const size_t from = r.events.size();
+    ASSERT_EQ(p.Push(Seg(0, 300, 0, 0, 300, 2000, 20000, 0), x4_engine_due(&p.e) - 1), X4_OK);
+    size_t y_steps = 0;
+    do {  // from the end of the settle window to the end of the new segment
+      record(p.e, r, 1);
+      const uint8_t d = r.events.back().data;
+      const int motor = d >> 6;
+      if (motor < 2) {
+        EXPECT_NE(std::find(std::begin(kRun), std::end(kRun), d & 0x3f), std::end(kRun))
+            << "motor " << motor << " at rest (pattern " << (d & 0x3f) << ") at event "
+            << r.events.size() - from;
+      }
+      y_steps += motor == 1;
+    } while (x4_engine_busy(&p.e) && p.e.ch[0].phase != X4_END);
+    EXPECT_GE(y_steps, 300u);
+    record(p.e, r);
+    EXPECT_EQ(p.e.pos_base[1] + uint32_t(p.e.steps[1]), 320u);
+    EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, PathSettle, ::testing::Values(int(X4_MODE_CLOCK_DIR), int(X4_MODE_SMC_PHASE)),
                          [](const ::testing::TestParamInfo<int> &i) {
                            return std::string(i.param ? "SmcPhase" : "ClockDir");
@@ -1295,7 +1467,7 @@ TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
   ASSERT_EQ(pushed.size(), 1u);
   EXPECT_EQ(pushed[0].type, uint32_t(X4STEP_EV_MOVE_ENDED));
   EXPECT_EQ(pushed[0].how, uint32_t(X4STEP_END_ABORTED));
-  EXPECT_EQ(pushed[0].axes, 1u);
+  EXPECT_EQ(pushed[0].axes, 0x0fu) << "the path's axes: every axis of the mode";
   pushed.clear();
   EXPECT_NE(x4_track_path_abort(&t, &p.e), X4_OK);  // no path: nothing to tell
   EXPECT_FALSE(t.path_aborting);
@@ -1307,6 +1479,52 @@ TEST(PathAbort, AbortOfAHeldPathIsToldAtOnce) {
   EXPECT_EQ(p.Status().queued, 0u);
   EXPECT_FALSE(t.path_aborting);
   EXPECT_TRUE(pushed.empty());
+}
+
+// Item 9: a path's events name the path's axes, every axis of the output
+// mode (a path owns them all while it is active), not those of the segment
+// that happened to run when it started or came to rest: a path that starts
+// with an X segment, is held in a Y segment, resumed and aborted there.
+TEST(PathAbort, EventsNameThePathsAxes) {
+  for (const int mode : {int(X4_MODE_CLOCK_DIR), int(X4_MODE_SMC_PHASE)}) {
+    x4_track t{};
+    t.push = PushEvent;
+    pushed.clear();
+    Path p;
+    ASSERT_EQ(x4_engine_configure(&p.e, &p.e.timing, mode), X4_OK);
+    const uint32_t all = mode == X4_MODE_CLOCK_DIR ? 0x0f : 0x07;  // the axes of the mode
+    ASSERT_EQ(p.Push(Seg(200, 0, 0, 0, 200, 4000, 40000, 0)), X4_OK);
+    ASSERT_EQ(p.Push(Seg(0, 2000, 0, 0, 2000, 4000, 40000, 0)), X4_OK);
+    x4_track_update(&t, &p.e, -1, X4STEP_KIND_PATH);
+    Recording r;
+    const auto run = [&](size_t events) {
+      record(p.e, r, events, [&] { x4_track_fired(&t, &p.e, 0); });
+      x4_track_fired(&t, &p.e, 0);
+    };
+    run(600);  // into the Y segment
+    ASSERT_GT(p.e.steps[1], 0);
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    run(SIZE_MAX);
+    ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+    ASSERT_EQ(x4_path_resume(&p.e, r.events.back().t_ns + 1000000), X4_OK);
+    x4_track_update(&t, &p.e, -1, X4STEP_KIND_PATH);
+    run(50);
+    ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    run(SIZE_MAX);
+    ASSERT_EQ(p.Status().state, X4_PATH_HELD);
+    ASSERT_EQ(x4_track_path_abort(&t, &p.e), X4_OK);
+    const std::vector<std::pair<uint32_t, uint32_t>> want = {{X4STEP_EV_MOVE_STARTED, X4STEP_KIND_PATH},
+                                                             {X4STEP_EV_MOVE_ENDED, X4STEP_END_HELD},
+                                                             {X4STEP_EV_MOVE_STARTED, X4STEP_KIND_PATH},
+                                                             {X4STEP_EV_MOVE_ENDED, X4STEP_END_HELD},
+                                                             {X4STEP_EV_MOVE_ENDED, X4STEP_END_ABORTED}};
+    ASSERT_EQ(pushed.size(), want.size()) << "mode " << mode;
+    for (size_t i = 0; i < want.size(); i++) {
+      EXPECT_EQ(pushed[i].type, want[i].first) << "event " << i;
+      EXPECT_EQ(pushed[i].how, want[i].second) << "event " << i;
+      EXPECT_EQ(pushed[i].axes, all) << "event " << i << ", mode " << mode;
+    }
+  }
 }
 
 // ---- issue 28: an override never jumps, a resume keeps the plan, junctions in steps

@@ -339,10 +339,17 @@ TEST_F(SimPath, AbortOfAHeldPathIsAnEvent) {
   x4step::monitor m("sim");
   x4step::path path(c);
   ASSERT_NO_FATAL_FAILURE(RunASecondAndHold(path));
-  ASSERT_EQ(count(events(m), x4step::event_type::move_ended, X4STEP_END_HELD), 1u);
+  const auto held = events(m);
+  ASSERT_EQ(count(held, x4step::event_type::move_ended, X4STEP_END_HELD), 1u);
   path.abort();
   const auto ev = events(m);
   ASSERT_EQ(ev.size(), 1u);
   EXPECT_EQ(ev[0].type, x4step::event_type::move_ended);
   EXPECT_EQ(ev[0].how, unsigned(X4STEP_END_ABORTED));
+  // The path's axes (every axis: it owns them), not the segments' (1, 2).
+  EXPECT_EQ(ev[0].axes.mask(), 0x0fu);
+  for (const auto &e : held)
+    if (e.type == x4step::event_type::move_started || e.type == x4step::event_type::move_ended) {
+      EXPECT_EQ(e.axes.mask(), 0x0fu) << "event " << e.seq;
+    }
 }

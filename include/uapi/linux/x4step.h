@@ -551,9 +551,17 @@ struct x4step_estop {
  * (or a new controller opens): a program streaming a path learns that it
  * was stopped, instead of running the rest of it from where it stood.
  *
+ * Where an axis reverses at a junction, the planner caps the junction's
+ * speed so that the axis' first step in the new segment comes no sooner
+ * than dir_setup_ns after its direction changed, which is dir_hold_ns
+ * after the clock of the segment before fell (X4STEP_SET_STEP_TIMING): a
+ * reversal never makes the path wait in the middle of a junction. An axis
+ * whose first step comes late enough anyway costs no speed.
+ *
  * Starts and ends show in the event stream: MOVE_STARTED (KIND_PATH), and
  * MOVE_ENDED with COMPLETED (the queue ran empty), HELD, ABORTED, STOPPED
- * or LIMIT; the abort of a held path ends it (ABORTED) at once. A hold
+ * or LIMIT, with the path's axes: every axis of the output mode, whichever
+ * segments move; the abort of a held path ends it (ABORTED) at once. A hold
  * stands HELD wherever it comes to rest, at the queue's end too: what is
  * written then waits for a resume. X4STEP_BRAKE and brake keys hold a
  * path (keys: then abort, with X4STEP_PATH_KEYS_ABORT, a held path too);
