@@ -33,6 +33,14 @@ printf '%s\n' "${blocks[@]}" M2 >"$dir/blocks.ngc"
 "$sim_check" "$machine" "$dir/blocks.ngc" "$dir/run.vcd"
 check "their steps: exact end, within ARC_TOLERANCE + 1 step of the path" $?
 
+# (MSG,...) and (DEBUG,...) in program order, each shown once the path
+# reaches its line (the planner's message_at, not when it is planned).
+mdi "$dir/msg.vcd" "G1 X0.5 F30" "(MSG,first cut done)" "G1 X1" "(DEBUG,second cut done)" "G0 X0"
+st=$?
+cat "$dir/out"
+[ $st -eq 0 ] && [ "$(grep -E '^(MSG|DEBUG): ' "$dir/out" | tr '\n' '|')" = "MSG: first cut done|DEBUG: second cut done|" ]
+check "messages in program order, DEBUG named as such" $?
+
 # Nothing persists: G21 (mm) in one invocation, X1 in the next is 1 inch.
 mdi "$dir/units.vcd" "G21" && mdi "$dir/units.vcd" "G0 X1"
 st=$?

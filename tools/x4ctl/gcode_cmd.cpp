@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -79,6 +80,8 @@ struct counter : m::planner_output {
     if (plot) plot->planned(i.end);
   }
   void pause(bool, int) override { pauses++; }
+  // Once per command: the check pass sees every line once.
+  void warning(const g::error &w) override { std::cerr << w.what() << "\n"; }
 };
 
 std::string clock_text(double seconds) {
@@ -226,6 +229,17 @@ class runner : public m::planner_output {
     set(mc_.flood, flood);
   }
   void message(std::string_view text) override { say("MSG: " + std::string(text)); }
+  // (MSG,...) and (DEBUG,...) when the path reaches their line, not when
+  // it is planned (up to a queue's length earlier).
+  void message_at(std::string_view text, const m::message_info &i) override { messages_.add(text, i); }
+  void show_due_messages() { messages_.due(ps_.done(), show_message()); }
+  // A run that went to its end shows what is left; an aborted one drops it.
+  void end_messages(bool aborted) {
+    if (aborted)
+      messages_.clear();
+    else
+      messages_.due(UINT64_MAX, show_message());
+  }
 
   /// Switches off every output the program switched on.
   void outputs_off() {
@@ -235,6 +249,12 @@ class runner : public m::planner_output {
  private:
   void rest() {
     if (!ps_.drain()) throw run_aborted{};
+    show_due_messages();
+  }
+  m::message_queue::show_fn show_message() {
+    return [this](const std::string &text, const m::message_info &i) {
+      say((i.debug ? "DEBUG: " : "MSG: ") + text);
+    };
   }
   void set(m::pin p, bool on) {
     if (p == m::pin::none) return;
@@ -252,6 +272,7 @@ class runner : public m::planner_output {
   progress_meter &meter_;
   bool json_;
   bool no_pause_;
+  m::message_queue messages_;
 
  public:
   toolpath_plot *plot = nullptr;  // --svg
@@ -302,8 +323,11 @@ int run_program(const config &c, const program &prog) {
       r.plot = &plot;
       plot.planned(start);
       plot.done(start);
-      ps.on_poll([&] { plot.done(pose_of(mc, ctl.get_axes())); });
     }
+    ps.on_poll([&] {
+      r.show_due_messages();
+      if (r.plot) plot.done(pose_of(mc, ctl.get_axes()));
+    });
     try {
       plan(mc, prog, start, r);
       ps.drain();
@@ -312,6 +336,7 @@ int run_program(const config &c, const program &prog) {
     }
     r.outputs_off();
     aborted = ps.aborted();
+    r.end_messages(aborted);
     ps.finish();
     const x4step::axes_status a = ctl.get_axes();
     for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
