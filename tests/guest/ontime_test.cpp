@@ -86,13 +86,16 @@ void Rate(int hz, int steps, bool strict) {
   high /= double(dev.size());
   low /= double(dev.size());
   std::printf(
-      "ontime %d Hz: cruise period %.3f us (planned %.3f), deviation p99 %.0f ns max %.0f ns, high >= %llu ns "
-      "(cruise mean %.0f, max %llu), low >= %llu ns (cruise mean %.0f, max %llu), %d steps in %.4f s; %llu shifts "
+      "ontime %d Hz: cruise period %.3f us (planned %.3f), deviation p99 %.0f ns max %.0f ns, high >= %llu "
+      "ns "
+      "(cruise mean %.0f, max %llu), low >= %llu ns (cruise mean %.0f, max %llu), %d steps in %.4f s; %llu "
+      "shifts "
       "(%llu ns); spins %llu of %llu events, %llu ns spun: %.2f %% of a CPU, %.0f ns a spin\n",
       hz, mean / 1e3, planned / 1e3, p99, worst, (unsigned long long)c[0].min_high, high,
-      (unsigned long long)high_max, (unsigned long long)c[0].min_low, low, (unsigned long long)low_max, steps, secs, (unsigned long long)t.shifts, (unsigned long long)t.shifted_ns, (unsigned long long)t.spins,
-      (unsigned long long)t.events, (unsigned long long)t.spin_ns, secs > 0 ? 100.0 * t.spin_ns / 1e9 / secs : 0.0,
-      t.spins ? double(t.spin_ns) / t.spins : 0.0);
+      (unsigned long long)high_max, (unsigned long long)c[0].min_low, low, (unsigned long long)low_max, steps,
+      secs, (unsigned long long)t.shifts, (unsigned long long)t.shifted_ns, (unsigned long long)t.spins,
+      (unsigned long long)t.events, (unsigned long long)t.spin_ns,
+      secs > 0 ? 100.0 * t.spin_ns / 1e9 / secs : 0.0, t.spins ? double(t.spin_ns) / t.spins : 0.0);
   // The manual: never shorter than 25 us, at any rate and any lateness.
   Check(c[0].min_high >= 25000 && c[0].min_low >= 25000,
         F("%d Hz: clock high at least %llu ns, low at least %llu ns (minimum 25000)", hz,

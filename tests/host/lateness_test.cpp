@@ -209,7 +209,8 @@ TEST(Lateness, SlackOfThePendingEdge) {
     // slack left (never less than none); at 19 kHz its pulse absorbs it.
     x4_engine_fire(&eng.e, x4_engine_due(&eng.e));
     x4_engine_fire(&eng.e, x4_engine_due(&eng.e) + 400);
-    EXPECT_NEAR(double(x4_engine_slack(&eng.e)), hz == 20000 ? 0.0 : double(half), 2) << hz << " Hz, late rise";
+    EXPECT_NEAR(double(x4_engine_slack(&eng.e)), hz == 20000 ? 0.0 : double(half), 2)
+        << hz << " Hz, late rise";
   }
 }
 
