@@ -66,6 +66,18 @@ struct x4_port {
 	u64 moves_ended;
 
 	struct x4step_timing timing; /* lateness of the timer, under slock */
+	/*
+	 * The on-time edges (x4step_port.c): when the timer was armed for,
+	 * and whether early (for an edge without slack); the timer's usual
+	 * lateness; the shortest port write seen (from the end of a wait
+	 * to after the write; 0: none yet) of a write that clears bits only
+	 * and of one that sets bits (write_kind: the last write's).
+	 */
+	ktime_t armed;
+	bool armed_early;
+	u8 write_kind;
+	u32 late_est_ns;
+	u32 write_ns[2];
 	/* A goto is planned on a copy of the engine, outside slock (lock). */
 	struct x4_engine plan_eng;
 	struct x4_goto plan_goto;

@@ -7,6 +7,15 @@
  * the other CPUs' interrupts get the lock and the CPU in between. What a
  * late callback leaves over fires in the next one; the engine keeps every
  * pulse and space at its minimum whatever the lateness.
+ *
+ * An edge whose pulse or space has less slack than the timer's usual
+ * lateness (x4_engine_slack(); the X4Step API's 20 kHz with 25 us pulse
+ * and space has none) would move the rest of its move at every late
+ * timer. Such an edge is placed as drivers/pps/generators/pps_gen_parport.c
+ * places its edges: the timer is armed early by the lateness it usually
+ * has, the callback lets the engine work the edge out as if on time, then
+ * waits on the clock for the edge's time, at most X4_SPIN_MAX_NS, and
+ * writes it at once.
  */
 #define pr_fmt(fmt) KBUILD_MODNAME ": " fmt
 
@@ -24,10 +33,17 @@
 /*
  * The fall of a configured clock pulse due this soon after its rise is
  * waited for in the callback instead of re-arming the timer, so that the
- * pulse lasts what was asked (the timer's jitter is of this order). No
- * other event is waited for.
+ * pulse lasts what was asked (the timer's jitter is of this order).
  */
 #define X4_SPIN_NS 10000
+/*
+ * An edge without slack is waited for at most this long; its timer is
+ * armed early by the estimated lateness plus X4_EARLY_NS, up to this. The
+ * estimate follows a later timer at once and an earlier one by a quarter
+ * of the difference per callback (pps_gen_parport.c's rule).
+ */
+#define X4_SPIN_MAX_NS 5000
+#define X4_EARLY_NS 300
 /*
  * The most events, and about the longest time, of one timer callback; one
  * that stops with more due gives the CPU back for X4_TICK_GAP_NS first
@@ -78,6 +94,7 @@ void x4_port_write_locked(struct x4_port *x4)
 		return;
 	if (x4->eng.mode == X4_MODE_CLOCK_DIR)
 		data ^= x4->data_invert;
+	x4->write_kind = !!(data & ~x4->data_written);
 	if (data != x4->data_written || !x4->written_valid)
 		port->ops->write_data(port, data);
 	if (ctl != x4->ctl_written || !x4->written_valid)
@@ -87,10 +104,19 @@ void x4_port_write_locked(struct x4_port *x4)
 	x4->written_valid = true;
 }
 
-/* Minimums count from when the write was done, not from before it. */
+/*
+ * Minimums count from when the write was done, less the shortest write
+ * of its kind seen (write_ns): a write that took its usual time counts
+ * from its start, as its edge lies at the same point of every such write;
+ * one that took longer (an NMI) from that much later. Then an edge placed
+ * on time by a wait lets the next one be on time too. The kinds: a write
+ * that sets bits (a rise) may cost the port driver more than one that
+ * clears them (x4vport counts the machine's steps at rises).
+ */
 static void x4_port_written_locked(struct x4_port *x4)
 {
-	x4_engine_written(&x4->eng, ktime_get_ns() - ktime_to_ns(x4->epoch));
+	x4_engine_written(&x4->eng, ktime_get_ns() - x4->write_ns[x4->write_kind] -
+			  ktime_to_ns(x4->epoch));
 }
 
 /*
@@ -195,23 +221,100 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 	x4_events_fired_locked(x4, c);
 }
 
-/* (Re)arm the timer for the engine's next event, not before `earliest`. */
+/*
+ * The pending event has less slack than the timer's usual lateness, with
+ * X4_EARLY_NS to spare (a rise's slack is its step before's: at the end
+ * of a ramp the step is a little shorter).
+ */
+static bool x4_tight_locked(struct x4_port *x4)
+{
+	return x4_engine_slack(&x4->eng) < x4->late_est_ns + X4_EARLY_NS;
+}
+
+/*
+ * (Re)arm the timer for the engine's next event, not before `earliest`;
+ * early for an edge without slack.
+ */
 static void x4_arm_locked(struct x4_port *x4, ktime_t earliest)
 {
 	ktime_t due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
+	u32 early = 0;
 
 	lockdep_assert_held(&x4->slock);
-	if (x4_engine_busy(&x4->eng))
-		hrtimer_start(&x4->timer, ktime_after(due, earliest) ? due : earliest,
-			      HRTIMER_MODE_ABS_HARD);
+	if (!x4_engine_busy(&x4->eng))
+		return;
+	if (x4_tight_locked(x4)) {
+		early = min_t(u32, x4->late_est_ns + X4_EARLY_NS, X4_SPIN_MAX_NS);
+		due = ktime_sub_ns(due, early);
+	}
+	x4->armed_early = early && ktime_after(due, earliest);
+	x4->armed = ktime_after(due, earliest) ? due : earliest;
+	hrtimer_start(&x4->timer, x4->armed, HRTIMER_MODE_ABS_HARD);
 }
 
-/* The fall of a configured pulse shorter than the timer's jitter is next. */
-static bool x4_short_pulse_next(struct x4_port *x4, const struct x4_chan *fired,
-				ktime_t due, ktime_t now)
+/* The timer fired at `now`: how late it usually is. */
+static void x4_note_lateness_locked(struct x4_port *x4, ktime_t now)
 {
-	return x4->eng.timing.pulse_ns && x4_engine_pulse_pending(&x4->eng, fired) &&
-	       ktime_to_ns(ktime_sub(due, now)) <= X4_SPIN_NS;
+	s64 late = ktime_to_ns(ktime_sub(now, x4->armed));
+	u32 est = x4->late_est_ns;
+
+	if (late < 0)
+		late = 0;
+	if (late > U32_MAX)
+		late = U32_MAX;
+	if (late >= est)
+		x4->late_est_ns = late;
+	else
+		x4->late_est_ns = est - (est - (u32)late) / 4;
+}
+
+/*
+ * Whether the next event, due at `due` after `now`, is waited for: the
+ * fall of a configured pulse shorter than the timer's jitter, or an edge
+ * the timer was armed early for, or one as tight due within the bound.
+ */
+static bool x4_wait_next(struct x4_port *x4, const struct x4_chan *fired,
+			 ktime_t due, ktime_t now)
+{
+	s64 ahead = ktime_to_ns(ktime_sub(due, now));
+
+	if (x4->eng.timing.pulse_ns && x4_engine_pulse_pending(&x4->eng, fired) &&
+	    ahead <= X4_SPIN_NS)
+		return true;
+	return ahead <= X4_SPIN_MAX_NS && (x4->armed_early || x4_tight_locked(x4));
+}
+
+/*
+ * Fire the pending event before its time `due`: the engine works the edge
+ * out as if on time, then the wait (x4_wait_next() bounds it) ends at
+ * `due` and the write follows at once. Counted in spins and spin_ns.
+ */
+static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
+{
+	struct x4_engine *e = &x4->eng;
+	int c = e->cur - e->ch;
+	ktime_t start, now, done;
+	s64 w;
+	int k;
+
+	lockdep_assert_held(&x4->slock);
+	if (x4->claimed && x4_engine_rise_watched(e))
+		x4_engine_sense(e, x4_port_inputs_locked(x4));
+	x4_engine_fire(e, ktime_to_ns(ktime_sub(due, x4->epoch)));
+	start = ktime_get();
+	for (now = start; ktime_before(now, due); now = ktime_get())
+		cpu_relax();
+	x4_port_write_locked(x4);
+	done = ktime_get();
+	w = min_t(s64, ktime_to_ns(ktime_sub(done, now)), U32_MAX);
+	k = x4->write_kind;
+	if (!x4->write_ns[k] || w < x4->write_ns[k])
+		x4->write_ns[k] = w;
+	x4_engine_written(e, ktime_to_ns(ktime_sub(done, x4->epoch)) - x4->write_ns[k]);
+	x4_account_lateness(x4, ktime_to_ns(ktime_sub(now, due)));
+	x4->timing.spins++;
+	x4->timing.spin_ns += ktime_to_ns(ktime_sub(now, start));
+	x4_events_fired_locked(x4, c);
 }
 
 /* Wake pollers when moves ended since the last look. */
@@ -243,15 +346,23 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	if (!x4_engine_busy(e) || hrtimer_is_queued(timer))
 		goto out;
 	now = ktime_get();
+	x4_note_lateness_locked(x4, now);
 	end = ktime_add_ns(now, X4_TICK_NS);
 	for (;;) {
 		/* The armed event may have been stopped: fire what is due. */
 		due = ktime_add_ns(x4->epoch, x4_engine_due(e));
 		if (ktime_after(due, now)) {
-			if (!x4_short_pulse_next(x4, fired, due, now))
+			if (n >= X4_TICK_EVENTS || ktime_after(now, end) ||
+			    !x4_wait_next(x4, fired, due, now))
 				break;
-			while (ktime_before(now = ktime_get(), due))
-				cpu_relax();
+			x4->armed_early = false;
+			fired = e->cur;
+			x4_fire_on_time_locked(x4, due);
+			n++;
+			if (!x4_engine_busy(e))
+				break;
+			now = ktime_get();
+			continue;
 		} else if (n >= X4_TICK_EVENTS || ktime_after(now, end)) {
 			/* More is due: the next callback, after a gap. */
 			x4->timing.capped++;

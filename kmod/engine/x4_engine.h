@@ -192,6 +192,7 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop);
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high);
 void x4_engine_fire(struct x4_engine *e, u64 now_ns);
 void x4_engine_written(struct x4_engine *e, u64 t_ns);
+u64 x4_engine_slack(const struct x4_engine *e);
 
 int x4_engine_set_profile(struct x4_engine *e, s32 axis,
 			  const struct x4_profile *p);

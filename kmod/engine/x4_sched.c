@@ -795,6 +795,37 @@ void x4_engine_written(struct x4_engine *e, u64 t_ns)
 }
 
 /*
+ * How late the pending event may fire before the rest of its channel's
+ * schedule moves (keep_min()): a step's clock edge whose pulse or space
+ * is at its minimum has none, and a late timer then makes the whole move
+ * slower. The glue arms its timer early for such an edge and waits out
+ * the rest (x4step_port.c). A rise's slack spans its step: its pulse
+ * and the space after it, as the step before them had them; a fall's,
+ * the space before the next step's rise. Other events move nothing that
+ * follows: X4_NO_STEP.
+ */
+u64 x4_engine_slack(const struct x4_engine *e)
+{
+	const struct x4_chan *c = e->cur;
+	u64 next, need;
+
+	if (x4_phase_mode(e) || !c->n)
+		return X4_NO_STEP; /* no pulse; the first step has no before */
+	if (c->phase == X4_RISE) {
+		next = 2 * c->half_ns;
+		need = c->high_min + c->space_min;
+	} else if (c->phase == X4_FALL) {
+		next = c->origin + c->t_cur + 2 * c->half_ns;
+		if (c->n < c->run.last)
+			next = c->origin + c->t_next;
+		need = c->t_pending + c->space_min;
+	} else {
+		return X4_NO_STEP;
+	}
+	return next > need ? next - need : 0;
+}
+
+/*
  * Emergency stop of channel c: no further step, its clocks drop now, its
  * axes lose their synchronization. The caller writes the port, then fires
  * what x4_engine_busy() still has.

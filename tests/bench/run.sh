@@ -149,6 +149,15 @@ X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t speed >/dev/null 2>&1 ||
 cat "$qout"/6.1.*/speed/console.log | tr -d '\r' | grep -E '^ceiling' |
 	sed -E 's/^ceiling //; s/ \(planned ([0-9]+), minimum ([0-9]+)\)/ (min \2)/; s/, [0-9]+ capped, [0-9]+ shifts//'
 
+# The X4Step API's top rate on time (issue 28, item 10): the cruise period
+# of 20 kHz with 25 us pulse and space, and the bounded waits that place its
+# edges (X4STEP_GET_TIMING spins, spin_ns) with their CPU cost; 19 to 5 kHz
+# beside it (tests/guest/ontime_test.cpp).
+echo
+echo "== module: 20 kHz on time, cruise period and the spin's CPU cost (QEMU -icount, Debian 6.1)"
+X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t ontime >/dev/null 2>&1 || echo "(the ontime run failed: see $qout)"
+cat "$qout"/6.1.*/ontime/console.log | tr -d '\r' | grep -E '^ontime [0-9]'
+
 # Paths in the module (issue 18): the rate at which 20-step segments are
 # taken from a streaming writer, 5000/s asked for (tests/guest/path_test.cpp).
 echo

@@ -41,6 +41,7 @@ finish() { # wait for every job; fail if one did
 job $cxx -I"$top/include/uapi" -o "$out/module_test" "$top/tests/guest/module_test.cpp"
 job $cxx -I"$top/include/uapi" -o "$out/keys_test" "$top/tests/guest/keys_test.cpp"
 job $cxx -I"$top/include/uapi" -o "$out/discipline_test" "$top/tests/guest/discipline_test.cpp"
+job $cxx -I"$top/include/uapi" -o "$out/ontime_test" "$top/tests/guest/ontime_test.cpp"
 job $cxx -pthread -I"$top/include/uapi" -o "$out/reliability_test" "$top/tests/guest/reliability_test.cpp"
 job $cxx -pthread -I"$top/include/uapi" -o "$out/events_test" "$top/tests/guest/events_test.cpp"
 job $cxx -I"$top/include/uapi" -o "$out/config_test" "$top/tests/guest/config_test.cpp"

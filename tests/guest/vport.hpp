@@ -20,9 +20,9 @@ namespace guest {
 inline const std::string kV = "/sys/kernel/debug/x4vport/";
 
 // The clock of each axis in the trace since the last clear: its rising
-// edges, and its shortest high and low times.
+// and falling edges, and its shortest high and low times.
 struct Clock {
-  std::vector<uint64_t> rises;
+  std::vector<uint64_t> rises, falls;
   uint64_t min_high = UINT64_MAX, min_low = UINT64_MAX;
 };
 
@@ -45,6 +45,7 @@ inline std::array<Clock, 4> Clocks() {
           c[a].rises.push_back(t);
         } else {
           c[a].min_high = std::min<uint64_t>(c[a].min_high, t - last[a]);
+          c[a].falls.push_back(t);
         }
         last[a] = t;
       }

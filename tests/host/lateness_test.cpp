@@ -186,6 +186,67 @@ TEST(Lateness, JitterAt20kHzShiftsAndKeeps25us) {
   EXPECT_GT(eng.e.shifts, 0u);
 }
 
+// The slack of the pending edge (x4_engine_slack()): how late it may fire
+// before the rest of the schedule moves. At the X4Step API's top rate,
+// 20 kHz with 25 us high and low, there is none; at 19 kHz a fall has
+// half of the 2.6 us a step has over 50 us, a rise all of it. The module
+// arms its timer early for an edge with less slack than its lateness.
+TEST(Lateness, SlackOfThePendingEdge) {
+  for (const int hz : {20000, 19000}) {
+    Eng eng;
+    eng.Start(Move(4000, 0, 0, 0, hz, 50));
+    EXPECT_EQ(x4_engine_slack(&eng.e), X4_NO_STEP) << "SETUP moves nothing that follows";
+    x4_engine_fire(&eng.e, x4_engine_due(&eng.e));
+    EXPECT_EQ(x4_engine_slack(&eng.e), X4_NO_STEP) << "the first step has no step before it";
+    while (eng.e.ch[0].n < 2000) x4_engine_fire(&eng.e, x4_engine_due(&eng.e));
+    const uint64_t half = 500'000'000 / hz - 25000;  // of a cruise half period over 25 us
+    ASSERT_EQ(eng.e.ch[0].phase, X4_RISE);
+    EXPECT_NEAR(double(x4_engine_slack(&eng.e)), 2.0 * half, 2) << hz << " Hz, a rise";
+    x4_engine_fire(&eng.e, x4_engine_due(&eng.e));
+    ASSERT_EQ(eng.e.ch[0].phase, X4_FALL);
+    EXPECT_NEAR(double(x4_engine_slack(&eng.e)), double(half), 2) << hz << " Hz, a fall";
+    // A rise 400 ns late: at 20 kHz its fall comes 400 ns late, with no
+    // slack left (never less than none); at 19 kHz its pulse absorbs it.
+    x4_engine_fire(&eng.e, x4_engine_due(&eng.e));
+    x4_engine_fire(&eng.e, x4_engine_due(&eng.e) + 400);
+    EXPECT_NEAR(double(x4_engine_slack(&eng.e)), hz == 20000 ? 0.0 : double(half), 2)
+        << hz << " Hz, late rise";
+  }
+}
+
+// The module's on-time edges, as the engine sees them: the timer is 600 ns
+// late, but an edge with less slack than that (and 300 ns to spare) is
+// fired and written at its time (the glue armed early and waited). Then 20 kHz keeps its plan to
+// the nanosecond with 25 us high and low; 19 kHz, with slack, is late by
+// the 600 ns and never shifted either.
+TEST(Lateness, EdgesWithoutSlackFiredOnTimeKeepThePlan) {
+  for (const int hz : {20000, 19000}) {
+    Eng eng;
+    eng.Start(Move(3000, 0, 0, 0, hz, 50));
+    std::vector<x4_event> ev;
+    int on_time = 0;
+    while (x4_engine_busy(&eng.e)) {
+      const bool tight = x4_engine_slack(&eng.e) < 600 + 300;  // x4_tight_locked()
+      const uint64_t now = x4_engine_due(&eng.e) + (tight ? 0 : 600);
+      on_time += tight;
+      x4_engine_fire(&eng.e, now);
+      x4_engine_written(&eng.e, now);
+      ev.push_back({now, eng.e.data, eng.e.ctl});
+    }
+    const Pulses p = PulsesOf(ev, 0);
+    ASSERT_EQ(p.rises.size(), 3000u);
+    ExpectMinimums(p, X4_CLOCK_MIN_NS, X4_CLOCK_MIN_NS);
+    EXPECT_EQ(eng.e.shifts, 0u) << hz << " Hz";
+    const uint64_t period = 1'000'000'000 / hz;
+    for (size_t n = 1000; n < 2000; n++)
+      ASSERT_NEAR(double(p.rises[n + 1] - p.rises[n]), double(period), 1) << hz << " Hz, step " << n;
+    if (hz == 20000)
+      EXPECT_GT(on_time, 4000) << "the cruise's edges have no slack";
+    else
+      EXPECT_EQ(on_time, 0) << "19 kHz has slack at every edge";
+  }
+}
+
 // The port write comes a little after the time the engine was given (the
 // step's computation, the port's own delay): minimums count from the write.
 TEST(Lateness, MinimumsCountFromTheWrite) {

@@ -53,6 +53,7 @@ tests=(
 	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko||30"
 	"speed|tests/guest/speed.sh|$g/speed_bench|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko||48"
 	"discipline|tests/guest/discipline.sh|$g/discipline_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko||35"
+	"ontime|tests/guest/ontime.sh|$g/ontime_test|--icount --module @KOUT@/src/tests/kmod/x4vport.ko||20"
 	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh|45"
 	"brake|tests/guest/brake.sh|$g/brake_test|--icount --module @KOUT@/src/tests/kmod/x4vport.ko||20"
 	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko||20"

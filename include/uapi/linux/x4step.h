@@ -204,6 +204,11 @@ struct x4step_step_timing {
  * move's schedule moves later, counted in `shifts` and `shifted_ns`.
  * A timer callback fires at most a few events, for at most about 20 us,
  * then re-arms: `capped` counts the callbacks that stopped at that limit.
+ * An edge with less slack than the timer's usual lateness (at 20 kHz with
+ * 25 us pulse and space: none) has its timer armed early by that lateness,
+ * and the callback waits out the rest, at most a few microseconds, with
+ * interrupts off: `spins` counts those edges and `spin_ns` the time spent
+ * waiting (zero from modules before this, which had reserved fields here).
  */
 #define X4STEP_TIMING_BUCKETS 512
 #define X4STEP_TIMING_BUCKET_NS 64
@@ -218,7 +223,9 @@ struct x4step_timing {
 	__u64 capped;
 	__u64 shifts;
 	__u64 shifted_ns;
-	__u64 reserved3[4];
+	__u64 spins; /* edges placed by a bounded wait in the callback */
+	__u64 spin_ns; /* time spent in those waits */
+	__u64 reserved3[2];
 };
 
 /*
