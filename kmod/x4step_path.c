@@ -165,8 +165,12 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 	if (count % sizeof(rec[0]))
 		return -EINVAL;
 	/* One write() at a time: its records go in one piece. */
-	if (mutex_lock_interruptible(&x4->path_write_lock))
+	if (file->f_flags & O_NONBLOCK) {
+		if (!mutex_trylock(&x4->path_write_lock))
+			return -EAGAIN;
+	} else if (mutex_lock_interruptible(&x4->path_write_lock)) {
 		return -ERESTARTSYS;
+	}
 	if (mutex_lock_interruptible(&x4->lock)) {
 		mutex_unlock(&x4->path_write_lock);
 		return -ERESTARTSYS;
@@ -179,9 +183,9 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 		if (done) { /* between chunks: the controller's ioctls */
 			mutex_unlock(&x4->lock);
 			cond_resched();
-			if (mutex_lock_interruptible(&x4->lock))
-				goto out_unlocked;
-			if (x4->gone)
+			/* not interruptible: the pass below needs the lock */
+			mutex_lock(&x4->lock);
+			if (x4->gone || signal_pending(current))
 				break;
 		}
 		if (x4_path_flushed(x4)) {

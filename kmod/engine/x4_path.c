@@ -584,6 +584,15 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 			return false;
 		}
 		start_segment(e, c, v);
+		/*
+		 * A hold's brake that ends at the junction into a segment
+		 * with a longer leader step enters it at 0 steps/s (rounded
+		 * down): it stands held at that segment's start.
+		 */
+		if (pa->state == X4_PATH_HOLDING && !pa->v_end) {
+			pa->rest = X4_REST_HELD;
+			return false;
+		}
 		if (!x4_phase_mode(e))
 			c->dir_fresh = x4_dir_changes(e, &c->run);
 	} else if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
@@ -754,10 +763,13 @@ int x4_path_hold(struct x4_engine *e, bool abort)
 	struct x4_path *pa = &e->path;
 
 	switch (pa->state) {
-	case X4_PATH_IDLE: /* segments queued, not started yet: flushed */
-		if (!abort || pa->head == x4_load_acquire(&pa->tail))
+	case X4_PATH_IDLE: /* segments queued, not started yet */
+		if (pa->head == x4_load_acquire(&pa->tail))
 			return X4_ERR_NOT_ACTIVE;
-		flush(e);
+		if (abort)
+			flush(e);
+		else /* a writer's kick does not start it, a resume does */
+			pa->state = X4_PATH_HELD; /* before its start */
 		return X4_OK;
 	case X4_PATH_HELD:
 		if (abort)

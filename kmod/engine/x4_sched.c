@@ -846,9 +846,13 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 	int ret = X4_ERR_NOT_ACTIVE;
 	int i;
 
-	/* A path at rest (held, or queued): a stop flushes it. */
-	if (stop && !e->ch[0].path && x4_path_active(e) && axes & x4_mode_axes(e))
-		ret = x4_path_hold(e, true);
+	/*
+	 * A path at rest (held, or queued): a stop flushes it; a brake holds
+	 * a queued one that has not started yet.
+	 */
+	if ((stop || e->path.state == X4_PATH_IDLE) && !e->ch[0].path &&
+	    x4_path_active(e) && axes & x4_mode_axes(e))
+		ret = x4_path_hold(e, stop);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 

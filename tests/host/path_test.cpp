@@ -725,6 +725,56 @@ TEST(PathRun, PushWhileADryPathEnds) {
 }
 
 // A hold before the first step, then a resume: the path runs.
+// A hold whose brake ends right at a junction into a segment with a
+// longer leader step (in path units): the entry there rounds down to 0
+// steps/s. The path must stand HELD at the segment's start, not plan a
+// cruise at 0 steps/s (a division by zero in the timer), and a resume
+// must run it to its end.
+TEST(PathHold, BrakeEndingAtACoarserSegmentsStart) {
+  Path p;
+  ASSERT_EQ(p.Push(Seg(400, 0, 0, 0, 400, 4000, 2000, 0)), X4_OK);
+  ASSERT_EQ(p.Push(Seg(100, 0, 0, 0, 300, 4000, 2000, 2)), X4_OK);
+  Recording r;
+  record(p.e, r, 516);
+  ASSERT_EQ(x4_path_hold(&p.e, false), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+  const uint64_t held_at = r.events.back().t_ns;
+  ASSERT_EQ(x4_path_resume(&p.e, held_at + 100000000), X4_OK);
+  record(p.e, r);
+  EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+  p.ExpectAtTarget();
+  p.ExpectPinsAtTarget(r);
+}
+
+// A hold or a brake that comes while a write() has queued segments but not
+// yet started them (the module's halts do not wait for the writer): the
+// path stands HELD, the writer's kick does not start it, a resume does.
+TEST(PathHold, HoldOrBrakeOfAQueuedPathBeforeItsStart) {
+  for (bool brake : {false, true}) {
+    SCOPED_TRACE(brake ? "brake" : "hold");
+    Path p;
+    const x4_segment s = Seg(300, 0, 0, 0, 300, 4000, 20000, 0);
+    ASSERT_EQ(x4_path_check(&p.e, &s), X4_OK);
+    x4_path_push(&p.e, &s);  // queued; the kick comes after the chunk
+    p.sent.push_back(s);
+    p.target[0] += s.steps[0];
+    if (brake)
+      EXPECT_EQ(x4_engine_brake(&p.e), X4_OK);
+    else
+      EXPECT_EQ(x4_path_hold(&p.e, false), X4_OK);
+    EXPECT_EQ(p.Status().state, X4_PATH_HELD);
+    EXPECT_FALSE(x4_path_kick(&p.e, kStart));
+    Recording r;
+    record(p.e, r);
+    EXPECT_TRUE(r.rises[0].empty()) << "a held path moved";
+    ASSERT_EQ(x4_path_resume(&p.e, kStart + 1000000), X4_OK);
+    record(p.e, r);
+    EXPECT_EQ(p.Status().state, X4_PATH_IDLE);
+    p.ExpectAtTarget();
+  }
+}
+
 TEST(PathHold, ResumeBeforeTheFirstStep) {
   Path p;
   ASSERT_EQ(p.Push(Seg(100, 0, 0, 0, 100, 2000, 20000, 0)), X4_OK);

@@ -602,7 +602,11 @@ struct x4step_path_config {
 	__u32 reserved[2]; /* 0 */
 };
 
-#define X4STEP_PATH_HOLD 1 /* brake along the path to rest (ESRCH: none) */
+/*
+ * HOLD: brake along the path to rest; segments queued but not started yet
+ * stand HELD (a resume starts them). ESRCH: no segment queued.
+ */
+#define X4STEP_PATH_HOLD 1
 #define X4STEP_PATH_RESUME 2 /* go on from a hold */
 #define X4STEP_PATH_ABORT 3 /* hold, then flush the queue */
 #define X4STEP_PATH_CLEAR 5 /* accept segments again after a flush */
