@@ -70,8 +70,9 @@ struct x4_port {
 	 * The on-time edges (x4step_port.c): when the timer was armed for,
 	 * and whether early (for an edge without slack); the timer's usual
 	 * lateness; the shortest port write seen (from the end of a wait
-	 * to after the write; 0: none yet) of a write that clears bits only
-	 * and of one that sets bits (write_kind: the last write's).
+	 * to after the write; U32_MAX: none yet) of a write that clears a
+	 * clock bit and of one that sets one (write_kind: the last write's,
+	 * X4_WRITE_NONE if it changed no clock bit).
 	 */
 	ktime_t armed;
 	bool armed_early;

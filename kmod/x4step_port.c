@@ -45,6 +45,18 @@
 #define X4_SPIN_MAX_NS 5000
 #define X4_EARLY_NS 300
 /*
+ * The most clock reads of one wait, in case the clock does not advance
+ * with interrupts off. A read and cpu_relax() take well over 1 ns on any
+ * machine, so this is more than 16 us, above the longest wait
+ * (X4_SPIN_NS): a wait that stops here has lasted past its time, and the
+ * edge it writes then is late, never early.
+ */
+#define X4_SPIN_READS 16384
+/* The kinds of port write (write_kind): a clock edge written or none. */
+#define X4_WRITE_FALL 0
+#define X4_WRITE_RISE 1
+#define X4_WRITE_NONE 2
+/*
  * The most events, and about the longest time, of one timer callback; one
  * that stops with more due gives the CPU back for X4_TICK_GAP_NS first
  * (re-armed in the past, the hrtimer core would run it again at once).
@@ -88,13 +100,21 @@ void x4_port_write_locked(struct x4_port *x4)
 	struct parport *port = x4->port;
 	u8 data = x4->eng.data;
 	u8 ctl = x4->eng.ctl ^ X4_CTL_HW_INVERT;
+	u8 clk;
 
 	lockdep_assert_held(&x4->slock);
+	x4->write_kind = X4_WRITE_NONE;
 	if (!x4->claimed)
 		return;
 	if (x4->eng.mode == X4_MODE_CLOCK_DIR)
 		data ^= x4->data_invert;
-	x4->write_kind = !!(data & ~x4->data_written);
+	/*
+	 * Only a write that changes a clock bit of known registers is an
+	 * edge; one that sets a clock bit is a rise, whatever else changes.
+	 */
+	clk = (data ^ x4->data_written) & X4_CLK_MASK;
+	if (clk && x4->written_valid)
+		x4->write_kind = data & clk ? X4_WRITE_RISE : X4_WRITE_FALL;
 	if (data != x4->data_written || !x4->written_valid)
 		port->ops->write_data(port, data);
 	if (ctl != x4->ctl_written || !x4->written_valid)
@@ -111,11 +131,23 @@ void x4_port_write_locked(struct x4_port *x4)
  * one that took longer (an NMI) from that much later. Then an edge placed
  * on time by a wait lets the next one be on time too. The kinds: a write
  * that sets bits (a rise) may cost the port driver more than one that
- * clears them (x4vport counts the machine's steps at rises).
+ * clears them (x4vport counts the machine's steps at rises). A write
+ * that was no clock edge, or one of a kind not measured yet, counts from
+ * its end: later, never earlier.
  */
+static u32 x4_write_base(const struct x4_port *x4)
+{
+	u32 w;
+
+	if (x4->write_kind == X4_WRITE_NONE)
+		return 0;
+	w = x4->write_ns[x4->write_kind];
+	return w == U32_MAX ? 0 : w;
+}
+
 static void x4_port_written_locked(struct x4_port *x4)
 {
-	x4_engine_written(&x4->eng, ktime_get_ns() - x4->write_ns[x4->write_kind] -
+	x4_engine_written(&x4->eng, ktime_get_ns() - x4_write_base(x4) -
 			  ktime_to_ns(x4->epoch));
 }
 
@@ -228,8 +260,13 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
  */
 static bool x4_tight_locked(struct x4_port *x4)
 {
-	return x4_engine_slack(&x4->eng) < x4->late_est_ns + X4_EARLY_NS;
+	return x4_engine_slack(&x4->eng) < (u64)x4->late_est_ns + X4_EARLY_NS;
 }
+
+/* ontime_spin: edges without slack are armed early and waited for. */
+static bool ontime_spin = true;
+module_param(ontime_spin, bool, 0644);
+MODULE_PARM_DESC(ontime_spin, "arm the timer early and wait with interrupts off for edges without slack (default 1, 0: no such waits, those edges are as late as the timer)");
 
 /*
  * (Re)arm the timer for the engine's next event, not before `earliest`;
@@ -238,13 +275,19 @@ static bool x4_tight_locked(struct x4_port *x4)
 static void x4_arm_locked(struct x4_port *x4, ktime_t earliest)
 {
 	ktime_t due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
-	u32 early = 0;
+	u64 early = 0;
 
 	lockdep_assert_held(&x4->slock);
 	if (!x4_engine_busy(&x4->eng))
 		return;
-	if (x4_tight_locked(x4)) {
-		early = min_t(u32, x4->late_est_ns + X4_EARLY_NS, X4_SPIN_MAX_NS);
+	/*
+	 * Beyond X4_SPIN_MAX_NS of lateness the wait cannot place the edge
+	 * (x4_wait_next()): arming early would only cost a callback.
+	 */
+	if (READ_ONCE(ontime_spin) && x4_tight_locked(x4)) {
+		early = (u64)x4->late_est_ns + X4_EARLY_NS;
+		if (early > X4_SPIN_MAX_NS)
+			early = 0;
 		due = ktime_sub_ns(due, early);
 	}
 	x4->armed_early = early && ktime_after(due, earliest);
@@ -281,7 +324,8 @@ static bool x4_wait_next(struct x4_port *x4, const struct x4_chan *fired,
 	if (x4->eng.timing.pulse_ns && x4_engine_pulse_pending(&x4->eng, fired) &&
 	    ahead <= X4_SPIN_NS)
 		return true;
-	return ahead <= X4_SPIN_MAX_NS && (x4->armed_early || x4_tight_locked(x4));
+	return ahead <= X4_SPIN_MAX_NS && READ_ONCE(ontime_spin) &&
+	       (x4->armed_early || x4_tight_locked(x4));
 }
 
 /*
@@ -293,6 +337,7 @@ static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 {
 	struct x4_engine *e = &x4->eng;
 	int c = e->cur - e->ch;
+	unsigned int reads = X4_SPIN_READS;
 	ktime_t start, now, done;
 	s64 w;
 	int k;
@@ -302,15 +347,33 @@ static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 		x4_engine_sense(e, x4_port_inputs_locked(x4));
 	x4_engine_fire(e, ktime_to_ns(ktime_sub(due, x4->epoch)));
 	start = ktime_get();
-	for (now = start; ktime_before(now, due); now = ktime_get())
+	for (now = start; ktime_before(now, due); now = ktime_get()) {
+		if (unlikely(!--reads))
+			break;
 		cpu_relax();
+	}
 	x4_port_write_locked(x4);
 	done = ktime_get();
-	w = min_t(s64, ktime_to_ns(ktime_sub(done, now)), U32_MAX);
+	if (unlikely(!reads)) {
+		/* Each such wait would cost this again: no more of them. */
+		WRITE_ONCE(ontime_spin, false);
+		pr_warn_once("the clock did not reach a wait's end in %d reads with interrupts off: ontime_spin off\n",
+			     X4_SPIN_READS);
+	}
+	/*
+	 * Learn the shortest write of each kind (U32_MAX: none yet) from
+	 * edges only. The first one may hold a delay before the pin changed,
+	 * so its edge alone may count from before the pin's change; the
+	 * baseline only decreases afterwards, so no later write counts from
+	 * earlier than its own start.
+	 */
 	k = x4->write_kind;
-	if (!x4->write_ns[k] || w < x4->write_ns[k])
-		x4->write_ns[k] = w;
-	x4_engine_written(e, ktime_to_ns(ktime_sub(done, x4->epoch)) - x4->write_ns[k]);
+	if (k != X4_WRITE_NONE) {
+		w = min_t(s64, ktime_to_ns(ktime_sub(done, now)), U32_MAX);
+		if (w < x4->write_ns[k])
+			x4->write_ns[k] = w;
+	}
+	x4_engine_written(e, ktime_to_ns(ktime_sub(done, x4->epoch)) - x4_write_base(x4));
 	x4_account_lateness(x4, ktime_to_ns(ktime_sub(now, due)));
 	x4->timing.spins++;
 	x4->timing.spin_ns += ktime_to_ns(ktime_sub(now, start));
@@ -416,6 +479,9 @@ void x4_port_init(struct x4_port *x4)
 	if (x4_engine_configure(&x4->eng, &t, X4_MODE_CLOCK_DIR))
 		pr_warn("step timing parameters out of range (1000..1000000 ns), using the defaults\n");
 	x4->eng.budget = write_budget;
+	x4->write_kind = X4_WRITE_NONE;
+	x4->write_ns[X4_WRITE_FALL] = U32_MAX;
+	x4->write_ns[X4_WRITE_RISE] = U32_MAX;
 	init_waitqueue_head(&x4->wait);
 	init_irq_work(&x4->wake_work, x4_wake);
 	x4_hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
