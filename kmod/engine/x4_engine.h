@@ -39,7 +39,7 @@
 /*
  * Port writes per second that the moves of one port may need together,
  * by default (x4_engine.budget): a leader step is two writes (clock up and
- * down), a phase-mode step one per motor. See the README for where the
+ * down), a phase-mode step one per motor. See docs/timing.md for where the
  * figure comes from.
  */
 #define X4_WRITE_BUDGET 200000u

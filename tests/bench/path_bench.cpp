@@ -134,7 +134,7 @@ int leader_of(const x4_segment &g) {
 // segment before could reach of that, and runs a trapezoid: up from its
 // entry, cruise at its top speed, down to the next one's entry. Speeds in
 // path units/s; `whole`: every leader speed rounded down to whole steps/s
-// (README: leader speeds are whole steps/s), else exact.
+// (docs/motion.md: leader speeds are whole steps/s), else exact.
 struct RefSegment {
   double t0;          // s, when it starts (at its step 0, the last one before)
   double u;           // path units per leader step

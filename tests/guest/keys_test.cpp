@@ -207,7 +207,7 @@ int main() {
 
   // A process that grabs the keyboard (EVIOCGRAB) takes its keys, ESC too,
   // away from x4step's handler: the input core then delivers to the grab
-  // only. Documented in the README (Brake keys).
+  // only. Documented in docs/interface.md (Brake keys).
   Endless(fd);
   Check(kb.Grab(true), "EVIOCGRAB of the test keyboard");
   kb.Key(KEY_ESC, 1);

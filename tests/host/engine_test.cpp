@@ -267,7 +267,7 @@ void ExpectMirroredRamps(const Plateau &p, int32_t len) {
 
 TEST(Profile, ShortMoveKeepsPlateau) {
   // Moves too short to reach their frequency run X4_PLATEAU_STEPS steps at
-  // constant speed between mirrored ramps (README, "Motion, in short"): 101
+  // constant speed between mirrored ramps (docs/motion.md, "Interpolated moves and ramps"): 101
   // steps are 48 up, 4 at constant speed, 48 down; 21 steps 8, 4, 8.
   for (int32_t len : {101, 21}) {
     const Plateau p = PlateauOf(len);
