@@ -107,7 +107,9 @@ echo "== G-code interpreter and planner: 100 000 lines of arc-heavy CAM output (
 if "$build/tests/gcode_bench" tests/gcode/cam/fusion360-linuxcnc.ngc 100000 "$tmp/arcs"; then
 	/usr/bin/time -f '%e s %U %M' "$build/tools/x4ctl/x4ctl" gcode --machine "$tmp/arcs.ini" --check "$tmp/arcs.ngc" \
 		>"$tmp/check.out" 2>"$tmp/check.time" || cat "$tmp/check.time"
-	read -r secs _ user kb <"$tmp/check.time" || true
+	# The last line is /usr/bin/time's, after the program's warnings.
+	tail -n 1 "$tmp/check.time" >"$tmp/check.last"
+	read -r secs _ user kb <"$tmp/check.last" || true
 	echo "x4ctl gcode --check: ${secs:-?} s, ${user:-?} s of CPU (goal < 1 s), peak memory ${kb:-?} kB: $(head -n1 "$tmp/check.out")"
 	"$build/tests/gcode_bench" tests/gcode/cam/fusion360-linuxcnc.ngc 10000 "$tmp/arcs10k" >/dev/null
 	valgrind --tool=callgrind --callgrind-out-file="$tmp/arcs.cg" "$build/tools/x4ctl/x4ctl" gcode \
