@@ -13,6 +13,7 @@
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 #if __has_include("x4step.hpp")  // programs built against the library
@@ -48,6 +49,18 @@ inline bool timing_checks = true;
 inline void CheckTiming(bool ok, const std::string &what) {
   if (timing_checks) return Check(ok, what);
   std::printf("SKIP %s [%s; not checked on a debug kernel]\n", what.c_str(), ok ? "held" : "did not hold");
+}
+
+// A guest test's arguments: none, or --no-timing (on a debug kernel) to
+// turn the timing checks off. False, after a usage line, on anything else.
+inline bool TimingArgs(int argc, char **argv, const char *program) {
+  if (argc == 2 && std::strcmp(argv[1], "--no-timing") == 0) {
+    timing_checks = false;
+    return true;
+  }
+  if (argc == 1) return true;
+  std::fprintf(stderr, "usage: %s [--no-timing]\n", program);
+  return false;
 }
 
 // Wait until a controller may open the device: poll() on a read-only

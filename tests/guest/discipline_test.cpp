@@ -270,7 +270,7 @@ void MonitorDoesNotReset(const std::string &dev) {
 int main(int argc, char **argv) {
   setvbuf(stdout, nullptr, _IOLBF, 0);
   // A debug kernel's timer and ioctls are too slow for the 1 ms and 5 ms checks.
-  if (argc > 1 && std::strcmp(argv[1], "--no-timing") == 0) guest::timing_checks = false;
+  if (!guest::TimingArgs(argc, argv, "discipline_test")) return 2;
   const int port = guest::VportNumber();
   if (port < 0) return guest::Finish("discipline_test");
   const std::string dev = "/dev/x4step" + std::to_string(port);

@@ -110,7 +110,7 @@ void Rate(int hz, int steps, bool strict) {
 
 int main(int argc, char **argv) {
   setvbuf(stdout, nullptr, _IOLBF, 0);
-  if (argc > 1 && std::strcmp(argv[1], "--no-timing") == 0) guest::timing_checks = false;
+  if (!guest::TimingArgs(argc, argv, "ontime_test")) return 2;
   const int port = guest::VportNumber();
   if (port < 0) return guest::Finish("ontime_test");
   const std::string dev = "/dev/x4step" + std::to_string(port);

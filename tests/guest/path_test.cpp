@@ -1640,12 +1640,7 @@ void TestOutside() {
 
 int main(int argc, char **argv) {
   setvbuf(stdout, nullptr, _IOLBF, 0);
-  if (argc == 2 && std::strcmp(argv[1], "--no-timing") == 0) {
-    guest::timing_checks = false;
-  } else if (argc != 1) {
-    std::fprintf(stderr, "usage: path_test [--no-timing]\n");
-    return 2;
-  }
+  if (!guest::TimingArgs(argc, argv, "path_test")) return 2;
   const int port = guest::VportNumber();
   if (port < 0) return guest::Finish("path_test");
   dev = "/dev/x4step" + std::to_string(port);

@@ -856,12 +856,7 @@ void TestOutside() {
 
 int main(int argc, char **argv) {
   setvbuf(stdout, nullptr, _IOLBF, 0);
-  if (argc == 2 && std::string(argv[1]) == "--no-timing") {
-    guest::timing_checks = false;
-  } else if (argc != 1) {
-    std::fprintf(stderr, "usage: positioning_test [--no-timing]\n");
-    return 2;
-  }
+  if (!guest::TimingArgs(argc, argv, "positioning_test")) return 2;
   const int port = guest::VportNumber();
   if (port < 0) return guest::Finish("positioning_test");
   const std::string dev = "/dev/x4step" + std::to_string(port);
