@@ -138,7 +138,7 @@ f = p.wait(lambda f: "state: idle" in f)
 check("the terminal is in raw mode while the panel runs", not p.canonical())
 check("the panel shows its machine, axes, feed and keys",
       "x4ctl panel: " in f and axis(f, "X") == (0, 0) and "not homed" in f and "feed F200 mm/min" in f
-      and "jog step: continuous" in f and "z or 0: work zero here (this session only)" in f, f)
+      and "jog step: while held" in f and "z or 0: work zero here (this session only)" in f, f)
 p.send("h")
 f = p.wait(lambda f: "state: idle" in f and "home: done" in f)
 check("h homes: X3 Y1 Z-1, homed", axis(f, "X") == (3, 3) and axis(f, "Y") == (1, 1) and
@@ -156,10 +156,13 @@ p.send("\x1b[A")
 f = p.wait(idle_at("Y", 1.01))
 check("i i, Up: Y by 0.01 mm", axis(f, "Y") == (1.01, 1.01), f)
 p.send("i")
-f = p.wait(lambda f: "jog step: continuous" in f)
+f = p.wait(lambda f: "jog step: while held" in f)
+p.send("c")
+f = p.wait(lambda f: "jog step: to the soft limit (next jog only)" in f)
 p.send("\x1b[6~")
 f = p.wait(idle_at("Z", -30))
-check("i (continuous), PgDn: Z to its soft limit MIN_LIMIT -30", axis(f, "Z") == (-30, -30), f)
+check("i (while held), c, PgDn: Z to its soft limit MIN_LIMIT -30, then while held again",
+      axis(f, "Z") == (-30, -30) and "jog step: while held" in f, f)
 p.send("]")
 f = p.wait(lambda f: "no A axis" in f)
 check("]: the machine has no A axis, said", "A+: the machine has no A axis" in f, f)
@@ -211,7 +214,7 @@ check("the motors stand there: X -199 + 160 = -39, Y 599 - 1002 = -403, Z 499 - 
 vcd = os.path.join(tmp, "sigint.vcd")
 p = Panel(vcd, {}, ["--feed", "60"])
 p.wait(lambda f: "state: idle" in f)
-p.send("\x1b[C")
+p.send("c\x1b[C")
 f = p.wait(lambda f: "state: jog X+" in f and axis(f, "X")[1] > 0.2)
 os.kill(p.pid, signal.SIGINT)
 out = p.finish()
@@ -234,7 +237,7 @@ p.wait(lambda f: "state: idle" in f)
 # X+ (100 mm, 100 s of this real-time jog to the limit), not X- (5 mm): the
 # key must brake short of the limit, and on a loaded host it may come
 # seconds late.
-p.send("\x1b[C")
+p.send("c\x1b[C")
 f = p.wait(lambda f: "state: jog X+" in f and axis(f, "X")[1] > 0.2)
 p.send("x")
 f = p.wait(lambda f: "state: idle" in f and "braked" in f)
@@ -246,6 +249,44 @@ out = p.finish()
 steps = vcd_steps(vcd)
 check("and the motor stands where the panel says (%s steps)" % steps[0],
       p.status == 0 and steps[0] == round(x * 160), repr(steps))
+
+# --- real time: a jog while the key is held -------------------------------------------
+# A terminal sends a held key again and again (auto-repeat): here every 40 ms
+# for 1.5 s. The jog goes on while they come and brakes once they stop; it
+# never runs on to the limit (X 100: 100 s at 1 mm/s). How far it gets
+# depends on the host's speed, so only that bound is checked.
+vcd = os.path.join(tmp, "held.vcd")
+p = Panel(vcd, {}, ["--feed", "60"])
+p.wait(lambda f: "state: idle" in f)
+end = time.time() + 1.5
+while time.time() < end:
+    p.send("\x1b[C")
+    p.read(0.04)
+f = p.wait(lambda f: "state: idle" in f, 30)
+x = axis(f, "X")[1] if axis(f, "X") else 0
+check("Right held (repeats for 1.5 s): X jogs while they come, stops when they end, no message",
+      "state: idle" in f and 0 < x < 100 and "braked" not in f, f)
+p.run_for(1)
+check("and stands there", axis(p.frame(), "X") == axis(f, "X"), p.frame())
+# One press: the jog waits for the terminal's repeat delay, then brakes.
+p.send("\x1b[D")
+f = p.wait(lambda f: "state: jog X-" in f)
+f = p.wait(lambda f: "state: idle" in f, 30)
+x2 = axis(f, "X")[1] if axis(f, "X") else 0
+check("Left pressed once: X jogs back a little (the repeat delay) and stops",
+      "state: idle" in f and -5 <= x2 < x and "braked" not in f, f)
+# Another key while it is held brakes it, as in every jog.
+p.send("\x1b[C")
+p.wait(lambda f: "state: jog X+" in f)
+p.send("x")
+f = p.wait(lambda f: "state: idle" in f, 30)
+check("another key while held: braked (ESC), said", "jog X+ (while held): braked (ESC)" in f, f)
+p.send("q")
+out = p.finish()
+steps = vcd_steps(vcd)
+m = re.search(r"panel: at X(-?[0-9.]+) ", out)
+check("and the motor stands where the panel says (%s steps)" % steps[0],
+      p.status == 0 and m and steps[0] == round(float(m.group(1)) * 160), repr(steps))
 
 # --- x4ctl jog on a terminal: any key brakes it too ---------------------------------------
 vcd = os.path.join(tmp, "jog.vcd")

@@ -3,6 +3,8 @@
 // from the terminal in raw mode (std_console). Idle, it waits for a key; a
 // move (jog, go to, home) is followed to its end with the screen redrawn at
 // every look and every key braking it, so that one thing moves at a time.
+// A terminal reports no key release, so a jog "while held" lasts as long as
+// the key's auto-repeat keeps coming.
 #include "panel.hpp"
 
 #include <unistd.h>
@@ -11,10 +13,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "commands.hpp"
 #include "operate.hpp"
@@ -38,7 +42,70 @@ class full_screen {
 
 // Feeds the + and - keys step through, units/min.
 constexpr double feed_steps[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000};
-constexpr int jog_steps = 4;  // continuous, then 3 increments
+constexpr int jog_steps = 4;  // while held, then 3 increments
+
+// A held key repeats after the terminal's repeat delay (250 ms on the Linux
+// console, 500-660 ms in X terminals), then 25-33 times a second: the jog
+// waits that long for the first repeat, then brakes when repeats stop.
+constexpr milliseconds first_repeat{700}, repeat_gap{100};
+
+// The console of a jog while its key is held: that key's repeats keep it
+// going, their end or any other key brakes it (as any_key_brakes does).
+class while_held : public console {
+ public:
+  while_held(std_console &inner, key held, char ch, std::function<void()> each_read)
+      : inner_(inner), held_(held), ch_(ch), each_read_(std::move(each_read)), last_(steady::now()) {}
+  std::ostream &out() override { return inner_.out(); }
+  bool live() const override { return false; }
+  bool has_keyboard() const override { return inner_.has_keyboard(); }
+  void keys_on() override { inner_.keys_on(); }
+  void keys_off() override { inner_.keys_off(); }
+  x4step::axis_set requested_axes() const override { return inner_.requested_axes(); }
+  key read_key(milliseconds timeout) override {
+    if (each_read_) each_read_();
+    const key k = inner_.read_key(timeout);
+    const steady::time_point t = steady::now();
+    if (k == held_ && inner_.last_char() == ch_) {
+      if (!let_go_) {  // a repeat that comes while it brakes starts no new jog
+        repeated_ = true;
+        last_ = t;
+      }
+      return key::none;
+    }
+    switch (k) {
+      case key::none:
+        if (!let_go_ && t - last_ > (repeated_ ? repeat_gap : first_repeat)) {
+          let_go_ = true;
+          return key::esc;
+        }
+        return k;
+      case key::interrupt:
+        interrupted_ = true;
+        return k;
+      case key::brake_request:
+      case key::stop_request:
+        return k;
+      default:
+        other_ = true;
+        return key::esc;
+    }
+  }
+  /// The jog ended because its key was let go (not braked by another key).
+  bool let_go() const { return let_go_ && !other_; }
+  bool interrupted() const { return interrupted_; }
+
+ private:
+  std_console &inner_;
+  key held_;
+  char ch_;
+  std::function<void()> each_read_;
+  steady::time_point last_;  // of the press or its latest repeat
+  bool repeated_ = false, let_go_ = false, other_ = false, interrupted_ = false;
+};
+
+// A move ended by letting go of its key was not braked by anyone: no message.
+bool held_let_go(const any_key_brakes &) { return false; }
+bool held_let_go(const while_held &keys) { return keys.let_go(); }
 
 class panel {
  public:
@@ -58,7 +125,9 @@ class panel {
 
  private:
   void draw(bool now);
-  void jog(size_t a, bool positive);
+  void jog(size_t a, bool positive, key k);
+  template <class Keys>
+  void move(const machine_targets &to, const std::string &what, Keys &keys);
   void move(const machine_targets &to, const std::string &what);
   void go_to();
   void home();
@@ -74,7 +143,8 @@ class panel {
   std_console &con_;
   g::pose offset_{};  // work offset: work = machine - offset
   double feed_ = 0, max_feed_ = 0;
-  int step_ = 0;  // index of the jog step: 0 continuous
+  int step_ = 0;  // index of the jog step: 0 while held
+  bool to_limit_ = false;  // the next jog runs to the soft limit
   std::string state_ = "idle", message_;
   bool quit_ = false;
   steady::time_point drawn_{};
@@ -116,8 +186,9 @@ void panel::draw(bool now) {
   line("state: " + state_);
   line(message_);
   line("");
-  line("Right/Left X+/X-  Up/Down Y+/Y-  PgUp/PgDn Z+/Z-  ]/[ A+/A-  i: jog step  +/-: feed");
-  line("z or 0: work zero here (this session only)  g: go to  h: home  space/ESC: stop  q: quit");
+  line("Right/Left X+/X-  Up/Down Y+/Y-  PgUp/PgDn Z+/Z-  ]/[ A+/A-");
+  line("i: jog step  c: next jog to the soft limit  +/-: feed  g: go to  h: home");
+  line("z or 0: work zero here (this session only)  space/ESC: stop  q: quit");
   o << "\x1b[J";
   con_.out() << o.str() << std::flush;
 }
@@ -129,25 +200,32 @@ double panel::increment(size_t a) const {
 }
 
 std::string panel::step_text() const {
-  if (step_ == 0) return "continuous (to the soft limit)";
+  if (to_limit_) return "to the soft limit (next jog only)";
+  if (step_ == 0) return "while held";
   std::string s = number(increment(g::X)) + " " + units_name(mc_);
   if (mc_.axes[g::A] || mc_.axes[g::B] || mc_.axes[g::C]) s += ", " + number(increment(g::A)) + " deg";
   return s;
 }
 
 void panel::move(const machine_targets &to, const std::string &what) {
-  state_ = what;
   any_key_brakes keys(con_, false, [&] { draw(false); });
+  move(to, what, keys);
+}
+
+template <class Keys>
+void panel::move(const machine_targets &to, const std::string &what, Keys &keys) {
+  state_ = what;
   const axes_outcome o = move_machine(p_, keys, mc_, to, feed_ / 60);
   state_ = "idle";
   if (keys.interrupted()) quit_ = true;
-  if (!o.halted_by.empty()) message_ = what + ": braked (" + o.halted_by + ")";
+  if (!o.halted_by.empty() && !held_let_go(keys)) message_ = what + ": braked (" + o.halted_by + ")";
   for (size_t a = 0; a < g::n_axes; a++)
     if (to[a] && o.end[motor_of(*mc_.axes[a])].error)
       message_ = what + ": " + axis_letters[a] + " " + errors_text(o.end[motor_of(*mc_.axes[a])].error);
 }
 
-void panel::jog(size_t a, bool positive) {
+void panel::jog(size_t a, bool positive, key k) {
+  const bool to_limit = std::exchange(to_limit_, false);
   const std::string name = std::string(1, axis_letters[a]) + (positive ? "+" : "-");
   if (!mc_.axes[a]) {
     message_ = name + ": the machine has no " + axis_letters[a] + " axis";
@@ -155,7 +233,8 @@ void panel::jog(size_t a, bool positive) {
   }
   const m::axis &ax = *mc_.axes[a];
   const double from = pose_of(mc_, p_.get_axes())[a], limit = jog_limit(ax, positive);
-  double to = step_ == 0 ? limit : from + (positive ? increment(a) : -increment(a));
+  const bool held = step_ == 0 && !to_limit;
+  double to = step_ == 0 || to_limit ? limit : from + (positive ? increment(a) : -increment(a));
   if (positive ? to > limit : to < limit) to = limit;  // an increment stops at the soft limit
   if (positive ? to <= from : to >= from) {
     message_ = name + ": at the soft limit " + (positive ? "MAX_LIMIT " : "MIN_LIMIT ") + number(limit);
@@ -168,7 +247,9 @@ void panel::jog(size_t a, bool positive) {
   }
   machine_targets t;
   t[a] = to;
-  move(t, "jog " + name);
+  if (!held) return move(t, "jog " + name);
+  while_held keys(con_, k, con_.last_char(), [&] { draw(false); });
+  move(t, "jog " + name + " (while held)", keys);
 }
 
 std::optional<std::string> panel::prompt(const std::string &question) {
@@ -275,15 +356,15 @@ void panel::run() {
       switch (k) {
         case key::right:
         case key::left:
-          jog(g::X, k == key::right);
+          jog(g::X, k == key::right, k);
           break;
         case key::up:
         case key::down:
-          jog(g::Y, k == key::up);
+          jog(g::Y, k == key::up, k);
           break;
         case key::page_up:
         case key::page_down:
-          jog(g::Z, k == key::page_up);
+          jog(g::Z, k == key::page_up, k);
           break;
         case key::plus:
         case key::minus:
@@ -297,10 +378,14 @@ void panel::run() {
               break;
             case ']':
             case '[':
-              jog(g::A, con_.last_char() == ']');
+              jog(g::A, con_.last_char() == ']', k);
               break;
             case 'i':
               step_ = (step_ + 1) % jog_steps;
+              to_limit_ = false;
+              break;
+            case 'c':
+              to_limit_ = !to_limit_;
               break;
             case 'z':
             case '0':
