@@ -2,6 +2,7 @@
 // The X4Step C API: a thin layer over the C++ API. Nothing is thrown
 // across it: every exception becomes the documented error code.
 #include <linux/x4step.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -116,25 +117,26 @@ void dos_state(x4step::controller &c) {
   for (x4step::axis a : x4step::axis_set::all()) c.set_profile(a, {});
 }
 
-// The simulated port refused X4STEP_SIM or one of its settings: the
-// manual's program learns only X4ErrLPTNotFound, so what to fix goes to
-// stderr, once, without the general "is x4step loaded" of the code.
-void tell_sim_refusal(const x4step::error &e) noexcept {
+// X4Init found no port: the manual's program learns only X4ErrLPTNotFound,
+// so what to fix (load the module, join group lp, the simulator's setting
+// it refused) goes to stderr, once, without the code's general "is x4step
+// loaded" where the error says more.
+void tell_init_failure(int lpt, const x4step::error &e) noexcept {
   if (e.code() != x4step::errc::lpt_not_found) return;
-  try {
-    if (!x4step::env_wants_sim()) return;
-  } catch (const x4step::error &) {
-    // a bad X4STEP_SIM: the refusal names it
-  }
   try {
     std::string text = e.what();
     const std::string general = ": " + e.code().message();
     if (text.size() > general.size() &&
         text.compare(text.size() - general.size(), general.size(), general) == 0)
       text.resize(text.size() - general.size());
-    std::fprintf(stderr, "libx4step: %s\n", text.c_str());
+    const std::string node = x4step::device_path(lpt);
+    const bool general_only = text == node || text == e.code().message();
+    if (general_only && ::access(node.c_str(), F_OK) != 0)
+      text = node + ": no such device: load the x4step module (sudo modprobe x4step), or set X4STEP_SIM=1 "
+                    "for the simulated port";
+    std::fprintf(stderr, "libx4step: X4Init(LPT%d): %s\n", lpt, text.c_str());
   } catch (...) {
-    std::fprintf(stderr, "libx4step: %s\n", e.what());
+    std::fprintf(stderr, "libx4step: X4Init(LPT%d): %s\n", lpt, e.what());
   }
 }
 
@@ -206,7 +208,7 @@ int X4Init(int lpt) {
     try {
       port.emplace(lpt);
     } catch (const x4step::error &e) {
-      tell_sim_refusal(e);
+      tell_init_failure(lpt, e);
       throw;
     }
     dos_state(*port);
