@@ -132,8 +132,9 @@ void tell_init_failure(int lpt, const x4step::error &e) noexcept {
     const std::string node = x4step::device_path(lpt);
     const bool general_only = text == node || text == e.code().message();
     if (general_only && ::access(node.c_str(), F_OK) != 0)
-      text = node + ": no such device: load the x4step module (sudo modprobe x4step), or set X4STEP_SIM=1 "
-                    "for the simulated port";
+      text = node +
+             ": no such device: load the x4step module (sudo modprobe x4step), or set X4STEP_SIM=1 "
+             "for the simulated port";
     std::fprintf(stderr, "libx4step: X4Init(LPT%d): %s\n", lpt, text.c_str());
   } catch (...) {
     std::fprintf(stderr, "libx4step: X4Init(LPT%d): %s\n", lpt, e.what());

@@ -143,7 +143,7 @@ class panel {
   std_console &con_;
   g::pose offset_{};  // work offset: work = machine - offset
   double feed_ = 0, max_feed_ = 0;
-  int step_ = 0;  // index of the jog step: 0 while held
+  int step_ = 0;           // index of the jog step: 0 while held
   bool to_limit_ = false;  // the next jog runs to the soft limit
   std::string state_ = "idle", message_;
   bool quit_ = false;
