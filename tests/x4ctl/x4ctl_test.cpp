@@ -857,9 +857,12 @@ TEST(Gcode, CheckRefusesABadMachineOrUsage) {
   const temp_file bad_machine("[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATON = 0.02\n");
   captured r = run({"gcode", "-m", bad_machine.path(), "--check", prog.path()});
   EXPECT_EQ(r.status, 2);
+  // Every mistake, a line each.
   EXPECT_EQ(r.err, "x4ctl: gcode: " + bad_machine.path() +
-                       ":3: [X4STEP] JUNCTION_DEVIATON: unknown key: [X4STEP] takes PORT, OUTPUT_MODE, "
-                       "ARC_TOLERANCE, JUNCTION_DEVIATION, SPINDLE_PIN, FLOOD_PIN and MIST_PIN\n");
+                       ": [TRAJ]: no [TRAJ] section: it needs COORDINATES and LINEAR_UNITS\n"
+                       "x4ctl: gcode: " +
+                       bad_machine.path() +
+                       ":3:1: [X4STEP] JUNCTION_DEVIATON: unknown key: did you mean JUNCTION_DEVIATION?\n");
   r = run({"gcode", "-m", "/nonexistent.ini", "--check", prog.path()});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err, "x4ctl: gcode: /nonexistent.ini: cannot read the machine file\n");
