@@ -429,10 +429,14 @@ pin pin_of(const reader &r, const std::string &key) {
   return pin::none;
 }
 
-void read_x4step(ini &f, machine &m) {
+void read_x4step(ini &f, machine &m, bool linuxcnc) {
   reader r(f, "X4STEP");
   if (r.section_line() == 0) {
-    f.add(0, 0, "[X4STEP]", "no [X4STEP] section: it needs ARC_TOLERANCE and JUNCTION_DEVIATION");
+    f.add(0, 0, "[X4STEP]",
+          "no [X4STEP] section: it needs ARC_TOLERANCE and JUNCTION_DEVIATION" +
+              std::string(linuxcnc ? " (a LinuxCNC configuration? 'x4ctl machine import' makes a machine "
+                                     "file of it and its HAL file)"
+                                   : ""));
     return;
   }
   if (const std::string *p = r.text("PORT")) {
@@ -784,7 +788,7 @@ machine read(std::istream &in, const std::string &name) {
       m.tool_table = (*t)[0] == '/' ? *t : directory_of(name) + *t;
   }
 
-  read_x4step(f, m);
+  read_x4step(f, m, !ignored_sections.empty());
   const std::string letters = read_traj(f, m);
   const reader traj(f, "TRAJ");
   const int coord_line = traj.line("COORDINATES"), coord_col = traj.col("COORDINATES");
