@@ -547,11 +547,14 @@ TEST(Cli, HelpTexts) {
       {"mode",
        {"clock-dir", "smc-phase", "smc-hold", "SMC800/SMC1500", "motors off at rest",
         "reduced holding current", "axis 4", "--port", "--device", "--help", "after x4ctl exits",
-        "Exit status"}},
+        "Exit status", "step-dir"}},
+      {"machine",
+       {"check FILE...", "import [OPTIONS] INI [HAL]", "--output", "did you mean", "FILE:LINE:COLUMN",
+        "StepConf", "not carried", "pin map", "Exit status"}},
   };
   std::vector<const subcommand *> all = {&main_command()};
   for (const command_group &g : command_groups()) all.insert(all.end(), g.commands.begin(), g.commands.end());
-  EXPECT_EQ(all.size(), 27u);
+  EXPECT_EQ(all.size(), 28u);
   const std::string overview = help_text(main_command());
   for (const subcommand *cmd : all) {
     const std::string name = name_of(*cmd);

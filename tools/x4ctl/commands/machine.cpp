@@ -162,7 +162,7 @@ const subcommand &machine_subcommand() {
         "it). Carried: units, axes, SCALE, velocities, accelerations, soft limits,\n"
         "homing with the home switches' inputs, spindle and coolant outputs on pins\n"
         "1 and 14, the tool table. Listed as not carried: the pin map (x4step's\n"
-        "pins are fixed: motor n on joint n-1), limit switches and step timing (the\n"
+        "pins are fixed: joint n is motor n+1), limit switches and step timing (the\n"
         "port's settings, with the x4ctl command that makes them), and every other\n"
         "key. The file made is then checked as 'check' does.\n";
     c.options = {
