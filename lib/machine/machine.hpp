@@ -3,7 +3,7 @@
  * @file machine.hpp
  * @brief The machine file (issue 20): what a machine is, in real units —
  *        which motor drives which axis, steps per unit, speeds, soft limits,
- *        homing, output pins, the port. Every key: doc/machine-file.md.
+ *        homing, output pins, the port. Every key: machines/README.md.
  *
  * INI text, LinuxCNC's section and key names where LinuxCNC has one ([TRAJ]
  * LINEAR_UNITS, [AXIS_X] MAX_VELOCITY, [JOINT_0] SCALE, HOME_SEARCH_VEL,
