@@ -303,7 +303,8 @@ TEST(Cli, Mode) {
   EXPECT_EQ(c.cmd->name, "mode");
   EXPECT_FALSE(c.mode);
   EXPECT_EQ(parse({"mode", "clock-dir"}).mode, x4step::output_mode::clock_dir);
-  EXPECT_EQ(parse({"mode", "step-dir"}).mode, x4step::output_mode::clock_dir);  // the machine file's other name
+  EXPECT_EQ(parse({"mode", "step-dir"}).mode,
+            x4step::output_mode::clock_dir);  // the machine file's other name
   EXPECT_EQ(parse({"mode", "smc-phase"}).mode, x4step::output_mode::smc_phase);
   EXPECT_EQ(parse({"mode", "smc-hold", "-p", "3"}).mode, x4step::output_mode::smc_phase_hold);
   EXPECT_EQ(usage_message({"mode", "smc"}), "mode: no mode 'smc': use clock-dir, smc-phase, smc-hold");
