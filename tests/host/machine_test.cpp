@@ -219,6 +219,8 @@ TEST(Machine, ReportsEveryMistakeInOnePass) {
   }
   // A broken header is read as its name: its keys are not lost, nor reported missing.
   EXPECT_EQ(refusal(replaced(4, "[TRAJ")), "m.ini:4:1: '[TRAJ' is no section header: write [NAME]");
+  EXPECT_EQ(refusal(replaced(4, "[TRAJ] XZ")), "m.ini:4:1: '[TRAJ] XZ' is no section header: write [NAME]");
+  EXPECT_REFUSED(std::string(base) + "  [ ]\nA = 1\n", "^m.ini:23:3: '\\[ \\]' is no section header");
   EXPECT_EQ(refusal(replaced(2, "ARC_TOLERANCE 0.01")),
             "m.ini:2:1: [X4STEP]: 'ARC_TOLERANCE 0.01': write KEY = VALUE");
 }
