@@ -233,8 +233,9 @@ class ini {
         // A broken header is reported, and read as the name it has, so
         // that its keys are not all lost (nor reported as missing).
         const size_t close = t.find(']');
-        if (close != t.size() - 1) add(n, col, "", "'" + t + "' is no section header: write [NAME]");
         cur_name = upper(trim(t.substr(1, close == std::string::npos ? std::string::npos : close - 1)));
+        if (close != t.size() - 1 || cur_name.empty())
+          add(n, col, "", "'" + t + "' is no section header: write [NAME]");
         if (cur_name.empty()) continue;
         auto [it, fresh] = sections_.try_emplace(cur_name);
         if (!fresh) {
