@@ -3,14 +3,17 @@
  * @file machine.hpp
  * @brief The machine file (issue 20): what a machine is, in real units —
  *        which motor drives which axis, steps per unit, speeds, soft limits,
- *        homing, output pins, the port. Every key: doc/machine-file.md.
+ *        homing, output pins, the port. Every key: machines/README.md.
  *
  * INI text, LinuxCNC's section and key names where LinuxCNC has one ([TRAJ]
  * LINEAR_UNITS, [AXIS_X] MAX_VELOCITY, [JOINT_0] SCALE, HOME_SEARCH_VEL,
  * ...), so a LinuxCNC user carries the numbers over; x4step's own settings
- * in [X4STEP]. A file is read whole and checked whole: any bad value,
- * unknown section or key, missing key or contradiction is refused with
- * "file:line: [SECTION] KEY: what to fix", and no machine is made.
+ * in [X4STEP]. A file is read whole and checked whole: every bad value,
+ * unknown section or key (with "did you mean KEY?" for a near miss),
+ * missing key or contradiction is reported in one pass, each as
+ * "file:line:col: [SECTION] KEY: what to fix", and no machine is made.
+ * LinuxCNC's own sections and keys that x4step does not use are accepted
+ * and listed in machine::warnings.
  */
 #ifndef X4STEP_MACHINE_HPP
 #define X4STEP_MACHINE_HPP
@@ -22,22 +25,37 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "gcode.hpp"
 
 namespace x4step::machine {
 
-/// A refused machine file: what() is "file:line: [SECTION] KEY: message".
+/// A refused machine file: every mistake found in it, in file order.
+/// what() is one line per mistake, "file:line:col: [SECTION] KEY: message"
+/// ("file:line:" without a column, "file:" without a line).
 class error : public std::runtime_error {
  public:
+  struct problem {
+    int line = 0, col = 0;  ///< 0: none
+    std::string key;        ///< "[SECTION] KEY", "[SECTION]" or ""
+    std::string message;
+  };
+  /// One mistake.
   error(const std::string &file, int line, const std::string &key, const std::string &message);
-  int line() const noexcept { return line_; }
-  /// "[SECTION] KEY" (or "[SECTION]" for a section, "" for the file).
-  const std::string &key() const noexcept { return key_; }
+  /// Several (at least one), sorted by line and column here.
+  error(const std::string &file, std::vector<problem> problems);
+  /// The first mistake's line, column and key.
+  int line() const noexcept { return problems_.front().line; }
+  int col() const noexcept { return problems_.front().col; }
+  const std::string &key() const noexcept { return problems_.front().key; }
+  const std::vector<problem> &problems() const noexcept { return problems_; }
+  /// Each mistake as its line of what().
+  std::vector<std::string> lines() const;
 
  private:
-  int line_;
-  std::string key_;
+  std::string file_;
+  std::vector<problem> problems_;
 };
 
 /// Homing of one axis (LinuxCNC's HOME_* keys; off when HOME_SEARCH_VEL is 0).
@@ -64,13 +82,14 @@ struct axis {
 /// An output pin the machine uses (signal 1 on pin 1, signal 2 on pin 14).
 enum class pin { none = 0, pin1 = 1, pin14 = 14 };
 
-/// The port's output mode ([X4STEP] OUTPUT_MODE, as `x4ctl mode`).
-enum class output_mode { step_dir, smc_phase, smc_hold };
+/// The port's output mode ([X4STEP] OUTPUT_MODE, as `x4ctl mode`): clock-dir
+/// (also written step-dir), smc-phase or smc-hold.
+enum class output_mode { clock_dir, smc_phase, smc_hold };
 
 struct machine {
   std::string name;           ///< [EMC] MACHINE
   std::string port = "LPT1";  ///< LPT1..LPT4
-  output_mode mode = output_mode::step_dir;
+  output_mode mode = output_mode::clock_dir;
   gcode::units units = gcode::units::mm;
   /// By axis letter, gcode::X .. gcode::C; empty: the machine has no such axis.
   std::array<std::optional<axis>, gcode::n_axes> axes;
@@ -79,6 +98,9 @@ struct machine {
   double junction_deviation = 0;   ///< GRBL's, machine units
   pin spindle = pin::none, flood = pin::none, mist = pin::none;
   std::string tool_table;  ///< [EMCIO] TOOL_TABLE, relative to the file's directory made absolute
+  /// What the file gives that x4step accepts but does not use (LinuxCNC's
+  /// own sections and keys), each listed once: "file: ignored ...".
+  std::vector<std::string> warnings;
 };
 
 /// Whether `units` lies within the axis' soft limits (a billionth of the
@@ -92,6 +114,10 @@ inline bool within_soft_limits(const axis &ax, double units) noexcept {
 /// Why `units` lies beyond the soft limits of axis a (gcode::X ..), e.g.
 /// "X 30 is beyond the soft limit [AXIS_X] MAX_LIMIT 24"; empty if within.
 std::string beyond_soft_limit(const machine &m, size_t a, double units);
+
+/// The closest of `names` to `word` within a small edit distance (a
+/// misspelling: letters swapped, missing, extra or wrong), else "".
+std::string nearest(const std::string &word, const std::vector<std::string> &names);
 
 /// Reads and checks a machine file; `name` is the file name errors give.
 machine read(std::istream &in, const std::string &name);

@@ -303,6 +303,8 @@ TEST(Cli, Mode) {
   EXPECT_EQ(c.cmd->name, "mode");
   EXPECT_FALSE(c.mode);
   EXPECT_EQ(parse({"mode", "clock-dir"}).mode, x4step::output_mode::clock_dir);
+  EXPECT_EQ(parse({"mode", "step-dir"}).mode,
+            x4step::output_mode::clock_dir);  // the machine file's other name
   EXPECT_EQ(parse({"mode", "smc-phase"}).mode, x4step::output_mode::smc_phase);
   EXPECT_EQ(parse({"mode", "smc-hold", "-p", "3"}).mode, x4step::output_mode::smc_phase_hold);
   EXPECT_EQ(usage_message({"mode", "smc"}), "mode: no mode 'smc': use clock-dir, smc-phase, smc-hold");
@@ -546,11 +548,14 @@ TEST(Cli, HelpTexts) {
       {"mode",
        {"clock-dir", "smc-phase", "smc-hold", "SMC800/SMC1500", "motors off at rest",
         "reduced holding current", "axis 4", "--port", "--device", "--help", "after x4ctl exits",
-        "Exit status"}},
+        "Exit status", "step-dir"}},
+      {"machine",
+       {"check FILE...", "import [OPTIONS] INI [HAL]", "--output", "did you mean", "FILE:LINE:COLUMN",
+        "StepConf", "not carried", "pin map", "Exit status"}},
   };
   std::vector<const subcommand *> all = {&main_command()};
   for (const command_group &g : command_groups()) all.insert(all.end(), g.commands.begin(), g.commands.end());
-  EXPECT_EQ(all.size(), 27u);
+  EXPECT_EQ(all.size(), 28u);
   const std::string overview = help_text(main_command());
   for (const subcommand *cmd : all) {
     const std::string name = name_of(*cmd);
@@ -857,9 +862,12 @@ TEST(Gcode, CheckRefusesABadMachineOrUsage) {
   const temp_file bad_machine("[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATON = 0.02\n");
   captured r = run({"gcode", "-m", bad_machine.path(), "--check", prog.path()});
   EXPECT_EQ(r.status, 2);
+  // Every mistake, a line each.
   EXPECT_EQ(r.err, "x4ctl: gcode: " + bad_machine.path() +
-                       ":3: [X4STEP] JUNCTION_DEVIATON: unknown key: [X4STEP] takes PORT, OUTPUT_MODE, "
-                       "ARC_TOLERANCE, JUNCTION_DEVIATION, SPINDLE_PIN, FLOOD_PIN and MIST_PIN\n");
+                       ": [TRAJ]: no [TRAJ] section: it needs COORDINATES and LINEAR_UNITS\n"
+                       "x4ctl: gcode: " +
+                       bad_machine.path() +
+                       ":3:1: [X4STEP] JUNCTION_DEVIATON: unknown key: did you mean JUNCTION_DEVIATION?\n");
   r = run({"gcode", "-m", "/nonexistent.ini", "--check", prog.path()});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err, "x4ctl: gcode: /nonexistent.ini: cannot read the machine file\n");

@@ -102,6 +102,11 @@ struct config {
   std::string letters;             ///< home: the axes' letters (empty: all); jog: the axis' (c.dir its way)
   std::optional<double> feed;      ///< jog, panel --feed: units/min
   std::optional<double> distance;  ///< jog --distance: units, > 0; none: to the soft limit
+
+  // machine check FILE... / machine import INI [HAL] [-o FILE]
+  std::string machine_action;      ///< check or import
+  std::vector<std::string> files;  ///< check: the machine files; import: INI [HAL]
+  std::string output;              ///< import -o: the machine file to write; empty: standard output
   /// home and jog in machine units: --machine or axis letters given.
   bool machine_units() const { return !machine.empty() || !letters.empty(); }
 };

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
+#include <iostream>
 #include <sstream>
 
 #include "show.hpp"
@@ -23,10 +24,18 @@ std::string machine_path(const config &c) {
 
 m::machine load_machine(const config &c, const std::string &command) {
   try {
-    return m::read_file(machine_path(c));
+    m::machine mc = m::read_file(machine_path(c));
+    for (const std::string &w : mc.warnings) std::cerr << "x4ctl: " << command << ": warning: " << w << "\n";
+    return mc;
   } catch (const m::error &e) {
-    throw usage_error(command + ": " + e.what());
+    throw usage_error(machine_error_text(e, command));
   }
+}
+
+std::string machine_error_text(const m::error &e, const std::string &command) {
+  std::string out;
+  for (const std::string &l : e.lines()) out += (out.empty() ? "" : "\nx4ctl: ") + command + ": " + l;
+  return out;
 }
 
 std::string machine_device(const config &c, const m::machine &mc) {
@@ -43,7 +52,7 @@ x4step::output_mode mode_of(m::output_mode o) {
       return x4step::output_mode::smc_phase;
     case m::output_mode::smc_hold:
       return x4step::output_mode::smc_phase_hold;
-    case m::output_mode::step_dir:
+    case m::output_mode::clock_dir:
       break;
   }
   return x4step::output_mode::clock_dir;

@@ -22,8 +22,12 @@ extern const char *const axis_letters;
 std::string units_name(const m::machine &mc);
 /// --machine, else $X4STEP_MACHINE, else /etc/x4step/machine.ini.
 std::string machine_path(const config &c);
-/// The machine file of c; a bad one is a usage_error "COMMAND: file:line: ...".
+/// The machine file of c; a bad one is a usage_error "COMMAND: file:line:col: ...",
+/// a line for each mistake. Its warnings go to stderr.
 m::machine load_machine(const config &c, const std::string &command);
+/// The mistakes of a machine file, a line each: "COMMAND: file:line:col: ...",
+/// the lines after the first with "x4ctl: " (as x4ctl writes the first).
+std::string machine_error_text(const m::error &e, const std::string &command);
 /// The device of the machine's PORT (unless -d names one; --sim: sim:N).
 std::string machine_device(const config &c, const m::machine &mc);
 

@@ -26,7 +26,8 @@ namespace x4ctl {
   C(path)                      \
   C(gcode)                     \
   C(mdi)                       \
-  C(panel)
+  C(panel)                     \
+  C(machine)
 #define X4CTL_POSITIONING_COMMANDS(C) \
   C(profile)                          \
   C(goto)                             \

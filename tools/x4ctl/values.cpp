@@ -71,6 +71,8 @@ std::chrono::nanoseconds parse_ns(const std::string &text, const std::string &wh
 }
 
 x4step::output_mode parse_mode(const std::string &text, const std::string &prefix) {
+  // step-dir: the machine file's first name for clock-dir (docs: clock-dir).
+  if (text == "step-dir") return x4step::output_mode::clock_dir;
   std::string names;
   for (const auto m : output_modes) {
     if (text == mode_name(m)) return m;

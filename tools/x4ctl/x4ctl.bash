@@ -55,6 +55,13 @@ _x4ctl() {
 	help) mapfile -t COMPREPLY < <(compgen -W "$(_x4ctl_commands "$bin")" -- "$cur") ;;
 	mode) mapfile -t COMPREPLY < <(compgen -W 'clock-dir smc-phase smc-hold' -- "$cur") ;;
 	run | gcode) mapfile -t COMPREPLY < <(compgen -f -- "$cur") ;;
+	machine)
+		if [[ ${COMP_WORDS[COMP_CWORD - 1]} == machine ]]; then
+			mapfile -t COMPREPLY < <(compgen -W 'check import' -- "$cur")
+		else
+			mapfile -t COMPREPLY < <(compgen -f -- "$cur")
+		fi
+		;;
 	out) mapfile -t COMPREPLY < <(compgen -W '1 2 on off' -- "$cur") ;;
 	jog) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 + - X+ X- Y+ Y- Z+ Z- A+ A- B+ B- C+ C-' -- "$cur") ;;
 	home) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 X Y Z A B C' -- "$cur") ;;

@@ -43,7 +43,8 @@ const subcommand &mode_subcommand() {
     c.prose =
         "Show or set how the port drives its motors. The module keeps the mode for\n"
         "the port after x4ctl exits, until it is set again.\n"
-        "  clock-dir   a clock and a direction signal per axis (X4Step, the default)\n"
+        "  clock-dir   a clock and a direction signal per axis (X4Step, the default;\n"
+        "              step-dir is taken for it too, as in machine files)\n"
         "  smc-phase   half-step phase patterns for SMC800/SMC1500 boards, which have\n"
         "              no clock and direction inputs; motors off at rest\n"
         "  smc-hold    the same, with reduced holding current at rest\n"
