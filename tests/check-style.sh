@@ -22,13 +22,13 @@ if [ ! -x "$cp_dir/scripts/checkpatch.pl" ]; then
 		'*/scripts/const_structs.checkpatch'
 fi
 checkpatch="$cp_dir/scripts/checkpatch.pl --no-tree -q -f"
-kfiles=$(cd "$top" && git ls-files 'kmod/*.[ch]' 'tests/kmod/*.[ch]' include/uapi | grep -v x4step_compat.h)
+kfiles=$(cd "$top" && git ls-files 'kmod/*.[ch]' 'tests/qemu/fixtures/*.[ch]' include/uapi | grep -v x4step_compat.h)
 (cd "$top" && $checkpatch $kfiles &&
 	$checkpatch --ignore LINUX_VERSION_CODE,CONSTANT_COMPARISON kmod/x4step_compat.h) \
 	>"$out/checkpatch.log" 2>&1
 st=$?
 cat "$out/checkpatch.log"
-result $st "checkpatch (kmod, uapi, tests/kmod)"
+result $st "checkpatch (kmod, uapi, tests/qemu/fixtures)"
 
 # Build with W=1 and sparse (C=2: check every file) against each kernel.
 for hdr in $(ls -d /usr/src/linux-headers-*-amd64 | sort -V); do

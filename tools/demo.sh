@@ -52,7 +52,7 @@ guest_x4ctl=$top/build/guest/x4ctl
 if [ ! -x "$guest_x4ctl" ] || [ -n "$(find tools/x4ctl lib include kmod/engine build/lib/libx4step.a \
 	-newer "$guest_x4ctl" -type f -print -quit)" ]; then
 	echo "   (the guest's static x4ctl: a minute or two)"
-	tests/guest/build.sh "$top/build/guest" x4ctl >>"$out/build.log" 2>&1 ||
+	tests/qemu/build.sh "$top/build/guest" x4ctl >>"$out/build.log" 2>&1 ||
 		fail "the guest's x4ctl did not build" "$out/build.log"
 fi
 # The kernel unpacked for a faster boot (run-guest.sh --kernel), kept.

@@ -65,7 +65,7 @@ for f in "$work/src"/*; do
 done
 for f in $files; do sync "$engdir/$f" "$work/src/$f"; done
 for f in engine_test.cpp positioning_test.cpp lateness_test.cpp path_test.cpp engine_ref.cpp engine_ref.h; do
-	sync "$top/tests/host/$f" "$work/src/$f"
+	sync "$top/tests/engine/$f" "$work/src/$f"
 done
 
 # Compile SRC to OBJ if OBJ is missing or older than SRC or a header.

@@ -98,7 +98,7 @@ bool parse_hex(const char *&p, unsigned *out) {
   return true;
 }
 
-// x4vport's trace line "<t_ns> <d|c|s> 0xVV" (tests/kmod/x4vport.c), guest
+// x4vport's trace line "<t_ns> <d|c|s> 0xVV" (tests/qemu/fixtures/x4vport.c), guest
 // time in ns: data and control as QEMU's addresses 0 and 2, status ignored.
 bool parse_x4vport(const std::string &line, int64_t *t_ns, unsigned *addr, unsigned *val) {
   unsigned long long t;
