@@ -67,7 +67,7 @@ fi
 if ! printf '#include <stdint.h>\n#include <string.h>\n' |
 	gcc -m32 -x c -c -o /dev/null - >"$m32/probe.log" 2>&1; then
 	cat "$m32/probe.log"
-	echo "gcc -m32 cannot compile user space for i386: install gcc-multilib (tools/deps.sh test)"
+	echo "gcc -m32 cannot compile user space for i386: install gcc-multilib (scripts/deps.sh test)"
 	result 1 "32-bit: gcc -m32 unavailable, engine's 64-bit divisions not checked"
 else
 	st=0

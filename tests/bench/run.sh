@@ -93,7 +93,7 @@ if "$build/tests/gcode_bench" /var/cache/x4step/linuxcnc/root/usr/share/linuxcnc
 	read -r secs _ kb <"$tmp/check.time" || true
 	echo "x4ctl gcode --check: ${secs:-?} s (goal < 1 s), peak memory ${kb:-?} kB: $(head -n1 "$tmp/check.out")"
 else
-	echo "(the G-code bench failed: tools/get-rs274.sh fetches its program)"
+	echo "(the G-code bench failed: scripts/get-rs274.sh fetches its program)"
 fi
 echo
 

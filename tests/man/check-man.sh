@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
-# The man pages say what their sources say (tools/mkman.sh): x4ctl.1, as
+# The man pages say what their sources say (scripts/mkman.sh): x4ctl.1, as
 # groff renders it, holds every line of `x4ctl --help` and of `x4ctl help
 # COMMAND` for each command; x4step.3 has a section for every function the
 # C headers declare, and every constant they document.

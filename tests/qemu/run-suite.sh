@@ -40,7 +40,7 @@ bdir=${X4_QEMU_BUILD:-$top/build/qemu}
 #                     test's OUTDIR (tests of a kernel run side by side)
 #   #: check FILE     the host check, relative to the folder, run after a
 #                     passing guest as `CHECK OUTDIR KVER` with X4TRACE set to a
-#                     built tools/x4trace; its status decides the test
+#                     built tests/tools/x4trace; its status decides the test
 #   #: seconds N      about how long the test takes on Debian's 6.12, for the
 #                     longest to start first (none: 60)
 # Entries are "name|guest script|bins|flags|check|seconds", paths relative to
@@ -208,8 +208,8 @@ done
 # Built side by side: x4trace (host checks use it), the guest programs (the
 # same for every kernel) and each kernel's modules.
 rm -f "$bdir/x4trace"
-if [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
-	g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tools/x4trace/x4trace.cpp" \
+if [ -f "$top/tests/tools/x4trace/x4trace.cpp" ]; then
+	g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tests/tools/x4trace/x4trace.cpp" \
 		>"$bdir/x4trace-build.log" 2>&1 &
 fi
 "$top/tests/qemu/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1 &
@@ -228,7 +228,7 @@ fi
 wait
 if [ -x "$bdir/x4trace" ]; then
 	export X4TRACE=$bdir/x4trace
-elif [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
+elif [ -f "$top/tests/tools/x4trace/x4trace.cpp" ]; then
 	echo "run-suite: building x4trace failed, see $bdir/x4trace-build.log" >&2
 fi
 
@@ -247,7 +247,7 @@ for kind in "${kinds[@]}"; do
 	IFS='|' read -r label glob _ skip kver <<<"$kind"
 	why=""
 	if [ -z "$kver" ]; then
-		why="no /boot/$glob: install the Debian kernel package (tools/deps.sh test)"
+		why="no /boot/$glob: install the Debian kernel package (scripts/deps.sh test)"
 	else
 		why=$(cat "$bdir/$kver/why" 2>/dev/null || echo "preparing $kver failed, see $bdir/$kver")
 		label=$kver

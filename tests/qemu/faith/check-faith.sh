@@ -6,12 +6,12 @@
 # the same machine; both must give the same edges (x4trace compare: counts,
 # order per pin, times within 1 us, README.md) and the module
 # must report the same coordinates, errors and steps (`FAITH` lines).
-# Usage: check-faith.sh OUTDIR KVER   (X4TRACE: a built tools/x4trace)
+# Usage: check-faith.sh OUTDIR KVER   (X4TRACE: a built tests/tools/x4trace)
 set -eu
 out=${1:?usage: check-faith.sh OUTDIR KVER}
 here=$(cd "$(dirname "$0")" && pwd)
 top=$(cd "$here/../../.." && pwd)
-x4trace=${X4TRACE:?X4TRACE must name a built tools/x4trace}
+x4trace=${X4TRACE:?X4TRACE must name a built tests/tools/x4trace}
 moves=${FAITH_MOVES:-$top/build/guest/faith_moves}
 within=${FAITH_WITHIN_NS:-1000}
 

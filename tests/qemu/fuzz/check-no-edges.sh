@@ -7,7 +7,7 @@
 # (needs $X4TRACE, as run-suite.sh sets it).
 set -euo pipefail
 out=${1:?usage: check-no-edges.sh OUTDIR KVER}
-: "${X4TRACE:?X4TRACE not set (run-suite.sh builds tools/x4trace)}"
+: "${X4TRACE:?X4TRACE not set (run-suite.sh builds tests/tools/x4trace)}"
 seg=$out/lpt-invalid.log
 awk '/parallel_ioport_write/ {
 	if (prev58 && / addr 0x01 val 0x49$/) { on = 1; seen_start = 1 }

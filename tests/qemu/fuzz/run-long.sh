@@ -44,7 +44,7 @@ find "$out/src" \( -name '*.o' -o -name '*.ko' -o -name '*.mod*' -o -name '.*.cm
 make -C "$kdir" M="$out/src" modules >"$out/build.log" 2>&1 || { echo "run-long: module build failed, see $out/build.log" >&2; exit 1; }
 g++ -std=c++17 -O2 -Wall -Wextra -Werror -static -I"$top/include/uapi" -pthread \
 	-o "$out/ioctl_fuzz" "$top/tests/qemu/fuzz/ioctl_fuzz.cpp"
-g++ -std=c++17 -O2 -o "$out/x4trace" "$top/tools/x4trace/x4trace.cpp"
+g++ -std=c++17 -O2 -o "$out/x4trace" "$top/tests/tools/x4trace/x4trace.cpp"
 
 {
 	echo "#!/bin/sh"

@@ -5,7 +5,7 @@
 # motors alone. Usage: check-no-steps.sh OUTDIR KVER  (needs $X4TRACE)
 set -euo pipefail
 out=$1
-: "${X4TRACE:?X4TRACE not set (run-suite.sh builds tools/x4trace)}"
+: "${X4TRACE:?X4TRACE not set (run-suite.sh builds tests/tools/x4trace)}"
 "$X4TRACE" summary "$out/lpt-test.log" | tee "$out/lpt-test.summary"
 steps=$(grep -E '^axis [1-4] ' "$out/lpt-test.summary" | grep -v ': 0 steps' || true)
 if [ -n "$steps" ]; then

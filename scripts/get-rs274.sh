@@ -7,14 +7,14 @@
 # installed into the system. rs274 prints coordinates with 4 decimals
 # (printf "%.4f"); rs274-9 is a copy whose format strings say "%.9f"
 # (same length, nothing else changed), so that 1e-6 can be checked.
-# Usage: tools/get-rs274.sh [CACHE]   (default /var/cache/x4step/linuxcnc)
+# Usage: scripts/get-rs274.sh [CACHE]   (default /var/cache/x4step/linuxcnc)
 set -eu
 cache=${1:-${X4_LINUXCNC_CACHE:-/var/cache/x4step/linuxcnc}}
 pkgs="linuxcnc-uspace libboost-python1.74.0 libpython3.11"
 [ -f "$cache/complete" ] && exit 0
 
 if ! mkdir -p "$cache" 2>/dev/null || [ ! -w "$cache" ]; then
-	echo "x4step: cannot write $cache: run tools/deps.sh test as root to fetch LinuxCNC's rs274" >&2
+	echo "x4step: cannot write $cache: run scripts/deps.sh test as root to fetch LinuxCNC's rs274" >&2
 	exit 1
 fi
 tmp=$(mktemp -d)

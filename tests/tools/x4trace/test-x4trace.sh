@@ -1,7 +1,7 @@
 #!/bin/bash
 # SPDX-License-Identifier: GPL-2.0
 # Self-test of x4trace on a hand-made trace whose answers are known.
-# Usage: tools/x4trace/test-x4trace.sh [X4TRACE_BINARY]  (default: build to a temp dir)
+# Usage: tests/tools/x4trace/test-x4trace.sh [X4TRACE_BINARY]  (default: build to a temp dir)
 set -euo pipefail
 
 tmp=$(mktemp -d)

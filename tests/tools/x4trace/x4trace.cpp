@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "../json_string.hpp"
+#include "../../../tools/json_string.hpp"  // x4ctl's too
 
 namespace {
 

@@ -1,7 +1,7 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
 # Install the Debian packages that building, testing and the demo need.
-# Usage: tools/deps.sh [build|test|all]   (default: all)
+# Usage: scripts/deps.sh [build|test|all]   (default: all)
 # As root it runs apt-get for whatever is missing; otherwise it names the
 # packages to install and fails, so nothing depends on what happens to be
 # on the machine.
@@ -20,7 +20,7 @@ test | all) want=$test_pkgs ;;
 esac
 
 # The G-code tests' oracle, LinuxCNC's rs274: unpacked into a cache, not
-# installed (tools/get-rs274.sh).
+# installed (scripts/get-rs274.sh).
 if [ "${1:-all}" != build ] && [ "$(id -u)" -eq 0 ]; then
 	"$(dirname "$0")/get-rs274.sh"
 fi

@@ -24,7 +24,7 @@ machine=machines/x4step-4axis.ini
 program=machines/examples/x4step-demo.ngc
 move_args="1000 800 600 400 --freq 1000 --ramp 50 --then -1000 -800 -600 -400"
 gcode_args="--machine $machine --svg part.svg --no-pause $program"
-x4trace=$top/build/tools/x4trace
+x4trace=$top/build/tests/x4trace
 x4ctl=build/tools/x4ctl/x4ctl
 started=$(date +%s)
 
@@ -40,7 +40,7 @@ kver=$(for k in /boot/vmlinuz-*-amd64; do
 	k=${k#/boot/vmlinuz-}
 	case $k in *-rt-amd64) ;; *) echo "$k" ;; esac
 done | sort -V | head -n 1) # the oldest non-RT Debian kernel
-[ -r "/boot/vmlinuz-$kver" ] || fail "no Debian kernel in /boot (tools/deps.sh installs one)"
+[ -r "/boot/vmlinuz-$kver" ] || fail "no Debian kernel in /boot (scripts/deps.sh installs one)"
 src=$out/src
 rm -rf "$src"
 mkdir -p "$src"
