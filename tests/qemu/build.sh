@@ -3,7 +3,7 @@
 # Build the statically linked guest programs of the QEMU tests into OUTDIR,
 # against the *installed* headers and static library (staged install): each
 # test folder's programs, x4ctl, the fixtures' x4vctl and the manual's
-# examples.
+# examples (examples/manual, as man_NAME).
 # The compilers run side by side, one per CPU. With PROGRAM names after
 # OUTDIR only those are built (make demo: x4ctl).
 #   build.sh OUTDIR [PROGRAM...]
@@ -66,7 +66,7 @@ job $cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -I"$top/tool
 	-o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$top"/tools/x4ctl/commands/*.cpp \
 	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"
 job gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/qemu/fixtures/x4vctl.c"
-for f in "$top"/tests/qemu/manual/*.c; do
+for f in "$top"/examples/manual/*.c; do
 	job gcc -std=c99 -static -O2 -Wall -Wextra -Werror -I"$stage/include" \
 		-o "$out/man_$(basename "$f" .c)" "$f" "$lib" -lstdc++ -lm
 done

@@ -4,7 +4,7 @@
 #: flags --monitor @OUT@/mon.sock
 #: check ../common/check-segments.sh
 #: seconds 15
-# Guest script: the manual's example programs (tests/qemu/manual/*.c),
+# Guest script: the manual's example programs (examples/manual/*.c),
 # built against the installed x4step.h and static libx4step. Programs that
 # wait for ESC get it typed on the emulated AT keyboard (QEMU's sendkey):
 # the real atkbd -> input core -> x4step input handler path.
