@@ -10,7 +10,7 @@ set -eu
 build_pkgs="make gcc g++ cmake pkg-config kmod linux-headers-amd64"
 test_pkgs="$build_pkgs libgtest-dev valgrind time qemu-system-x86 busybox-static cpio xz-utils zstd \
 linux-image-amd64 linux-image-6.12-amd64 linux-headers-6.12-amd64 \
-linux-image-6.12-rt-amd64 linux-headers-6.12-rt-amd64 sparse clang-format python3 gcc-multilib groff-base strace \
+linux-image-6.12-rt-amd64 linux-headers-6.12-rt-amd64 sparse clang-format shellcheck python3 gcc-multilib groff-base strace \
 linux-source-6.1 flex bison bc libelf-dev libssl-dev"
 
 case "${1:-all}" in

@@ -19,6 +19,7 @@ if ! mkdir -p "$cache" 2>/dev/null || [ ! -w "$cache" ]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# shellcheck disable=SC2086 # the package names are words
 (cd "$tmp" && apt-get download $pkgs) >"$tmp/log" 2>&1 || {
 	cat "$tmp/log" >&2
 	echo "x4step: apt-get download $pkgs failed (network? apt-get update?)" >&2

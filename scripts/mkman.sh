@@ -69,7 +69,7 @@ Link with \\fI\\-lx4step\\fP (pkg-config x4step).
 .fi
 EOF
 	for h in "$@"; do
-		echo ".SH $(basename "$h" | tr a-z A-Z | sed 's/-/\\-/g')"
+		echo ".SH $(basename "$h" | tr '[:lower:]' '[:upper:]' | sed 's/-/\\-/g')"
 		awk '
 		function flush_text(   i) {
 			for (i = 1; i <= n; i++) print text[i]

@@ -66,6 +66,7 @@ for depth in 256 4096; do
 		"$build/tests/path_bench" --worst $depth --per-push >/dev/null 2>&1
 	line=$(cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
 		awk '{v[NR]=$1; s+=$1} END {printf "%d %d %d", s/NR, v[NR], NR}')
+	# shellcheck disable=SC2086 # its three numbers as the arguments
 	set -- $line
 	echo "depth $depth: mean $1, max $2 instructions per appended segment ($3 segments)"
 	[ "${2:-0}" -gt "$worst" ] && worst=$2

@@ -34,9 +34,11 @@ done
 
 page=$(render "$lib_page")
 for h in "$@"; do
+	# shellcheck disable=SC2013 # one function name a line: words
 	for f in $(sed -n 's/^[a-z][a-z ]* \**\(X4[A-Za-z]*\)(.*);$/\1/p' "$h"); do
 		printf '%s\n' "$page" | grep -q "^[a-z][a-z ]* \**$f(" || fail "x4step.3 lacks $f() of $h"
 	done
+	# shellcheck disable=SC2013 # one macro name a line: words
 	for d in $(sed -n 's/^#define \([A-Za-z0-9_]*\) .*\/\*\*<.*/\1/p' "$h"); do
 		printf '%s\n' "$page" | grep -q "^$d " || fail "x4step.3 lacks $d of $h"
 	done

@@ -23,6 +23,7 @@
 # engine only: the tests, the oracle, keep the original.
 #
 # Usage: tests/mutation/run.sh [mutations.txt]
+# shellcheck disable=SC2086 # the lists ($files, $tests, $pids) and the compiler flags are words
 set -u
 top=$(cd "$(dirname "$0")/../.." && pwd)
 list=${1:-$top/tests/mutation/mutations.txt}

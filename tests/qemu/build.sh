@@ -47,6 +47,7 @@ finish() { # wait for every job; fail if one did
 for f in "$top"/tests/qemu/*/*.cpp; do
 	p=$(basename "$f" .cpp)
 	[ "$p" = timing_bench ] && continue
+	# shellcheck disable=SC2086 # $cxx: the compiler and its options
 	job $cxx -pthread -I"$stage/include" -I"$top/include/uapi" -I"$top/tests/qemu/common" \
 		-o "$out/$p" "$f" "$lib"
 done
@@ -62,6 +63,7 @@ job $cxx -I"$top/include/uapi" -I"$top/tests/qemu/common" -I"$top/tests/engine" 
 	-o "$out/timing_bench" "$top/tests/qemu/timing/timing_bench.cpp" "$top/tests/engine/engine_ref.cpp" $engine_objs
 # x4ctl: the interpreter and the planner are in the tree, not installed; the
 # library only through its installed headers, as any program.
+# shellcheck disable=SC2086 # $cxx: the compiler and its options
 job $cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -I"$top/tools/x4ctl" \
 	-o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$top"/tools/x4ctl/commands/*.cpp \
 	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"

@@ -8,6 +8,7 @@
 # built against the installed x4step.h and static libx4step. Programs that
 # wait for ESC get it typed on the emulated AT keyboard (QEMU's sendkey):
 # the real atkbd -> input core -> x4step input handler path.
+# shellcheck disable=SC2317 # helpers are called indirectly
 insmod "$X4MOD/x4step.ko" || exit 1
 fail=0
 
@@ -56,13 +57,13 @@ with_key() { # SECONDS KEY PROGRAM
 	kill "$mon"
 	sleep "$1"
 	echo "X4MON sendkey $2"
-	(sleep 10 && kill -9 $pid 2>/dev/null) &
+	(sleep 10 && kill -9 "$pid" 2>/dev/null) &
 	watchdog=$!
-	wait $pid
+	wait "$pid"
 	status=$?
-	kill $watchdog 2>/dev/null
+	kill "$watchdog" 2>/dev/null
 	cat /tmp/out
-	return $status
+	return "$status"
 }
 
 check errors /bin/man_errors

@@ -14,7 +14,10 @@ here=$(dirname "$0")
 "$here/../common/check-segments.sh" "$@"
 c0=$(tr -d '\r' <"$out/console.log" | sed -n 's/^COORD0 //p')
 c1=$(tr -d '\r' <"$out/console.log" | sed -n 's/^COORD //p')
-[ -n "$c0" ] && [ -n "$c1" ] || { echo "BAD: no COORD0/COORD lines"; exit 1; }
+if [ -z "$c0" ] || [ -z "$c1" ]; then
+	echo "BAD: no COORD0/COORD lines"
+	exit 1
+fi
 sums=$(awk '$1 == "MOVE" { for (a = 0; a < 4; a++) s[a] += $(4 + a) }
 	END { printf "%d %d %d %d\n", s[0], s[1], s[2], s[3] }' "$out/segments.seen")
 echo "module coordinates: before $c0, after $c1; steps QEMU saw, per axis: $sums"

@@ -40,7 +40,12 @@ exec 3<>/dev/x4step0
 if rmmod x4step 2>/dev/null; then echo "FAIL rmmod refused while the device is open"; exit 1; fi
 echo "PASS rmmod refused while the device is open"
 exec 3>&-
-rmmod x4step && echo "PASS rmmod after close" || { echo "FAIL rmmod after close"; exit 1; }
+if rmmod x4step; then
+	echo "PASS rmmod after close"
+else
+	echo "FAIL rmmod after close"
+	exit 1
+fi
 
 # lp (and ppdev) have registered on parport0 first: x4step still serves it.
 check "insmod x4step after lp" insmod "$X4MOD/x4step.ko"

@@ -759,7 +759,7 @@ if [ -r "$vmod" ]; then
 	check gcode-run 0 '^gcode: done, at X3.33 Y-1.12 Z0.5 (mm)$' '' \
 		x4ctl gcode -m "$tmp/mill.ini" --svg "$tmp/part.svg" "$tmp/part.ngc"
 	# The plot: the planned toolpath and the positions the module reported.
-	for c in planned done; do
+	for c in planned "done"; do
 		has "gcode-svg-$c" "$tmp/part.svg" "class=\"$c\"[^>]* points=\"[-0-9]"
 	done
 	# X 3.333 * 100 = 333; Y -1.117 * -100 = 111.7 -> 112; Z 50.
