@@ -4,7 +4,7 @@
 #   make            module (kmod/x4step.ko), libx4step, x4ctl
 #   make check      installs what it needs, runs every test (host + QEMU)
 #   make demo       a part program and the manual's first example on an emulated
-#                   parallel port (QEMU), then simulated (tools/demo.sh)
+#                   parallel port (QEMU), then simulated (scripts/demo.sh)
 #   make bench      engine and module benchmarks (print figures)
 #   make install    headers, library, x4ctl, module, udev rule, pkg-config
 
@@ -28,7 +28,7 @@ userspace:
 	cmake --build $(BUILD) -j2
 
 deps:
-	tools/deps.sh all
+	scripts/deps.sh all
 
 check: deps
 	tests/run-all.sh
@@ -48,7 +48,7 @@ check-debug: deps
 	tests/debugkernel/run.sh
 
 demo: deps
-	tools/demo.sh
+	scripts/demo.sh
 
 bench: deps userspace
 	tests/bench/run.sh
@@ -56,7 +56,7 @@ bench: deps userspace
 install: all
 	DESTDIR=$(DESTDIR) cmake --install $(BUILD)
 	$(MAKE) -C $(KDIR) M=$(CURDIR) INSTALL_MOD_DIR=extra INSTALL_MOD_PATH=$(DESTDIR) modules_install
-	install -D -m 0644 tools/60-x4step.rules $(DESTDIR)/etc/udev/rules.d/60-x4step.rules
+	install -D -m 0644 kmod/60-x4step.rules $(DESTDIR)/etc/udev/rules.d/60-x4step.rules
 
 clean:
 	$(MAKE) -C $(KDIR) M=$(CURDIR) clean

@@ -4,12 +4,13 @@
 tracked Markdown files names an existing file (and, with #anchor, one of
 its headings), every file path in backticks that starts at a top folder of
 the tree exists, nothing points outside the repository (../shared, the
-project's notes beside it), and the README stays short and gives the test
-command. Prints each problem as FILE:LINE: what;
+project's notes beside it), the README stays short and gives the test
+command, and tests/README.md maps every source file to its tests. Prints each problem as FILE:LINE: what;
 exits 1 if there was one.
 
 Usage: tests/check-docs.py [TOP]   (default: the repository of this file)
 """
+import fnmatch
 import os
 import re
 import subprocess
@@ -77,6 +78,26 @@ if readme.count("\n") > 160:
     problems.append(f"README.md: {readme.count(chr(10))} lines: keep it under 160, move the topic to docs/")
 if "    make check " not in readme:
     problems.append("README.md: no 'make check' command line (.ci/run runs the README's test command)")
+
+# tests/README.md maps every source file to its tests: each file of the
+# module, the engine, the library and the tools matches a pattern of its
+# table's first column, and each pattern matches a file.
+sources = subprocess.run(["git", "ls-files", "kmod/*.c", "kmod/*.rules", "lib/*", "tools/*"], cwd=top,
+                         capture_output=True, text=True, check=True).stdout.split()
+sources = [f for f in sources if not f.endswith(("CMakeLists.txt", ".md"))]
+patterns, in_map = [], False
+with open(os.path.join(top, "tests/README.md"), encoding="utf-8") as f:
+    for n, line in enumerate(f, 1):
+        if line.startswith("#"):
+            in_map = line.strip() == "## Source files and their tests"
+        elif in_map and line.startswith("| `"):
+            patterns += [(p, n) for p in code_re.findall(line.split("|")[1])]
+for src in sources:
+    if not any(fnmatch.fnmatch(src, p) for p, _ in patterns):
+        problems.append(f"tests/README.md: {src} is not in the map of source files to their tests")
+for p, n in patterns:
+    if not any(fnmatch.fnmatch(src, p) for src in sources):
+        problems.append(f"tests/README.md:{n}: `{p}` names no source file")
 
 for p in problems:
     print(p)

@@ -1,7 +1,8 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
 # Static checks: the module is checkpatch-clean, sparse-clean and W=1
-# warning-free on every kernel; user space is clang-format clean.
+# warning-free on every kernel; user space is clang-format clean; shell
+# scripts pass shellcheck; the docs' links and test map hold.
 # Prints PASS/FAIL lines; exits non-zero if any failed.
 set -u
 top=$(cd "$(dirname "$0")/.." && pwd)
@@ -15,6 +16,7 @@ result() { # STATUS NAME
 # checkpatch.pl comes with Debian's kernel source; unpack just the script.
 cp_dir=$out/checkpatch
 if [ ! -x "$cp_dir/scripts/checkpatch.pl" ]; then
+	# shellcheck disable=SC2012 # sorted by version, names without spaces
 	tarball=$(ls /usr/src/linux-source-*.tar.xz 2>/dev/null | sort -V | tail -n 1)
 	mkdir -p "$cp_dir"
 	tar -xJf "$tarball" -C "$cp_dir" --strip-components=1 --wildcards \
@@ -22,15 +24,17 @@ if [ ! -x "$cp_dir/scripts/checkpatch.pl" ]; then
 		'*/scripts/const_structs.checkpatch'
 fi
 checkpatch="$cp_dir/scripts/checkpatch.pl --no-tree -q -f"
-kfiles=$(cd "$top" && git ls-files 'kmod/*.[ch]' 'tests/kmod/*.[ch]' include/uapi | grep -v x4step_compat.h)
+kfiles=$(cd "$top" && git ls-files 'kmod/*.[ch]' 'tests/qemu/fixtures/*.[ch]' include/uapi | grep -v x4step_compat.h)
+# shellcheck disable=SC2086 # the command with its options, and the files, are words
 (cd "$top" && $checkpatch $kfiles &&
 	$checkpatch --ignore LINUX_VERSION_CODE,CONSTANT_COMPARISON kmod/x4step_compat.h) \
 	>"$out/checkpatch.log" 2>&1
 st=$?
 cat "$out/checkpatch.log"
-result $st "checkpatch (kmod, uapi, tests/kmod)"
+result $st "checkpatch (kmod, uapi, tests/qemu/fixtures)"
 
 # Build with W=1 and sparse (C=2: check every file) against each kernel.
+# shellcheck disable=SC2012 # sorted by version, names without spaces
 for hdr in $(ls -d /usr/src/linux-headers-*-amd64 | sort -V); do
 	kver=${hdr#/usr/src/linux-headers-}
 	src=$out/$kver
@@ -41,7 +45,7 @@ for hdr in $(ls -d /usr/src/linux-headers-*-amd64 | sort -V); do
 	st=$?
 	# Anything the compiler or sparse says is a failure (BTF note aside).
 	grep -v -e '^Skipping BTF' -e '^  ' "$out/build-$kver.log" | grep -q . && st=1
-	cat "$out/build-$kver.log" | grep -v '^Skipping BTF'
+	grep -v '^Skipping BTF' "$out/build-$kver.log"
 	result $st "module builds with W=1, sparse-clean on $kver"
 done
 
@@ -67,7 +71,7 @@ fi
 if ! printf '#include <stdint.h>\n#include <string.h>\n' |
 	gcc -m32 -x c -c -o /dev/null - >"$m32/probe.log" 2>&1; then
 	cat "$m32/probe.log"
-	echo "gcc -m32 cannot compile user space for i386: install gcc-multilib (tools/deps.sh test)"
+	echo "gcc -m32 cannot compile user space for i386: install gcc-multilib (scripts/deps.sh test)"
 	result 1 "32-bit: gcc -m32 unavailable, engine's 64-bit divisions not checked"
 else
 	st=0
@@ -99,12 +103,34 @@ fi
 # Every C++ file and header, and the C API's headers (the uapi header is kernel style).
 files=$(cd "$top" && git ls-files 'lib/*.cpp' 'lib/*.hpp' 'include/*.hpp' 'include/*.h' 'tools/*.cpp' 'tools/*.hpp' \
 	'tests/*.cpp' 'tests/*.hpp' 'tests/*.h' | grep -v '^include/uapi/')
+# shellcheck disable=SC2086 # the tracked files, names without spaces
 (cd "$top" && clang-format --dry-run -Werror $files) >"$out/clang-format.log" 2>&1
 st=$?
 head -20 "$out/clang-format.log"
 result $st "clang-format (user space)"
 
-# The documentation points at files that exist, inside the tree.
+# Every shell script (by name, or by its #! line) passes shellcheck;
+# a warning that does not apply is disabled on its line, with the reason.
+shfiles=$(cd "$top" && git ls-files | while read -r f; do
+	case ${f##*/} in
+	*.sh) echo "$f" ;;
+	*.* | Kbuild | Makefile) ;; # other languages
+	*) head -n 1 "$f" 2>/dev/null | grep -qE '^#! ?/bin/(ba)?sh|^#! ?/usr/bin/env (ba)?sh' && echo "$f" ;;
+	esac
+done)
+if command -v shellcheck >/dev/null; then
+	# shellcheck disable=SC2086 # the tracked files, names without spaces
+	(cd "$top" && shellcheck $shfiles) >"$out/shellcheck.log" 2>&1
+	st=$?
+	head -n 40 "$out/shellcheck.log"
+else
+	echo "shellcheck is missing: install it (scripts/deps.sh test)"
+	st=1
+fi
+result $st "shellcheck ($(printf "%s\n" "$shfiles" | grep -c .) shell scripts)"
+
+# The documentation points at files that exist, inside the tree, and
+# tests/README.md maps every source file to its tests.
 "$top/tests/check-docs.py" "$top"
-result $? "docs: relative links and file paths in Markdown exist"
+result $? "docs: relative links and file paths in Markdown exist, every source file mapped to its tests"
 exit $fail

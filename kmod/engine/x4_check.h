@@ -63,7 +63,7 @@ struct x4_profile {
 };
 /*
  * The fastest profile move, reference run or path leader (steps/s): the
- * ceiling measured in QEMU -icount (tests/guest/speed_bench.cpp, `make
+ * ceiling measured in QEMU -icount (tests/qemu/speed/speed_bench.cpp, `make
  * bench`): every edge, lateness as a bare hrtimer's, up to 160 000 steps/s;
  * at 200 000 the callback no longer keeps up. 100 000 leaves that margin
  * for PCs with slower port writes, one axis at it fits the default write

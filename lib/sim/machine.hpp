@@ -2,7 +2,7 @@
 // The machine behind the simulated port: its axes move with the step and
 // direction pins, its switches drive inputs, and a script sets the other
 // inputs at given times. The model is the QEMU virtual port's
-// (tests/kmod/x4vport.c: positions, switches "below|above AT HYST no|nc",
+// (tests/qemu/fixtures/x4vport.c: positions, switches "below|above AT HYST no|nc",
 // switches on one input in parallel), so that both machines agree; the
 // file names the switches as ProStep4 does (REF, E+, E-). Internal.
 #ifndef X4STEP_SIM_MACHINE_HPP

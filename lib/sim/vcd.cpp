@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // libx4step: the simulated port's VCD file (vcd.hpp). The header and the
-// value lines are as tools/x4trace writes them; the times are the
+// value lines are as tests/tools/x4trace writes them; the times are the
 // simulation's, exact to the ns (writes at one instant 1 ns apart, as in
 // x4trace, so that every pulse stays visible).
 #include "vcd.hpp"

@@ -2,7 +2,7 @@
 // G-code interpreter throughput (issue 20, goal >= 200 000 lines/s): a
 // 100 000-line file made of a real CAM program's body repeated (by
 // default LinuxCNC's plasmatest.ngc, the EMC-Plasma post processor's
-// output, from tools/get-rs274.sh's cache), run from the file through
+// output, from scripts/get-rs274.sh's cache), run from the file through
 // the interpreter into a sink that counts; then the interpreter and the
 // planner (lib/machine) into an output that counts segments, on a mill
 // with room for the whole program; the best of 5 runs each. tests/bench/
@@ -72,7 +72,7 @@ int main(int argc, char **argv) {
   long want = argc > 2 ? std::atol(argv[2]) : 100000;
   std::ifstream in(src);
   if (!in) {
-    std::fprintf(stderr, "gcode_bench: cannot open %s (tools/get-rs274.sh fetches LinuxCNC's examples)\n",
+    std::fprintf(stderr, "gcode_bench: cannot open %s (scripts/get-rs274.sh fetches LinuxCNC's examples)\n",
                  src.c_str());
     return 1;
   }

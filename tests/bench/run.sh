@@ -66,6 +66,7 @@ for depth in 256 4096; do
 		"$build/tests/path_bench" --worst $depth --per-push >/dev/null 2>&1
 	line=$(cat "$tmp"/push.* 2>/dev/null | sed -n 's/^totals: *//p' | sort -n |
 		awk '{v[NR]=$1; s+=$1} END {printf "%d %d %d", s/NR, v[NR], NR}')
+	# shellcheck disable=SC2086 # its three numbers as the arguments
 	set -- $line
 	echo "depth $depth: mean $1, max $2 instructions per appended segment ($3 segments)"
 	[ "${2:-0}" -gt "$worst" ] && worst=$2
@@ -93,7 +94,7 @@ if "$build/tests/gcode_bench" /var/cache/x4step/linuxcnc/root/usr/share/linuxcnc
 	read -r secs _ kb <"$tmp/check.time" || true
 	echo "x4ctl gcode --check: ${secs:-?} s (goal < 1 s), peak memory ${kb:-?} kB: $(head -n1 "$tmp/check.out")"
 else
-	echo "(the G-code bench failed: tools/get-rs274.sh fetches its program)"
+	echo "(the G-code bench failed: scripts/get-rs274.sh fetches its program)"
 fi
 echo
 
@@ -135,7 +136,7 @@ grep -E '^(baseline|SURVIVED|INVALID)' "$tmp/mutation.log" || true
 tail -n 1 "$tmp/mutation.log"
 
 # The module's timer in QEMU under -icount (reproducible guest time), next
-# to a bare hrtimer in the same boot: tests/guest/timing_bench.cpp.
+# to a bare hrtimer in the same boot: tests/qemu/timing/timing_bench.cpp.
 echo
 echo "== module: step timer lateness vs a bare hrtimer, 20 kHz 4-axis move (QEMU -icount, Debian 6.1)"
 qout=${X4_QEMU_BUILD:-$(cd "$build" && pwd)/qemu-bench}
@@ -146,7 +147,7 @@ cat "$qout"/6.1.*/timing/console.log | tr -d '\r' | grep -E 'timer:|hrtimer:|rat
 # 10^6 steps/s^2 ramps at each rate up to X4STEP_VEL_MAX, in QEMU -icount:
 # edges, lateness against a bare hrtimer at the same rate, the timer's CPU.
 echo
-echo "== module: speed ceiling, one axis, goto and path (QEMU -icount, Debian 6.1; tests/guest/speed_bench.cpp)"
+echo "== module: speed ceiling, one axis, goto and path (QEMU -icount, Debian 6.1; tests/qemu/speed/speed_bench.cpp)"
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t speed >/dev/null 2>&1 || echo "(the speed run failed: see $qout)"
 cat "$qout"/6.1.*/speed/console.log | tr -d '\r' | grep -E '^ceiling' |
 	sed -E 's/^ceiling //; s/ \(planned ([0-9]+), minimum ([0-9]+)\)/ (min \2)/; s/, [0-9]+ capped, [0-9]+ shifts//'
@@ -154,14 +155,14 @@ cat "$qout"/6.1.*/speed/console.log | tr -d '\r' | grep -E '^ceiling' |
 # The X4Step API's top rate on time (issue 28, item 10): the cruise period
 # of 20 kHz with 25 us pulse and space, and the bounded waits that place its
 # edges (X4STEP_GET_TIMING spins, spin_ns) with their CPU cost; 19 to 5 kHz
-# beside it (tests/guest/ontime_test.cpp).
+# beside it (tests/qemu/ontime/ontime_test.cpp).
 echo
 echo "== module: 20 kHz on time, cruise period and the spin's CPU cost (QEMU -icount, Debian 6.1)"
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t ontime >/dev/null 2>&1 || echo "(the ontime run failed: see $qout)"
 cat "$qout"/6.1.*/ontime/console.log | tr -d '\r' | grep -E '^ontime [0-9]'
 
 # Paths in the module (issue 18): the rate at which 20-step segments are
-# taken from a streaming writer, 5000/s asked for (tests/guest/path_test.cpp).
+# taken from a streaming writer, 5000/s asked for (tests/qemu/path/path_test.cpp).
 echo
 echo "== module: sustained segment rate of a streamed path (QEMU -icount, Debian 6.1)"
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t path >/dev/null 2>&1 || echo "(the path run failed: see $qout)"

@@ -43,10 +43,10 @@ if [ ! -r "$tarball" ]; then
 		DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "$srcpkg" >/dev/null ||
 			die "apt-get install $srcpkg failed"
 	fi
-	[ -r "$tarball" ] || die "no $tarball: install $srcpkg (tools/deps.sh test)"
+	[ -r "$tarball" ] || die "no $tarball: install $srcpkg (scripts/deps.sh test)"
 fi
 for t in make gcc flex bison bc; do
-	command -v "$t" >/dev/null || die "$t not installed (tools/deps.sh)"
+	command -v "$t" >/dev/null || die "$t not installed (scripts/deps.sh)"
 done
 [ -e /usr/include/libelf.h ] || die "libelf-dev not installed (objtool needs it)"
 [ -e /usr/include/openssl/ssl.h ] || die "libssl-dev not installed"

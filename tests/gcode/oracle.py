@@ -4,7 +4,7 @@
 
 For each program of tests/gcode/programs.txt (paths inside the unpacked
 linuxcnc-uspace package, or in tests/gcode/), runs LinuxCNC's rs274
-(tools/get-rs274.sh: its 9-decimal copy) and gcode_dump, and compares the
+(scripts/get-rs274.sh: its 9-decimal copy) and gcode_dump, and compares the
 sequences of motions and dwells: every end point and arc centre within
 1e-6 mm (or degree), the same planes and turns, the same dwell times. rs274 prints program coordinates in
 the current length unit; they are turned into machine coordinates in mm
@@ -29,8 +29,8 @@ cache = sys.argv[2] if len(sys.argv) > 2 else os.environ.get(
 rs274 = os.path.join(cache, "rs274-9")
 root = os.path.join(cache, "root")
 if not os.path.isfile(os.path.join(cache, "complete")):
-    print(f"FAIL: LinuxCNC's rs274 is not in {cache}: run tools/deps.sh test as root "
-          "(tools/get-rs274.sh fetches Debian's linuxcnc-uspace)")
+    print(f"FAIL: LinuxCNC's rs274 is not in {cache}: run scripts/deps.sh test as root "
+          "(scripts/get-rs274.sh fetches Debian's linuxcnc-uspace)")
     sys.exit(1)
 env = dict(os.environ, LD_LIBRARY_PATH=f"{root}/usr/lib:{root}/usr/lib/x86_64-linux-gnu")
 

@@ -14,8 +14,8 @@ x4ctl=$1 sim_check=$2 dump=$3
 cache=${4:-${X4_LINUXCNC_CACHE:-/var/cache/x4step/linuxcnc}}
 here=$(dirname "$(readlink -f "$0")")
 if [ ! -f "$cache/complete" ]; then
-	echo "FAIL: LinuxCNC's example programs are not in $cache: run tools/deps.sh test as root" \
-		"(tools/get-rs274.sh fetches Debian's linuxcnc-uspace)"
+	echo "FAIL: LinuxCNC's example programs are not in $cache: run scripts/deps.sh test as root" \
+		"(scripts/get-rs274.sh fetches Debian's linuxcnc-uspace)"
 	exit 1
 fi
 dir=$(mktemp -d)

@@ -1,6 +1,6 @@
 #!/bin/sh
 # SPDX-License-Identifier: GPL-2.0
-# The man pages say what their sources say (tools/mkman.sh): x4ctl.1, as
+# The man pages say what their sources say (scripts/mkman.sh): x4ctl.1, as
 # groff renders it, holds every line of `x4ctl --help` and of `x4ctl help
 # COMMAND` for each command; x4step.3 has a section for every function the
 # C headers declare, and every constant they document.
@@ -34,9 +34,11 @@ done
 
 page=$(render "$lib_page")
 for h in "$@"; do
+	# shellcheck disable=SC2013 # one function name a line: words
 	for f in $(sed -n 's/^[a-z][a-z ]* \**\(X4[A-Za-z]*\)(.*);$/\1/p' "$h"); do
 		printf '%s\n' "$page" | grep -q "^[a-z][a-z ]* \**$f(" || fail "x4step.3 lacks $f() of $h"
 	done
+	# shellcheck disable=SC2013 # one macro name a line: words
 	for d in $(sed -n 's/^#define \([A-Za-z0-9_]*\) .*\/\*\*<.*/\1/p' "$h"); do
 		printf '%s\n' "$page" | grep -q "^$d " || fail "x4step.3 lacks $d of $h"
 	done

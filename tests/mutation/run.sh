@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: GPL-2.0
 # Mutation run of the engine core (issue 16): apply each one-line mutation
 # of tests/mutation/mutations.txt, one at a time, to a copy of the engine's
-# sources, build the host tests engine_test, positioning_test and
-# lateness_test against it and run them. Every mutation must make at least
+# sources, build the engine's host tests (tests/engine: req_test,
+# track_test, lateness_test, path_test, positioning_test, engine_test)
+# against it and run them. Every mutation must make at least
 # one test fail (KILLED); one that all tests pass is SURVIVED, and one that
 # cannot be applied (its text is not on exactly one line) or does not build
 # is INVALID. Prints one line per mutation and a score line; exits non-zero
@@ -22,13 +23,14 @@
 # engine only: the tests, the oracle, keep the original.
 #
 # Usage: tests/mutation/run.sh [mutations.txt]
+# shellcheck disable=SC2086 # the lists ($files, $tests, $pids) and the compiler flags are words
 set -u
 top=$(cd "$(dirname "$0")/../.." && pwd)
 list=${1:-$top/tests/mutation/mutations.txt}
 build=${BUILD:-$top/build}
 case $build in /*) ;; *) build=$top/$build ;; esac
 work=$build/mutation
-tests="lateness_test path_test positioning_test engine_test" # fastest first
+tests="req_test track_test lateness_test path_test positioning_test engine_test" # fastest first
 start=$(date +%s)
 
 if [ -d "$top/kmod/engine" ]; then
@@ -59,13 +61,13 @@ sync() { # SRC DST
 }
 
 # The pristine copy of the engine's files and of the tests; nothing else.
-keep="$files engine_test.cpp positioning_test.cpp lateness_test.cpp engine_ref.cpp engine_ref.h"
+keep="$files $(for t in $tests; do printf "%s.cpp " "$t"; done)engine_ref.cpp engine_ref.h"
 for f in "$work/src"/*; do
 	case " $keep " in *" $(basename "$f") "*) ;; *) rm -f "$f" ;; esac
 done
 for f in $files; do sync "$engdir/$f" "$work/src/$f"; done
-for f in engine_test.cpp positioning_test.cpp lateness_test.cpp path_test.cpp engine_ref.cpp engine_ref.h; do
-	sync "$top/tests/host/$f" "$work/src/$f"
+for f in $(for t in $tests; do printf "%s.cpp " "$t"; done) engine_ref.cpp engine_ref.h; do
+	sync "$top/tests/engine/$f" "$work/src/$f"
 done
 
 # Compile SRC to OBJ if OBJ is missing or older than SRC or a header.
@@ -83,7 +85,7 @@ fail_build() {
 
 # The tests' objects and the pristine engine objects, two at a time.
 pids=""
-for t in engine_test positioning_test lateness_test path_test engine_ref; do
+for t in $tests engine_ref; do
 	o=$work/obj/tests/$t.o
 	if need "$o" "$work/src/$t.cpp"; then
 		$CXX $cxxflags -I"$work/src" -c "$work/src/$t.cpp" -o "$o" >"$work/log/$t.build" 2>&1 &
@@ -102,9 +104,9 @@ for c in $csrcs; do
 done
 for p in $pids; do wait "$p" || fail_build "$work/log/"; done
 
-# Link the three tests against the engine objects given.
+# Link the tests against the engine objects given.
 link() { # ENGINE_OBJS...
-	for t in engine_test positioning_test lateness_test path_test; do
+	for t in $tests; do
 		$CXX -o "$bin/$t" "$work/obj/tests/$t.o" "$work/obj/tests/engine_ref.o" "$@" $ldlibs || return 1
 	done
 }

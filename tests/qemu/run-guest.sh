@@ -12,7 +12,7 @@
 # go); --bin files go to /bin. Output in DIR:
 #   console.log  the guest's serial console (also streamed to stdout)
 #   dmesg.log    the guest's full kernel log, dumped after the script (2nd serial port)
-#   lpt.log      QEMU's trace of every parallel port write (see tools/x4trace)
+#   lpt.log      QEMU's trace of every parallel port write (see tests/tools/x4trace)
 #   lpt-test.log the same from the start of GUEST_SCRIPT on (no BIOS/probe writes)
 # With --monitor SOCK, QEMU's monitor listens on that unix socket, and a guest line
 # "X4MON <command>" on the console is sent to it (e.g. `echo X4MON sendkey esc`).

@@ -4,8 +4,9 @@
 # The QEMU suite: for each Debian kernel (6.1, 6.12, 6.12-rt) build x4step.ko
 # against its headers and run every guest test under tests/qemu/run-guest.sh.
 #
-# Usage: tests/qemu/run-suite.sh [-k KVER_SUBSTRING]... [-t TEST]... [-j JOBS] [-v]
-#   -k/-t select kernels/tests (default: all); -j runs JOBS guests side by
+# Usage: tests/qemu/run-suite.sh [-k KVER_SUBSTRING]... [-t TEST]... [-j JOBS] [-v] [-l]
+#   -k/-t select kernels/tests (default: all; a test is a folder of
+#   tests/qemu, see below); -l lists the selected tests and exits; -j runs JOBS guests side by
 #   side (default: X4_QEMU_JOBS or the number of CPUs), each test on each
 #   kernel one guest, the longest tests first; -v streams the guest consoles
 #   (to stderr, one guest at a time). X4_DEBUGKERNEL=1 adds the debug kernel
@@ -28,39 +29,38 @@ top=$(cd "$(dirname "$0")/../.." && pwd)
 qdir=$top/tests/qemu
 bdir=${X4_QEMU_BUILD:-$top/build/qemu}
 
-# The tests: "name|guest script|extra static bins|run-guest flags|host
-# check|seconds". Paths are relative to the repository. Bins are
-# space-separated; the host check (optional) runs after a passing guest as
-# `CHECK OUTDIR KVER` with X4TRACE set to a built tools/x4trace, e.g. to
-# assert on edge counts in OUTDIR/lpt-test.log; its status decides the test.
-# In flags @KOUT@ stands for the kernel's build directory (x4vport.ko), @OUT@
-# for the test's OUTDIR (tests of a kernel run side by side). Seconds: about
-# how long the test takes on Debian's 6.12, for the longest to start first
-# (empty: 60).
-g=build/guest
-tests=(
-	"smoke|tests/qemu/smoke.sh|||tests/qemu/check-no-steps.sh|8"
-	"module|tests/guest/module.sh|$g/module_test||tests/qemu/check-segments.sh|10"
-	"keys|tests/guest/keys.sh|$g/keys_test||tests/qemu/check-segments.sh|10"
-	"cpp|tests/guest/cpp.sh|$g/cpp_test|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh|13"
-	"manual|tests/guest/manual.sh|$(echo $g/man_{errors,load,start,brake,init,getsteps,lastbrakecode,timer,getin,setout})|--monitor @OUT@/mon.sock|tests/qemu/check-segments.sh|15"
-	"vport|tests/kmod/x4vport-guest.sh|$g/x4vctl|--module @KOUT@/src/tests/kmod/x4vport.ko||30"
-	"fuzz|tests/fuzz/fuzz.sh|$g/ioctl_fuzz||tests/fuzz/check-no-edges.sh|56"
-	"reliability|tests/guest/reliability.sh|$g/reliability_test||tests/qemu/check-segments.sh|50"
-	"phase|tests/guest/phase.sh|$g/phase_test||tests/qemu/check-phase.sh|20"
-	"x4ctl|tests/x4ctl/guest-x4ctl.sh|$g/x4ctl|--module @KOUT@/src/tests/kmod/x4vport.ko|tests/x4ctl/check-json.sh|65"
-	"x4ctl-keys|tests/x4ctl/guest-x4ctl-keys.sh|$g/x4ctl|--monitor @OUT@/mon.sock||46"
-	"timing|tests/guest/timing.sh|$g/timing_bench|--icount --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko||30"
-	"speed|tests/guest/speed.sh|$g/speed_bench|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko --module @KOUT@/src/tests/kmod/x4hrbench.ko||48"
-	"discipline|tests/guest/discipline.sh|$g/discipline_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko||35"
-	"ontime|tests/guest/ontime.sh|$g/ontime_test|--icount --module @KOUT@/src/tests/kmod/x4vport.ko||20"
-	"positioning|tests/guest/positioning.sh|$g/positioning_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-positioning.sh|45"
-	"brake|tests/guest/brake.sh|$g/brake_test|--icount --module @KOUT@/src/tests/kmod/x4vport.ko||20"
-	"events|tests/guest/events.sh|$g/events_test|--module @KOUT@/src/tests/kmod/x4vport.ko||20"
-	"config|tests/guest/config.sh|$g/config_test||tests/qemu/check-config.sh|18"
-	"path|tests/guest/path.sh|$g/path_test|--icount --timeout 600 --module @KOUT@/src/tests/kmod/x4vport.ko|tests/qemu/check-segments.sh|45"
-	"faith|tests/faith/faith.sh|$g/faith_moves tests/faith/faith.machine|--icount --module @KOUT@/src/tests/kmod/x4vport.ko|tests/faith/check-faith.sh|22"
-)
+# The tests: every folder tests/qemu/NAME/ with a guest script NAME.sh is
+# one test, run in the guest by run-guest.sh. The script's "#: KEY VALUE"
+# lines say how (tests/qemu/README.md):
+#   #: bins WORD...   the static programs for the guest's /bin: a file of the
+#                     test's folder (faith.machine) or a program tests/qemu/build.sh
+#                     builds into build/guest
+#   #: flags ...      run-guest.sh flags; @FIXTURES@ stands for the kernel's
+#                     built tests/qemu/fixtures (x4vport.ko), @OUT@ for the
+#                     test's OUTDIR (tests of a kernel run side by side)
+#   #: check FILE     the host check, relative to the folder, run after a
+#                     passing guest as `CHECK OUTDIR KVER` with X4TRACE set to a
+#                     built tests/tools/x4trace; its status decides the test
+#   #: seconds N      about how long the test takes on Debian's 6.12, for the
+#                     longest to start first (none: 60)
+# Entries are "name|guest script|bins|flags|check|seconds", paths relative to
+# the repository.
+meta() { # SCRIPT KEY: the value of its "#: KEY" line
+	sed -n "s/^#: $2 //p" "$1" | head -n 1
+}
+tests=()
+for script in "$qdir"/*/; do
+	name=$(basename "$script")
+	script=$qdir/$name/$name.sh
+	[ -f "$script" ] || continue # common/, fixtures/: no test
+	rel=tests/qemu/$name
+	bins=""
+	for b in $(meta "$script" bins); do
+		if [ -e "$qdir/$name/$b" ]; then bins="$bins $rel/$b"; else bins="$bins build/guest/$b"; fi
+	done
+	check=$(meta "$script" check)
+	tests+=("$name|$rel/$name.sh|${bins# }|$(meta "$script" flags)|${check:+$rel/$check}|$(meta "$script" seconds)")
+done
 
 # The kernels the module must pass on: label, glob under /boot, exclusion,
 # and "TEST...:WHY" for tests that do not apply to that kernel.
@@ -75,14 +75,15 @@ kernel_kinds=(
 	"debug|vmlinuz-*-x4debug||timing speed faith:its timer is ~16 us late (Debian's ~0.6 us), too late for the microsecond checks (timing, faith) and the speed ceiling (measured on Debian's kernels; paths at 100 kHz run here in the path test)"
 	"${kernel_kinds[@]}")
 
-want_k=() want_t=() verbose=0 jobs=${X4_QEMU_JOBS:-$(nproc)}
+want_k=() want_t=() verbose=0 list=0 jobs=${X4_QEMU_JOBS:-$(nproc)}
 while [ $# -gt 0 ]; do
 	case "$1" in
 	-k) want_k+=("${2:?}"); shift 2 ;;
 	-t) want_t+=("${2:?}"); shift 2 ;;
 	-j) jobs=${2:?}; shift 2 ;;
 	-v) verbose=1; shift ;;
-	*) echo "usage: $0 [-k KVER_SUBSTRING]... [-t TEST]... [-j JOBS] [-v]" >&2; exit 2 ;;
+	-l) list=1; shift ;;
+	*) echo "usage: $0 [-k KVER_SUBSTRING]... [-t TEST]... [-j JOBS] [-v] [-l]" >&2; exit 2 ;;
 	esac
 done
 [[ "$jobs" =~ ^[1-9][0-9]*$ ]] || { echo "run-suite: -j wants a positive number, not '$jobs'" >&2; exit 2; }
@@ -94,6 +95,11 @@ selected() { # VALUE PATTERNS... : no patterns selects everything
 	for p in "$@"; do [[ "$v" == *"$p"* ]] && return 0; done
 	return 1
 }
+
+if [ "$list" = 1 ]; then # one "name|guest script|bins|flags|check|seconds" line per test
+	for t in "${tests[@]}"; do selected "${t%%|*}" "${want_t[@]}" && echo "$t"; done
+	exit 0
+fi
 
 result() { # PASS|FAIL|SKIP TEST KVER [WHY]: with the test's time once it ran
 	echo "$1 $2 $3${took:+ ($took s)}"
@@ -122,17 +128,18 @@ prepare_kernel() { # KVER
 	[ -d "$kdir" ] || kdir=/usr/src/linux-headers-$kver
 	kout=$bdir/$kver
 	rm -rf "$kout/src" "$kout/vmlinux-pvh" "$kout/why" # no stale "can run"
-	mkdir -p "$kout/src/tests"
+	mkdir -p "$kout/src"
 	if [ ! -d "$kdir" ]; then
 		why="no headers for $kver (linux-headers package)"
 	else
 		cp -a "$top/Kbuild" "$top/kmod" "$top/include" "$kout/src/"
-		cp -a "$top/tests/kmod" "$kout/src/tests/"
+		mkdir -p "$kout/src/tests/qemu"
+		cp -a "$qdir/fixtures" "$kout/src/tests/qemu/"
 		find "$kout/src" \( -name '*.o' -o -name '*.ko' -o -name '*.mod*' -o -name '.*.cmd' \
 			-o -name modules.order -o -name Module.symvers \) -delete
 		if ! make -C "$kdir" M="$kout/src" modules >"$kout/build.log" 2>&1; then
 			why="module build failed, see $kout/build.log"
-		elif ! make -C "$kdir" M="$kout/src/tests/kmod" modules >>"$kout/build.log" 2>&1; then
+		elif ! make -C "$kdir" M="$kout/src/tests/qemu/fixtures" modules >>"$kout/build.log" 2>&1; then
 			why="x4vport build failed, see $kout/build.log"
 		elif [ ! -f "$kout/src/kmod/x4step.ko" ]; then
 			why="no kmod/x4step.ko after the build, see $kout/build.log"
@@ -154,7 +161,7 @@ run_test() { # KVER TEST
 	args=(--kver "$kver" --out "$out" --module "$kout/src/kmod/x4step.ko")
 	[ -f "$kout/vmlinux-pvh" ] && args+=(--kernel "$kout/vmlinux-pvh")
 	for b in $bins; do args+=(--bin "$top/$b"); done
-	flags=${flags//@KOUT@/$kout}
+	flags=${flags//@FIXTURES@/$kout/src/tests/qemu/fixtures}
 	# shellcheck disable=SC2206 # flags are words by design
 	args+=(${flags//@OUT@/$out})
 	set +e
@@ -201,11 +208,11 @@ done
 # Built side by side: x4trace (host checks use it), the guest programs (the
 # same for every kernel) and each kernel's modules.
 rm -f "$bdir/x4trace"
-if [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
-	g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tools/x4trace/x4trace.cpp" \
+if [ -f "$top/tests/tools/x4trace/x4trace.cpp" ]; then
+	g++ -std=c++17 -O2 -Wall -Wextra -o "$bdir/x4trace" "$top/tests/tools/x4trace/x4trace.cpp" \
 		>"$bdir/x4trace-build.log" 2>&1 &
 fi
-"$top/tests/guest/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1 &
+"$top/tests/qemu/build.sh" "$top/build/guest" >"$bdir/guest-build.log" 2>&1 &
 guest_build=$!
 for kind in "${kinds[@]}"; do
 	kver=${kind##*|}
@@ -221,7 +228,7 @@ fi
 wait
 if [ -x "$bdir/x4trace" ]; then
 	export X4TRACE=$bdir/x4trace
-elif [ -f "$top/tools/x4trace/x4trace.cpp" ]; then
+elif [ -f "$top/tests/tools/x4trace/x4trace.cpp" ]; then
 	echo "run-suite: building x4trace failed, see $bdir/x4trace-build.log" >&2
 fi
 
@@ -240,7 +247,7 @@ for kind in "${kinds[@]}"; do
 	IFS='|' read -r label glob _ skip kver <<<"$kind"
 	why=""
 	if [ -z "$kver" ]; then
-		why="no /boot/$glob: install the Debian kernel package (tools/deps.sh test)"
+		why="no /boot/$glob: install the Debian kernel package (scripts/deps.sh test)"
 	else
 		why=$(cat "$bdir/$kver/why" 2>/dev/null || echo "preparing $kver failed, see $bdir/$kver")
 		label=$kver

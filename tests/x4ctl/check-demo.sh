@@ -1,6 +1,6 @@
 #!/bin/bash
 # SPDX-License-Identifier: GPL-2.0
-# make demo's part program (tools/demo.sh: machine= and program=) on its
+# make demo's part program (scripts/demo.sh: machine= and program=) on its
 # machine file, on the host: x4ctl gcode --check passes it (soft limits
 # included), and on the simulated port in virtual time it runs to its end,
 # its steps (the VCD, read by gcode_sim_check) ending at exactly
@@ -12,11 +12,11 @@ x4ctl=$1 sim_check=$2 top=$3
 # shellcheck source=tests/x4ctl/check-lib.sh
 . "$(dirname "$0")/check-lib.sh"
 
-# The files the demo runs, as tools/demo.sh names them.
-machine=$(sed -n 's/^machine=\([^ ]*\)$/\1/p' "$top/tools/demo.sh")
-program=$(sed -n 's/^program=\([^ ]*\)$/\1/p' "$top/tools/demo.sh")
+# The files the demo runs, as scripts/demo.sh names them.
+machine=$(sed -n 's/^machine=\([^ ]*\)$/\1/p' "$top/scripts/demo.sh")
+program=$(sed -n 's/^program=\([^ ]*\)$/\1/p' "$top/scripts/demo.sh")
 [ -f "$top/$machine" ] && [ -f "$top/$program" ]
-check "tools/demo.sh names its machine ($machine) and program ($program)" $?
+check "scripts/demo.sh names its machine ($machine) and program ($program)" $?
 machine=$top/$machine program=$top/$program
 
 "$x4ctl" gcode --check --machine "$machine" "$program" >"$dir/out" 2>&1

@@ -274,7 +274,7 @@ X4STEP_SIM_KEYS=3:esc refused "X4STEP_SIM_KEYS=3:esc" 1 "X4STEP_SIM_KEYS: '3:esc
 	--sim move 100
 X4STEP_SIM_KEYS=1s:ctrl refused "X4STEP_SIM_KEYS=1s:ctrl" 1 "X4STEP_SIM_KEYS: '1s:ctrl': no such key" \
 	--sim move 100
-X4STEP_SIM_KEYS=tty refused "X4STEP_SIM_KEYS=tty without a terminal" 1 \
+X4STEP_SIM_KEYS="tty" refused "X4STEP_SIM_KEYS=tty without a terminal" 1 \
 	"X4STEP_SIM_KEYS=tty: standard input is not a terminal" --sim move 100
 X4STEP_SIM_INPUTS=10:pin9=1 refused "X4STEP_SIM_INPUTS=10:pin9=1" 1 \
 	"X4STEP_SIM_INPUTS item 1 '10:pin9=1': 'pin9' is not an input pin" --sim move 100

@@ -5,7 +5,7 @@
 # interactive mode) and a program of the manual's C API under X4STEP_SIM=1
 # run under strace, which records every file they name and any ioperm or
 # iopl. Only /dev/null and /dev/tty may be opened under /dev, nothing under
-# /sys. strace is a test dependency (tools/deps.sh): without it, or if it
+# /sys. strace is a test dependency (scripts/deps.sh): without it, or if it
 # cannot trace here, this fails.
 #   check-sim-nodev.sh X4CTL SIM_CAPI_PROBE
 set -u
@@ -13,7 +13,7 @@ x4ctl=$1 probe=$2
 # shellcheck source=tests/x4ctl/check-lib.sh
 . "$(dirname "$0")/check-lib.sh"
 if ! command -v strace >/dev/null; then
-	echo "FAIL strace is missing: install it (tools/deps.sh test, Debian package strace)"
+	echo "FAIL strace is missing: install it (scripts/deps.sh test, Debian package strace)"
 	exit 1
 fi
 cat >"$dir/m.machine" <<'EOF'

@@ -16,7 +16,7 @@ start=$(date +%s%N)
 X4STEP_SIM_TIME=virtual timeout 30 "$x4ctl" --sim path --json -s 4000 "$dir/circle.txt" >"$dir/virtual.out" 2>&1
 st=$?
 took=$((($(date +%s%N) - start) / 1000000))
-cat "$dir/virtual.out" | tail -1
+tail -n 1 "$dir/virtual.out"
 check "virtual time: exit 0" $st
 tail -1 "$dir/virtual.out" | grep -q "\"state\":\"idle\".*\"done\":600,\"total\":600"
 check "virtual time: the last progress record says 600 of 600 done" $?

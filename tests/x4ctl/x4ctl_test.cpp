@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0
 // Host tests of x4ctl: command line parsing, help texts, the TEST.EXE
 // command language and its interpreter on a simulated port, formatting.
-// No device is needed; the in-QEMU sessions are tests/x4ctl/guest-x4ctl.sh.
+// No device is needed; the in-QEMU sessions are tests/qemu/x4ctl/x4ctl.sh.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,7 +1,0 @@
-#!/bin/sh
-# SPDX-License-Identifier: GPL-2.0
-# Guest script: SET_CONFIG while idle makes no step edge for the new wiring,
-# and is refused while a move runs (tests/guest/config_test.cpp; the host
-# checks QEMU's port trace with tests/qemu/check-config.sh).
-insmod "$X4MOD/x4step.ko" || exit 1
-exec /bin/config_test

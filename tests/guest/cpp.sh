@@ -1,9 +1,0 @@
-#!/bin/sh
-# SPDX-License-Identifier: GPL-2.0
-# Guest script: load x4step, ppdev (another parport client) and the virtual
-# port (parport1, which cpp_test removes), and run cpp_test (see
-# tests/guest/cpp_test.cpp).
-insmod "$X4MOD/x4step.ko" || exit 1
-if [ -e /lib/kmod/ppdev.ko ]; then insmod /lib/kmod/ppdev.ko || exit 1; fi
-if [ -e "$X4MOD/x4vport.ko" ]; then insmod "$X4MOD/x4vport.ko" || exit 1; fi
-exec /bin/cpp_test

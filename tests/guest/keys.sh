@@ -1,5 +1,0 @@
-#!/bin/sh
-# SPDX-License-Identifier: GPL-2.0
-# Guest script: load x4step and run keys_test (see tests/guest/keys_test.cpp).
-insmod "$X4MOD/x4step.ko" || exit 1
-exec /bin/keys_test
