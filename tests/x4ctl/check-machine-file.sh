@@ -5,6 +5,7 @@
 # StepConf configuration (stepconf/router.ini and .hal, as StepConf 1.1
 # writes them) made into a machine file that checks good, with its values.
 #   check-machine-file.sh X4CTL MACHINES_DIR
+# shellcheck disable=SC2181 # each check reads the status of the run just before it
 set -u
 x4ctl=$1
 machines=$2
