@@ -15,7 +15,7 @@
  * The engine's files, each owning one job:
  *   x4_check.c   the commands' arguments and their checks (libx4step too)
  *   x4_plan.c    profile mathematics: plans, T(n), brake distances
- *   x4_sched.c   channels: commands, the event state machine, Bresenham,
+ *   x4_engine.c  channels: commands, the event state machine, Bresenham,
  *                the write budget and the minimum pulse and space
  *   x4_switch.c  reference and limit switches, reference runs
  *   x4_phase.c   the SMC800/SMC1500 half-step phase output

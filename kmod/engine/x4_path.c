@@ -15,9 +15,9 @@
  * scheduled moves, and the path goes on from exactly where it is: a hold
  * and a resume change no step, only when it comes.
  *
- * Calls the plan maths, and the channels (x4_sched.c) to begin and end.
+ * Calls the plan maths, and the channels (x4_engine.c) to begin and end.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
 
 #ifdef __KERNEL__
 #include <linux/string.h>
@@ -670,7 +670,7 @@ static void begin_path(struct x4_engine *e, u64 now_ns)
 		memcpy(c->bres, bres, sizeof(bres));
 	c->path = true;
 	c->rate = (u32)(rate_max(e) * x4_writes_per_step(e, x4_mode_axes(e)));
-	/* SETUP, then step 1 of the piece (x4_sched.c: begin_setup()). */
+	/* SETUP, then step 1 of the piece (x4_engine.c: begin_setup()). */
 	c->n = 1;
 	c->t_cur = x4_plan_time(&c->run, 1);
 }

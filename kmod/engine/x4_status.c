@@ -4,7 +4,7 @@
  * axes status: coordinate, ProStep4 state and error bits, and its speed
  * from the step interval it runs at. Reads the engine; changes nothing.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
 
 /* The step interval channel c runs at, between its RISE and FALL events. */
 static u64 step_interval(const struct x4_chan *c)

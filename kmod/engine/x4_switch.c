@@ -3,9 +3,9 @@
  * x4step engine: reference and limit switches, and reference runs
  * (ProStep4). Which inputs end a channel's move, what a hit does to the
  * axes (errors, sync, ambiguity on shared inputs), and the two phases of
- * a reference run. Calls the channels (x4_sched.c) to start and cut moves.
+ * a reference run. Calls the channels (x4_engine.c) to start and cut moves.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
 
 /* The input bit of an input number 1..5, 0 for none. */
 static u8 input_bit(u8 input)

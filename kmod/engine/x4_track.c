@@ -6,7 +6,7 @@
  */
 #include "x4_track.h"
 
-#include "x4_internal.h"
+#include "x4_chan.h"
 
 #include <linux/x4step.h>
 #ifdef __KERNEL__

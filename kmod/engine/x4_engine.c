@@ -8,7 +8,7 @@
  * Calls the plan maths (x4_plan.c), the switches (x4_switch.c) at a step
  * a switch forbids, and the phase output (x4_phase.c) in SMC mode.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
 
 #ifdef __KERNEL__
 #include <linux/string.h>

@@ -3,8 +3,8 @@
  * x4step engine: what its files share with each other and with nobody
  * else (the glue and the tests use x4_engine.h).
  */
-#ifndef X4_INTERNAL_H
-#define X4_INTERNAL_H
+#ifndef X4_CHAN_H
+#define X4_CHAN_H
 
 #include "x4_engine.h"
 
@@ -53,7 +53,7 @@ static inline void x4_bres_start(struct x4_chan *c)
 		c->bres[i] = c->run.bres_2l / 2;
 }
 
-/* x4_sched.c: channels */
+/* x4_engine.c: channels */
 void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
 void x4_cut(struct x4_chan *c);
 void x4_halt_chan(struct x4_chan *c, bool ramp);
@@ -81,4 +81,4 @@ void x4_phase_walk(struct x4_engine *e, struct x4_chan *c);
 void x4_phase_step(struct x4_engine *e, struct x4_chan *c, u64 t);
 void x4_phase_queued(struct x4_engine *e, struct x4_chan *c);
 
-#endif /* X4_INTERNAL_H */
+#endif /* X4_CHAN_H */
