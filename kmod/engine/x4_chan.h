@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
- * x4step engine: what its files share with each other and with nobody
- * else (the glue and the tests use x4_engine.h).
+ * x4step engine: the channels (x4_chan.c), the level above the plan maths
+ * that every part of the engine calls (x4_switch.c, x4_path.c, x4_phase.c,
+ * x4_status.c, x4_engine.c); and the helpers they share. The engine's own:
+ * the glue and the tests use x4_engine.h.
  */
 #ifndef X4_CHAN_H
 #define X4_CHAN_H
 
-#include "x4_engine.h"
+#include "x4_state.h"
 
 static inline bool x4_phase_mode(const struct x4_engine *e)
 {
@@ -53,32 +55,41 @@ static inline void x4_bres_start(struct x4_chan *c)
 		c->bres[i] = c->run.bres_2l / 2;
 }
 
-/* x4_engine.c: channels */
+/* The input bit of an input number 1..5, 0 for none. */
+static inline u8 x4_chan_input_bit(u8 input)
+{
+	return input ? (u8)(1u << (input - 1)) : 0;
+}
+
+/* The limit switch input that axis i of plan p moves toward. */
+static inline u8 x4_chan_limit_bit(const struct x4_engine *e,
+				   const struct x4_plan *p, int i)
+{
+	return x4_chan_input_bit(p->sign[i] > 0 ? e->sw.plus[i] : e->sw.minus[i]);
+}
+
+/*
+ * A path is active (x4_path_active()): it runs, holds or stands held, or
+ * has segments queued. It owns every axis of the output mode then.
+ */
+static inline bool x4_chan_path_active(const struct x4_engine *e)
+{
+	const struct x4_path *pa = &e->path;
+
+	return pa->state != X4_PATH_IDLE || pa->head != x4_read_once(pa->tail);
+}
+
 void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
 void x4_cut(struct x4_chan *c);
 void x4_halt_chan(struct x4_chan *c, bool ramp);
-void x4_end(struct x4_engine *e, struct x4_chan *c);
 u8 x4_mode_axes(const struct x4_engine *e);
 u8 x4_busy_axes(const struct x4_engine *e);
 u32 x4_writes_per_step(const struct x4_engine *e, u8 axes);
+u32 x4_chan_plan_rate(const struct x4_engine *e, const struct x4_plan *p);
 int x4_budget_check(const struct x4_engine *e, u64 add);
 int x4_freq_check(const struct x4_engine *e, s32 freq_hz);
-
-/* x4_switch.c: switches and reference runs */
+void x4_chan_fold_steps(struct x4_engine *e, u8 axes);
+void x4_chan_schedule_all(struct x4_engine *e);
 void x4_arm_switches(struct x4_engine *e, struct x4_chan *c);
-void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit);
-bool x4_home_next(struct x4_engine *e, struct x4_chan *c);
-
-/* x4_path.c: the path's pieces, on channel 0 */
-bool x4_path_next(struct x4_engine *e, struct x4_chan *c);
-u64 x4_path_end_half(const struct x4_engine *e, u64 half_ns);
-bool x4_path_ended(struct x4_engine *e, struct x4_chan *c);
-
-/* x4_phase.c: the SMC phase output */
-void x4_phase_move(struct x4_engine *e, struct x4_chan *c, u64 t);
-void x4_phase_rest(struct x4_engine *e, struct x4_chan *c);
-void x4_phase_walk(struct x4_engine *e, struct x4_chan *c);
-void x4_phase_step(struct x4_engine *e, struct x4_chan *c, u64 t);
-void x4_phase_queued(struct x4_engine *e, struct x4_chan *c);
 
 #endif /* X4_CHAN_H */

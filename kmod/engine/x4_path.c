@@ -15,9 +15,12 @@
  * scheduled moves, and the path goes on from exactly where it is: a hold
  * and a resume change no step, only when it comes.
  *
- * Calls the plan maths, and the channels (x4_engine.c) to begin and end.
+ * Calls the plan maths and the channels (x4_chan.c) to begin. The event
+ * machine (x4_engine.c) calls the timer's half; what it must act on (the
+ * path goes on, or comes to rest) these functions return.
  */
 #include "x4_chan.h"
+#include "x4_path.h"
 
 #ifdef __KERNEL__
 #include <linux/string.h>
@@ -80,9 +83,7 @@ static u64 top_speed(const struct x4_engine *e, const struct x4_path_slot *s)
 
 bool x4_path_active(const struct x4_engine *e)
 {
-	const struct x4_path *pa = &e->path;
-
-	return pa->state != X4_PATH_IDLE || pa->head != x4_read_once(pa->tail);
+	return x4_chan_path_active(e);
 }
 
 int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,

@@ -5,9 +5,10 @@
  * current and direction of both its phases; a step walks the motor's
  * half-step table. Several motors at one instant are several writes: the
  * first goes out now, the rest are queued on the channel (X4_QUEUED).
- * Calls nothing; the channels (x4_engine.c) call it in phase mode.
+ * Calls nothing; the event machine (x4_engine.c) calls it in phase mode.
  */
 #include "x4_chan.h"
+#include "x4_phase.h"
 
 /*
  * The half-step table MOTRUN and MOTZERO (0 % on both phases). Per phase,

@@ -5,6 +5,7 @@
  * from the step interval it runs at. Reads the engine; changes nothing.
  */
 #include "x4_chan.h"
+#include "x4_status.h"
 
 /* The step interval channel c runs at, between its RISE and FALL events. */
 static u64 step_interval(const struct x4_chan *c)

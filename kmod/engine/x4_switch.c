@@ -3,58 +3,13 @@
  * x4step engine: reference and limit switches, and reference runs
  * (ProStep4). Which inputs end a channel's move, what a hit does to the
  * axes (errors, sync, ambiguity on shared inputs), and the two phases of
- * a reference run. Calls the channels (x4_engine.c) to start and cut moves.
+ * a reference run. Calls the channels (x4_chan.c) to start and cut moves;
+ * the engine's event machine (x4_engine.c) calls x4_halted() at a step a
+ * switch forbids and x4_home_next() at a run's end, and acts on what the
+ * latter returns.
  */
 #include "x4_chan.h"
-
-/* The input bit of an input number 1..5, 0 for none. */
-static u8 input_bit(u8 input)
-{
-	return input ? (u8)(1u << (input - 1)) : 0;
-}
-
-/* The limit switch input that axis i of plan p moves toward. */
-static u8 limit_bit(const struct x4_engine *e, const struct x4_plan *p, int i)
-{
-	return input_bit(p->sign[i] > 0 ? e->sw.plus[i] : e->sw.minus[i]);
-}
-
-/*
- * Which switches end the move of channel c: the limits its axes move
- * toward, and in a reference run the REF input. A limit that is active
- * already while the axis backs off the opposite limit on the same input
- * (switches in parallel) is armed once it has been released.
- */
-void x4_arm_switches(struct x4_engine *e, struct x4_chan *c)
-{
-	const struct x4_plan *p = &c->run;
-	int i;
-
-	c->halt_mask = 0;
-	c->halt_flip = 0;
-	c->deferred = 0;
-	for (i = 0; i < X4_AXES; i++) {
-		u8 bit = limit_bit(e, p, i), back;
-
-		if (!(p->axes & (1u << i)) || !bit)
-			continue;
-		back = p->sign[i] > 0 ? e->err[i] & X4_AXERR_LIMIT_NEG &&
-					input_bit(e->sw.minus[i]) == bit :
-					e->err[i] & X4_AXERR_LIMIT_POS &&
-					input_bit(e->sw.plus[i]) == bit;
-		if (back && (e->inputs & bit))
-			c->deferred |= bit;
-		else
-			c->halt_mask |= bit;
-	}
-	if (!c->home)
-		return;
-	c->halt_mask |= c->ref_bit;
-	c->deferred &= (u8)~c->ref_bit;
-	/* Phase 1 ends when REF is active, phase 2 when it changes. */
-	if (c->home == X4_HOME_PHASE2)
-		c->halt_flip = e->inputs & c->ref_bit;
-}
+#include "x4_switch.h"
 
 /* The limit input that axis i of running channel c watches, or 0. */
 static u8 watched_limit(const struct x4_engine *e, const struct x4_chan *c,
@@ -62,7 +17,7 @@ static u8 watched_limit(const struct x4_engine *e, const struct x4_chan *c,
 {
 	if (c->phase == X4_IDLE || !(c->run.axes & (1u << i)))
 		return 0;
-	return limit_bit(e, &c->run, i) & c->halt_mask;
+	return x4_chan_limit_bit(e, &c->run, i) & c->halt_mask;
 }
 
 /*
@@ -206,7 +161,7 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	c->home_rate = rate;
 	c->sref = sref;
 	c->vref2 = vref2;
-	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
+	c->ref_bit = x4_chan_input_bit(e->sw.ref[axis - 1]);
 	c->home_next = (phases & X4_HOME_AUTO) == X4_HOME_AUTO;
 	c->home_brake = phases & X4_HOME_BRAKE;
 	e->sync &= (u8)~(1u << (axis - 1));
@@ -227,7 +182,7 @@ int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw)
 		if (sw->ref[i] > X4_INPUTS || sw->plus[i] > X4_INPUTS ||
 		    sw->minus[i] > X4_INPUTS)
 			return X4_ERR_PARAM_FAIL;
-	if (x4_engine_busy(e))
+	if (e->busy)
 		return X4_ERR_IS_ACTIVE;
 	e->sw = *sw;
 	return X4_OK;
