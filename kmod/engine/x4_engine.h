@@ -13,9 +13,9 @@
  * port glue applies hardware inversions and user polarity in one place.
  *
  * The engine's files, each owning one job, by level: a file calls only
- * the levels below its own (kmod/engine/sources.mk lists them), and
- * tells the one above what happened by what it returns. Each level's
- * header includes only the ones below it.
+ * the levels below its own (kmod/engine/sources.mk lists them,
+ * tests/check-layers.sh checks), and tells the one above what happened by
+ * what it returns. Each level's header includes only the ones below it.
  *   0 x4_check.c   the commands' arguments and their checks (libx4step too)
  *   1 x4_plan.c    profile mathematics: plans, T(n), brake distances
  *   2 x4_chan.c    channels: begin, brake and cut a move, the write budget
