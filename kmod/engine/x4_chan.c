@@ -15,7 +15,7 @@
  * Whether steps at freq_hz fit the port's timing: a fixed pulse plus the
  * minimum space, or half a period each for the symmetric clock.
  */
-int x4_freq_check(const struct x4_engine *e, s32 freq_hz)
+int x4_chan_freq_check(const struct x4_engine *e, s32 freq_hz)
 {
 	u64 period = x4_div(X4_NSEC_PER_SEC, (u64)freq_hz);
 	const struct x4_timing *t = &e->timing;
@@ -29,19 +29,19 @@ int x4_freq_check(const struct x4_engine *e, s32 freq_hz)
 }
 
 /* The axes an output mode drives, as a mask. */
-u8 x4_mode_axes(const struct x4_engine *e)
+u8 x4_chan_mode_axes(const struct x4_engine *e)
 {
-	return x4_phase_mode(e) ? 0x07 : 0x0f;
+	return x4_chan_phase_mode(e) ? 0x07 : 0x0f;
 }
 
 /* The axes of the running moves; an active path owns them all. */
-u8 x4_busy_axes(const struct x4_engine *e)
+u8 x4_chan_busy_axes(const struct x4_engine *e)
 {
 	u8 axes = 0;
 	int i;
 
 	if (x4_chan_path_active(e))
-		return x4_mode_axes(e);
+		return x4_chan_mode_axes(e);
 	for (i = 0; i < X4_AXES; i++)
 		if (e->busy & (1u << i))
 			axes |= e->ch[i].run.axes;
@@ -49,11 +49,11 @@ u8 x4_busy_axes(const struct x4_engine *e)
 }
 
 /* Port writes of one leader step: clock up and down, or a phase pattern per motor. */
-u32 x4_writes_per_step(const struct x4_engine *e, u8 axes)
+u32 x4_chan_writes_per_step(const struct x4_engine *e, u8 axes)
 {
 	u32 n = 0;
 
-	if (!x4_phase_mode(e))
+	if (!x4_chan_phase_mode(e))
 		return 2;
 	for (; axes; axes &= axes - 1)
 		n++;
@@ -69,11 +69,11 @@ u32 x4_chan_plan_rate(const struct x4_engine *e, const struct x4_plan *p)
 	u64 steps = x4_div(p->c_den * X4_NSEC_PER_SEC + 2 * p->c_num - 1,
 			   2 * p->c_num);
 
-	return (u32)(steps * x4_writes_per_step(e, p->axes));
+	return (u32)(steps * x4_chan_writes_per_step(e, p->axes));
 }
 
 /* Whether moves needing `add` more writes per second fit the budget. */
-int x4_budget_check(const struct x4_engine *e, u64 add)
+int x4_chan_budget_check(const struct x4_engine *e, u64 add)
 {
 	int i;
 
@@ -122,7 +122,7 @@ void x4_chan_schedule_all(struct x4_engine *e)
 }
 
 /* Begin the move in c->run: directions go out at now_ns. */
-void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
+void x4_chan_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 {
 	int i;
 
@@ -137,8 +137,8 @@ void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	c->t_pending = now_ns;
 	c->origin = now_ns + e->timing.dir_setup_ns;
 	c->rate = x4_chan_plan_rate(e, &c->run);
-	x4_bres_start(c);
-	x4_arm_switches(e, c);
+	x4_chan_bres_start(c);
+	x4_chan_arm_switches(e, c);
 	for (i = 0; i < X4_AXES; i++)
 		if (c->run.axes & (1u << i))
 			e->err[i] = 0; /* a new command to the axis */
@@ -166,7 +166,7 @@ static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
 }
 
 /* Brake channel c along its ramp (ramp), or end it at its pending event. */
-void x4_halt_chan(struct x4_chan *c, bool ramp)
+void x4_chan_halt(struct x4_chan *c, bool ramp)
 {
 	switch (c->phase) {
 	case X4_IDLE:
@@ -184,7 +184,7 @@ void x4_halt_chan(struct x4_chan *c, bool ramp)
 		break;
 	case X4_QUEUED: /* what comes after this instant's writes */
 		c->phase = c->phase_after;
-		x4_halt_chan(c, ramp);
+		x4_chan_halt(c, ramp);
 		c->phase_after = c->phase;
 		c->phase = X4_QUEUED;
 		break;
@@ -192,11 +192,11 @@ void x4_halt_chan(struct x4_chan *c, bool ramp)
 }
 
 /* No further step of channel c: it ends at its pending event. */
-void x4_cut(struct x4_chan *c)
+void x4_chan_cut(struct x4_chan *c)
 {
 	c->home = 0;
 	c->path_cut = c->path;
-	x4_halt_chan(c, false);
+	x4_chan_halt(c, false);
 }
 
 /*
@@ -205,7 +205,7 @@ void x4_cut(struct x4_chan *c)
  * already while the axis backs off the opposite limit on the same input
  * (switches in parallel) is armed once it has been released.
  */
-void x4_arm_switches(struct x4_engine *e, struct x4_chan *c)
+void x4_chan_arm_switches(struct x4_engine *e, struct x4_chan *c)
 {
 	const struct x4_plan *p = &c->run;
 	int i;

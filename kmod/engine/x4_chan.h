@@ -10,13 +10,13 @@
 
 #include "x4_state.h"
 
-static inline bool x4_phase_mode(const struct x4_engine *e)
+static inline bool x4_chan_phase_mode(const struct x4_engine *e)
 {
 	return e->mode != X4_MODE_CLOCK_DIR;
 }
 
 /* The direction bits of the axes in `axes`. */
-static inline u8 x4_dir_bits(u8 axes)
+static inline u8 x4_chan_dir_bits(u8 axes)
 {
 	u8 bits = 0;
 	int i;
@@ -28,26 +28,26 @@ static inline u8 x4_dir_bits(u8 axes)
 }
 
 /* The clock bits of the axes in `axes`. */
-static inline u8 x4_clk_bits(u8 axes)
+static inline u8 x4_chan_clk_bits(u8 axes)
 {
-	return (u8)(x4_dir_bits(axes) << 1);
+	return (u8)(x4_chan_dir_bits(axes) << 1);
 }
 
 /* The clock bits of plan p's axes whose direction pin must change. */
-static inline u8 x4_dir_changes(const struct x4_engine *e,
+static inline u8 x4_chan_dir_changes(const struct x4_engine *e,
 				const struct x4_plan *p)
 {
-	return (u8)((x4_dir_bits(p->axes) & (e->data ^ p->dirs)) << 1);
+	return (u8)((x4_chan_dir_bits(p->axes) & (e->data ^ p->dirs)) << 1);
 }
 
 /* Axis i's coordinate. */
-static inline s32 x4_position(const struct x4_engine *e, int i)
+static inline s32 x4_chan_position(const struct x4_engine *e, int i)
 {
 	return (s32)(e->pos_base[i] + (u32)e->steps[i]);
 }
 
 /* Rounded Bresenham: the minor axes start half a step along. */
-static inline void x4_bres_start(struct x4_chan *c)
+static inline void x4_chan_bres_start(struct x4_chan *c)
 {
 	int i;
 
@@ -79,17 +79,17 @@ static inline bool x4_chan_path_active(const struct x4_engine *e)
 	return pa->state != X4_PATH_IDLE || pa->head != x4_read_once(pa->tail);
 }
 
-void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
-void x4_cut(struct x4_chan *c);
-void x4_halt_chan(struct x4_chan *c, bool ramp);
-u8 x4_mode_axes(const struct x4_engine *e);
-u8 x4_busy_axes(const struct x4_engine *e);
-u32 x4_writes_per_step(const struct x4_engine *e, u8 axes);
+void x4_chan_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns);
+void x4_chan_cut(struct x4_chan *c);
+void x4_chan_halt(struct x4_chan *c, bool ramp);
+u8 x4_chan_mode_axes(const struct x4_engine *e);
+u8 x4_chan_busy_axes(const struct x4_engine *e);
+u32 x4_chan_writes_per_step(const struct x4_engine *e, u8 axes);
 u32 x4_chan_plan_rate(const struct x4_engine *e, const struct x4_plan *p);
-int x4_budget_check(const struct x4_engine *e, u64 add);
-int x4_freq_check(const struct x4_engine *e, s32 freq_hz);
+int x4_chan_budget_check(const struct x4_engine *e, u64 add);
+int x4_chan_freq_check(const struct x4_engine *e, s32 freq_hz);
 void x4_chan_fold_steps(struct x4_engine *e, u8 axes);
 void x4_chan_schedule_all(struct x4_engine *e);
-void x4_arm_switches(struct x4_engine *e, struct x4_chan *c);
+void x4_chan_arm_switches(struct x4_engine *e, struct x4_chan *c);
 
 #endif /* X4_CHAN_H */

@@ -49,7 +49,7 @@ int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
 
 u8 x4_engine_chan_axes(const struct x4_engine *e, int i)
 {
-	return e->ch[i].path ? x4_mode_axes(e) : e->ch[i].run.axes;
+	return e->ch[i].path ? x4_chan_mode_axes(e) : e->ch[i].run.axes;
 }
 
 /* After an event of channel e->cur: the common case is that it runs alone. */
@@ -77,8 +77,8 @@ int x4_engine_load(struct x4_engine *e, const struct x4_move *m)
 	int i;
 
 	if (!ret)
-		ret = x4_freq_check(e, m->freq_hz);
-	if (!ret && x4_phase_mode(e) && m->steps[3])
+		ret = x4_chan_freq_check(e, m->freq_hz);
+	if (!ret && x4_chan_phase_mode(e) && m->steps[3])
 		ret = X4_ERR_PARAM_FAIL; /* the SMC boards drive 3 motors */
 	if (ret)
 		return ret;
@@ -99,16 +99,16 @@ int x4_engine_start(struct x4_engine *e, u64 now_ns)
 
 	if (!e->loaded)
 		return X4_ERR_NOT_LOADED;
-	if (x4_busy_axes(e) & e->next.axes)
+	if (x4_chan_busy_axes(e) & e->next.axes)
 		return X4_ERR_IS_ACTIVE;
-	if (x4_budget_check(e, x4_chan_plan_rate(e, &e->next)))
+	if (x4_chan_budget_check(e, x4_chan_plan_rate(e, &e->next)))
 		return X4_ERR_RATE_BUDGET;
 	c = chan_of(e, e->next.axes);
 	c->run = e->next;
 	c->home = 0;
 	e->loaded = false;
 	x4_chan_fold_steps(e, 0x0f); /* X4Start clears every step counter */
-	x4_begin(e, c, now_ns);
+	x4_chan_begin(e, c, now_ns);
 	return X4_OK;
 }
 
@@ -119,18 +119,18 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 	struct x4_chan *c;
 	int ret;
 
-	if (axis < 1 || axis > X4_AXES || !(x4_mode_axes(e) & (1u << (axis - 1))))
+	if (axis < 1 || axis > X4_AXES || !(x4_chan_mode_axes(e) & (1u << (axis - 1))))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_ramp_check(freq_hz, ramp_ms);
 	if (!ret)
-		ret = x4_freq_check(e, freq_hz);
+		ret = x4_chan_freq_check(e, freq_hz);
 	if (ret)
 		return ret;
 	if (e->loaded)
 		return X4_ERR_IS_LOADED;
-	if (x4_busy_axes(e) & (1u << (axis - 1)))
+	if (x4_chan_busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
-	if (x4_budget_check(e, (u64)freq_hz * x4_writes_per_step(e, 1)))
+	if (x4_chan_budget_check(e, (u64)freq_hz * x4_chan_writes_per_step(e, 1)))
 		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
 	steps[axis - 1] = negative ? -1 : 1;
@@ -138,7 +138,7 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 	x4_plan_x4step(&c->run, 0, (u32)freq_hz, (u32)ramp_ms);
 	c->home = 0;
 	x4_chan_fold_steps(e, 0x0f);
-	x4_begin(e, c, now_ns);
+	x4_chan_begin(e, c, now_ns);
 	return X4_OK;
 }
 
@@ -157,7 +157,7 @@ int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
 	s64 steps[X4_AXES];
 	int i, ret;
 
-	if (!axes || axes & ~x4_mode_axes(e))
+	if (!axes || axes & ~x4_chan_mode_axes(e))
 		return X4_ERR_PARAM_FAIL;
 	g->axes = axes;
 	g->moving = 0;
@@ -165,23 +165,23 @@ int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
 	for (i = 0; i < X4_AXES; i++) {
 		if (!(axes & (1u << i)))
 			continue;
-		ret = x4_freq_check(e, (s32)e->prof[i].vm);
+		ret = x4_chan_freq_check(e, (s32)e->prof[i].vm);
 		if (ret)
 			return ret;
 	}
-	if (x4_busy_axes(e) & axes)
+	if (x4_chan_busy_axes(e) & axes)
 		return X4_ERR_IS_ACTIVE;
 	for (i = 0; i < X4_AXES; i++) {
-		g->from[i] = x4_position(e, i);
+		g->from[i] = x4_chan_position(e, i);
 		steps[i] = relative ? (s64)target[i] :
 				      (s64)target[i] - g->from[i];
 		if (!(axes & (1u << i)) || !steps[i])
 			continue; /* not commanded, or there already */
 		g->moving |= 1u << i;
 		/* A profile move's top speed is at most vm. */
-		g->rate += (u64)e->prof[i].vm * x4_writes_per_step(e, 1);
+		g->rate += (u64)e->prof[i].vm * x4_chan_writes_per_step(e, 1);
 	}
-	if (x4_budget_check(e, g->rate))
+	if (x4_chan_budget_check(e, g->rate))
 		return X4_ERR_RATE_BUDGET;
 	for (i = 0; i < X4_AXES; i++) {
 		s64 one[X4_AXES] = { 0 };
@@ -200,12 +200,12 @@ int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
 {
 	int i;
 
-	if (x4_busy_axes(e) & g->axes)
+	if (x4_chan_busy_axes(e) & g->axes)
 		return X4_ERR_IS_ACTIVE;
-	if (x4_budget_check(e, g->rate))
+	if (x4_chan_budget_check(e, g->rate))
 		return X4_ERR_RATE_BUDGET;
 	for (i = 0; i < X4_AXES; i++)
-		if (g->axes & (1u << i) && x4_position(e, i) != g->from[i])
+		if (g->axes & (1u << i) && x4_chan_position(e, i) != g->from[i])
 			return X4_ERR_PARAM_FAIL; /* planned from elsewhere */
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
@@ -218,7 +218,7 @@ int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
 		}
 		c->run = g->plan[i];
 		c->home = 0;
-		x4_begin(e, c, now_ns);
+		x4_chan_begin(e, c, now_ns);
 	}
 	return X4_OK;
 }
@@ -295,10 +295,10 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	}
 	c->phase = c->no_steps ? X4_END : X4_RISE;
 	c->t_pending = c->origin + c->t_cur;
-	if (x4_phase_mode(e))
+	if (x4_chan_phase_mode(e))
 		x4_phase_move(e, c, now_ns);
 	else /* axes that do not move keep their direction level */
-		e->data = (u8)((e->data & ~x4_dir_bits(p->axes)) | p->dirs);
+		e->data = (u8)((e->data & ~x4_chan_dir_bits(p->axes)) | p->dirs);
 }
 
 /* Channel c's move has ended (a reference run may go on to phase 2). */
@@ -306,7 +306,7 @@ static void end_move(struct x4_engine *e, struct x4_chan *c)
 {
 	bool path_goes_on = false;
 
-	if (c->home && x4_home_next(e, c))
+	if (c->home && x4_switch_home_next(e, c))
 		return;
 	if (c->path)
 		path_goes_on = x4_path_ended(e, c);
@@ -322,7 +322,7 @@ static void end_move(struct x4_engine *e, struct x4_chan *c)
 		x4_path_kick(e, c->t_pending);
 		return;
 	}
-	if (x4_phase_mode(e))
+	if (x4_chan_phase_mode(e))
 		x4_phase_rest(e, c);
 }
 
@@ -367,7 +367,7 @@ static void path_goes_on(struct x4_engine *e, struct x4_chan *c, u64 t)
 	if (c->dir_fresh) {
 		c->phase = X4_SETUP;
 		c->t_pending = t + e->timing.dir_hold_ns;
-	} else if (!x4_phase_mode(e)) {
+	} else if (!x4_chan_phase_mode(e)) {
 		keep_min(e, c, t + c->space_min);
 	}
 }
@@ -380,14 +380,14 @@ static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 		path_goes_on(e, c, t);
 		return;
 	}
-	if (!e->timing.dir_hold_ns && !x4_phase_mode(e)) {
+	if (!e->timing.dir_hold_ns && !x4_chan_phase_mode(e)) {
 		end_move(e, c);
 		return;
 	}
 	/* Phase mode: give the motor its last step period to settle. */
 	c->phase = X4_END;
 	c->t_pending = t + e->timing.dir_hold_ns +
-		       (x4_phase_mode(e) ? 2 * c->half_ns : 0);
+		       (x4_chan_phase_mode(e) ? 2 * c->half_ns : 0);
 }
 
 /* After step n's clock fell (or its pattern went out): what comes next. */
@@ -475,7 +475,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	bool ramp;
 
 	if (hit) {
-		x4_halted(e, c, hit);
+		x4_switch_halted(e, c, hit);
 		return;
 	}
 	if (c->home && !c->ref_found && c->n >= c->sref) {
@@ -484,7 +484,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		 * without finding the switch.
 		 */
 		e->err[p->leader] |= X4_AXERR_REF_TRAVEL;
-		x4_cut(c);
+		x4_chan_cut(c);
 		return;
 	}
 	if (c->dir_fresh && dir_wait(c, t_step, now_ns))
@@ -508,7 +508,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		now_ns = t_step;
 	e->fired = c;
 	e->edge_shifted = false;
-	if (x4_phase_mode(e)) {
+	if (x4_chan_phase_mode(e)) {
 		x4_phase_walk(e, c);
 		step_done(e, c, now_ns);
 		c->space_min = min_of(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
@@ -625,7 +625,7 @@ u64 x4_engine_slack(const struct x4_engine *e)
 	const struct x4_chan *c = e->cur;
 	u64 next, need;
 
-	if (x4_phase_mode(e) || !c->n)
+	if (x4_chan_phase_mode(e) || !c->n)
 		return X4_NO_STEP; /* no pulse; the first step has no before */
 	if (c->phase == X4_RISE) {
 		next = 2 * c->half_ns;
@@ -648,7 +648,7 @@ u64 x4_engine_slack(const struct x4_engine *e)
  */
 static void stop_chan(struct x4_engine *e, struct x4_chan *c)
 {
-	e->data &= (u8)~(c->run.axes ? x4_clk_bits(c->run.axes) : 0);
+	e->data &= (u8)~(c->run.axes ? x4_chan_clk_bits(c->run.axes) : 0);
 	e->sync &= (u8)~c->run.axes;
 	c->home = 0;
 	c->path_cut = c->path;
@@ -667,7 +667,7 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 	 * a queued one that has not started yet.
 	 */
 	if ((stop || e->path.state == X4_PATH_IDLE) && !e->ch[0].path &&
-	    x4_path_active(e) && axes & x4_mode_axes(e))
+	    x4_path_active(e) && axes & x4_chan_mode_axes(e))
 		ret = x4_path_hold(e, stop);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
@@ -686,7 +686,7 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 			x4_path_hold(e, false); /* along the path */
 		} else {
 			c->home = 0;
-			x4_halt_chan(c, true);
+			x4_chan_halt(c, true);
 		}
 	}
 	x4_chan_schedule_all(e);

@@ -72,9 +72,9 @@ static int smc_patterns(const struct x4_engine *e, u8 axes, bool rest,
 	return n;
 }
 
-int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes)
+int x4_phase_rest_writes(const struct x4_engine *e, u8 *bytes)
 {
-	if (!x4_phase_mode(e)) {
+	if (!x4_chan_phase_mode(e)) {
 		bytes[0] = e->data & X4_DIR_MASK;
 		return 1;
 	}

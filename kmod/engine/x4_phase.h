@@ -9,7 +9,7 @@
 #include "x4_state.h"
 
 /* What the port shows at rest: 1 byte, or one per SMC motor (3). */
-int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes);
+int x4_phase_rest_writes(const struct x4_engine *e, u8 *bytes);
 
 /* For the event machine (x4_engine.c), in phase mode. */
 void x4_phase_move(struct x4_engine *e, struct x4_chan *c, u64 t);

@@ -8,7 +8,7 @@
 
 #include "x4_state.h"
 
-void x4_engine_axis(const struct x4_engine *e, int axis,
+void x4_status_axis(const struct x4_engine *e, int axis,
 		    struct x4_axis_state *st);
 
 #endif /* X4_STATUS_H */

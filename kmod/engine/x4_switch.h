@@ -9,13 +9,13 @@
 
 #include "x4_state.h"
 
-int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
+int x4_switch_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns);
-int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw);
-void x4_engine_sense(struct x4_engine *e, u8 levels);
+int x4_switch_set(struct x4_engine *e, const struct x4_switches *sw);
+void x4_switch_sense(struct x4_engine *e, u8 levels);
 
 /* The active switches at input levels (X4GetIn bits): after NO/NC. */
-static inline u8 x4_engine_active(const struct x4_engine *e, u8 levels)
+static inline u8 x4_switch_active(const struct x4_engine *e, u8 levels)
 {
 	return (levels ^ e->sw.nc) & ((1u << X4_INPUTS) - 1);
 }
@@ -25,7 +25,7 @@ static inline u8 x4_engine_active(const struct x4_engine *e, u8 levels)
  * (hit) forbid; and at the end of a reference run's phase 1, whether
  * phase 2 begins (true) or the run ends.
  */
-void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit);
-bool x4_home_next(struct x4_engine *e, struct x4_chan *c);
+void x4_switch_halted(struct x4_engine *e, struct x4_chan *c, u8 hit);
+bool x4_switch_home_next(struct x4_engine *e, struct x4_chan *c);
 
 #endif /* X4_SWITCH_H */
