@@ -119,7 +119,8 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 	struct x4_chan *c;
 	int ret;
 
-	if (axis < 1 || axis > X4_AXES || !(x4_chan_mode_axes(e) & (1u << (axis - 1))))
+	if (axis < 1 || axis > X4_AXES ||
+	    !(x4_chan_mode_axes(e) & (1u << (axis - 1))))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_ramp_check(freq_hz, ramp_ms);
 	if (!ret)
@@ -130,7 +131,8 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 		return X4_ERR_IS_LOADED;
 	if (x4_chan_busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
-	if (x4_chan_budget_check(e, (u64)freq_hz * x4_chan_writes_per_step(e, 1)))
+	if (x4_chan_budget_check(e,
+				 (u64)freq_hz * x4_chan_writes_per_step(e, 1)))
 		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
 	steps[axis - 1] = negative ? -1 : 1;
@@ -298,7 +300,8 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	if (x4_chan_phase_mode(e))
 		x4_phase_move(e, c, now_ns);
 	else /* axes that do not move keep their direction level */
-		e->data = (u8)((e->data & ~x4_chan_dir_bits(p->axes)) | p->dirs);
+		e->data = (u8)((e->data & ~x4_chan_dir_bits(p->axes)) |
+				p->dirs);
 }
 
 /* Channel c's move has ended (a reference run may go on to phase 2). */

@@ -65,8 +65,8 @@ static u64 rate_max(const struct x4_engine *e)
 	u64 rate = X4_VEL_MAX, period;
 
 	if (e->budget)
-		rate = min_u64(rate, e->budget /
-			       x4_chan_writes_per_step(e, x4_chan_mode_axes(e)));
+		rate = min_u64(rate, e->budget / x4_chan_writes_per_step(
+						  e, x4_chan_mode_axes(e)));
 	period = t->pulse_ns ? t->pulse_ns + t->space_ns : 2 * t->space_ns;
 	if (!x4_chan_phase_mode(e) && period)
 		rate = min_u64(rate, x4_div(X4_NSEC_PER_SEC, period));
@@ -670,7 +670,8 @@ static void begin_path(struct x4_engine *e, u64 now_ns)
 	if (pa->pos) /* resumed within a segment: its Bresenham goes on */
 		memcpy(c->bres, bres, sizeof(bres));
 	c->path = true;
-	c->rate = (u32)(rate_max(e) * x4_chan_writes_per_step(e, x4_chan_mode_axes(e)));
+	c->rate = (u32)(rate_max(e) *
+			x4_chan_writes_per_step(e, x4_chan_mode_axes(e)));
 	/* SETUP, then step 1 of the piece (x4_engine.c: begin_setup()). */
 	c->n = 1;
 	c->t_cur = x4_plan_time(&c->run, 1);

@@ -144,9 +144,11 @@ int x4_switch_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	if (phases & X4_HOME_BRAKE && phases & X4_HOME_PHASE1 &&
 	    x4_ramp_too_long(x4_abs_s32(vref1), ax->ae))
 		return X4_ERR_PARAM_FAIL;
-	ret = x4_chan_freq_check(e, phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 1);
+	ret = x4_chan_freq_check(e, phases & X4_HOME_PHASE1 ?
+				 x4_abs_s32(vref1) : 1);
 	if (!ret)
-		ret = x4_chan_freq_check(e, phases & X4_HOME_PHASE2 ? x4_abs_s32(vref2) : 1);
+		ret = x4_chan_freq_check(e, phases & X4_HOME_PHASE2 ?
+					 x4_abs_s32(vref2) : 1);
 	if (ret)
 		return ret;
 	if (x4_chan_busy_axes(e) & (1u << (axis - 1)))

@@ -218,7 +218,7 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       if (x4_req_bad_halt(&h)) return -EINVAL;
       const auto axes = static_cast<std::uint8_t>(h.axes);
       return x4_req_errno(h.how == X4STEP_HALT_STOP ? stop_locked(axes)
-                                                : brake_locked(axes, X4STEP_SRC_IOCTL, 0));
+                                                    : brake_locked(axes, X4STEP_SRC_IOCTL, 0));
     }
     case X4STEP_SET_POSITION: {
       const auto up = in<x4step_position>(arg);
