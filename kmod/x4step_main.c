@@ -288,7 +288,7 @@ static int x4_ioctl_load(struct x4_port *x4, struct x4step_move __user *arg)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	if (put_user(ret, &arg->result))
 		return -EFAULT;
-	return x4_errno(ret);
+	return x4_req_errno(ret);
 }
 
 static int x4_start_loaded(struct x4_engine *e, const void *arg, u64 now)
@@ -308,7 +308,7 @@ static int x4_start_home(struct x4_engine *e, const void *arg, u64 now)
 {
 	const struct x4step_home *uh = arg;
 
-	return x4_engine_home(e, uh->axis, (u8)uh->phases, uh->vref1,
+	return x4_switch_home(e, uh->axis, (u8)uh->phases, uh->vref1,
 			      uh->vref2, uh->sref, now);
 }
 
@@ -357,7 +357,7 @@ static int x4_ioctl_run(struct x4_port *x4, void __user *uarg, void *karg,
 	result = run(x4, karg);
 	if (put_user(x4_req_result(result), uresult))
 		return -EFAULT;
-	return x4_errno(result);
+	return x4_req_errno(result);
 }
 
 static bool x4_bad_endless(const void *karg)
@@ -389,9 +389,9 @@ static int x4_ioctl_halt(struct x4_port *x4, u32 axes, u32 how)
 	if (x4->gone)
 		ret = -ENODEV;
 	else if (how == X4STEP_HALT_STOP)
-		ret = x4_errno(x4_port_stop_locked(x4, (u8)axes));
+		ret = x4_req_errno(x4_port_stop_locked(x4, (u8)axes));
 	else
-		ret = x4_errno(x4_port_brake_locked(x4, (u8)axes,
+		ret = x4_req_errno(x4_port_brake_locked(x4, (u8)axes,
 						    X4STEP_SRC_IOCTL, 0));
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
@@ -431,9 +431,9 @@ static int x4_ioctl_estop(struct x4_port *x4, struct x4step_estop __user *arg)
 	} else if (es.how == X4STEP_HALT_STOP) {
 		x4_events_brake_locked(x4, x4_events_chans_locked(x4, 0x0f),
 				       X4STEP_SRC_ESTOP, X4STEP_HALT_STOP);
-		ret = x4_errno(x4_port_stop_locked(x4, 0x0f));
+		ret = x4_req_errno(x4_port_stop_locked(x4, 0x0f));
 	} else {
-		ret = x4_errno(x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_ESTOP,
+		ret = x4_req_errno(x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_ESTOP,
 						    X4STEP_HALT_BRAKE));
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
@@ -457,7 +457,7 @@ static int x4_ioctl_set_position(struct x4_port *x4,
 	x4_port_halted_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	wake_up_all(&x4->wait); /* a path writer or poller: its queue is gone */
-	return x4_errno(ret);
+	return x4_req_errno(ret);
 }
 
 static int x4_ioctl_set_profile(struct x4_port *x4,
@@ -476,7 +476,7 @@ static int x4_ioctl_set_profile(struct x4_port *x4,
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_set_profile(&x4->eng, up.axis, &p);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return x4_errno(ret);
+	return x4_req_errno(ret);
 }
 
 static int x4_ioctl_get_profile(struct x4_port *x4,
@@ -510,9 +510,9 @@ static int x4_ioctl_set_switches(struct x4_port *x4,
 		return -EINVAL;
 	x4_req_switches(&us, &sw);
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	ret = x4_engine_set_switches(&x4->eng, &sw);
+	ret = x4_switch_set(&x4->eng, &sw);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return x4_errno(ret);
+	return x4_req_errno(ret);
 }
 
 static int x4_ioctl_get_switches(struct x4_port *x4, void __user *uarg)
@@ -623,7 +623,7 @@ static int x4_ioctl_set_config(struct x4_port *x4,
 		x4_port_write_rest_locked(x4);
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return x4_errno(ret);
+	return x4_req_errno(ret);
 }
 
 static int x4_ioctl_set_step_timing(struct x4_port *x4,
@@ -642,7 +642,7 @@ static int x4_ioctl_set_step_timing(struct x4_port *x4,
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_engine_configure(&x4->eng, &t, x4->eng.mode);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return x4_errno(ret);
+	return x4_req_errno(ret);
 }
 
 static int x4_ioctl_get_step_timing(struct x4_port *x4, void __user *uarg)
@@ -784,7 +784,7 @@ static long x4_ioctl(struct file *file, unsigned int cmd, unsigned long arg)
 		ret = x4_ioctl_load(x4, uarg);
 		break;
 	case X4STEP_START:
-		ret = x4_errno(x4_port_run(x4, x4_start_loaded, NULL,
+		ret = x4_req_errno(x4_port_run(x4, x4_start_loaded, NULL,
 					   X4STEP_KIND_LOADED));
 		break;
 	case X4STEP_MOVE_ENDLESS:

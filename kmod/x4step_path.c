@@ -40,7 +40,7 @@ static int x4_path_resize(struct x4_port *x4, u32 depth)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	if (ret) {
 		kvfree(slots);
-		return x4_errno(ret);
+		return x4_req_errno(ret);
 	}
 	x4->path_slots = slots;
 	kvfree(old);
@@ -115,12 +115,12 @@ static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 
 	ret = x4_req_segment(r, &seg);
 	if (ret)
-		return x4_errno(ret);
+		return x4_req_errno(ret);
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	ret = x4_path_check(&x4->eng, &seg);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	if (ret)
-		return x4_errno(ret);
+		return x4_req_errno(ret);
 	x4_path_push(&x4->eng, &seg); /* the writer's half: no raw lock */
 	return 0;
 }
@@ -296,9 +296,9 @@ static int x4_path_hold_ctl(struct x4_port *x4, u32 cmd)
 	if (x4->gone)
 		ret = -ENODEV;
 	else if (cmd == X4STEP_PATH_ABORT)
-		ret = x4_errno(x4_track_path_abort(&x4->ev, &x4->eng));
+		ret = x4_req_errno(x4_track_path_abort(&x4->ev, &x4->eng));
 	else
-		ret = x4_errno(x4_path_hold(&x4->eng, false));
+		ret = x4_req_errno(x4_path_hold(&x4->eng, false));
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	wake_up_all(&x4->wait); /* a writer waiting for room: flushed */
 	return ret;
@@ -317,14 +317,14 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 		x4->path_flushes_seen = READ_ONCE(e->path.flushes);
 		return 0;
 	case X4STEP_PATH_RESUME:
-		return x4_errno(x4_port_run(x4, x4_resume, NULL,
+		return x4_req_errno(x4_port_run(x4, x4_resume, NULL,
 					    X4STEP_KIND_PATH));
 	case X4STEP_PATH_OVERRIDE:
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		ret = x4_path_set_override(e, c->value);
 		raw_spin_unlock_irqrestore(&x4->slock, flags);
 		if (ret)
-			return x4_errno(ret);
+			return x4_req_errno(ret);
 		x4_path_replan(e); /* the writer's half: no raw lock */
 		x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
 		return 0;

@@ -173,7 +173,7 @@ static void x4_port_drain_locked(struct x4_port *x4, u64 until)
 void x4_port_write_rest_locked(struct x4_port *x4)
 {
 	u8 bytes[X4_SMC_AXES];
-	int i, n = x4_engine_rest_writes(&x4->eng, bytes);
+	int i, n = x4_phase_rest_writes(&x4->eng, bytes);
 
 	lockdep_assert_held(&x4->slock);
 	for (i = 0; i < n; i++) {
@@ -245,7 +245,7 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 
 	lockdep_assert_held(&x4->slock);
 	if (x4->claimed && x4_engine_rise_watched(e))
-		x4_engine_sense(e, x4_port_inputs_locked(x4));
+		x4_switch_sense(e, x4_port_inputs_locked(x4));
 	x4_account_lateness(x4, t - (s64)x4_engine_due(e));
 	x4_engine_fire(e, t);
 	x4_port_write_locked(x4);
@@ -344,7 +344,7 @@ static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 
 	lockdep_assert_held(&x4->slock);
 	if (x4->claimed && x4_engine_rise_watched(e))
-		x4_engine_sense(e, x4_port_inputs_locked(x4));
+		x4_switch_sense(e, x4_port_inputs_locked(x4));
 	x4_engine_fire(e, ktime_to_ns(ktime_sub(due, x4->epoch)));
 	start = ktime_get();
 	for (now = start; ktime_before(now, due); now = ktime_get()) {
@@ -544,7 +544,7 @@ int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg,
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	if (x4->claimed)
-		x4_engine_sense(&x4->eng, x4_port_inputs_locked(x4));
+		x4_switch_sense(&x4->eng, x4_port_inputs_locked(x4));
 	ret = start(&x4->eng, arg,
 		    ktime_get_ns() - ktime_to_ns(x4->epoch));
 	if (ret == X4_OK) {

@@ -99,6 +99,10 @@ else
 	result $st "32-bit: the engine calls no 64-bit division helper (gcc -m32, __udivdi3 and co.)"
 fi
 
+# The engine's levels call only downward (kmod/engine/sources.mk).
+"$top/tests/check-layers.sh"
+result $? "engine: each level calls only the levels below it (tests/check-layers.sh)"
+
 # User space follows .clang-format.
 # Every C++ file and header, and the C API's headers (the uapi header is kernel style).
 files=$(cd "$top" && git ls-files 'lib/*.cpp' 'lib/*.hpp' 'include/*.hpp' 'include/*.h' 'tools/*.cpp' 'tools/*.hpp' \

@@ -134,7 +134,7 @@ static inline u32 x4_segment_leader(const struct x4_segment *s)
 	return leader;
 }
 
-/* Reference run phases (x4_engine_home). */
+/* Reference run phases (x4_switch_home). */
 #define X4_HOME_PHASE1 1
 #define X4_HOME_PHASE2 2
 #define X4_HOME_AUTO (X4_HOME_PHASE1 | X4_HOME_PHASE2)

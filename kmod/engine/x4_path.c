@@ -15,9 +15,12 @@
  * scheduled moves, and the path goes on from exactly where it is: a hold
  * and a resume change no step, only when it comes.
  *
- * Calls the plan maths, and the channels (x4_sched.c) to begin and end.
+ * Calls the plan maths and the channels (x4_chan.c) to begin. The event
+ * machine (x4_engine.c) calls the timer's half; what it must act on (the
+ * path goes on, or comes to rest) these functions return.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
+#include "x4_path.h"
 
 #ifdef __KERNEL__
 #include <linux/string.h>
@@ -62,10 +65,10 @@ static u64 rate_max(const struct x4_engine *e)
 	u64 rate = X4_VEL_MAX, period;
 
 	if (e->budget)
-		rate = min_u64(rate, e->budget /
-			       x4_writes_per_step(e, x4_mode_axes(e)));
+		rate = min_u64(rate, e->budget / x4_chan_writes_per_step(
+						  e, x4_chan_mode_axes(e)));
 	period = t->pulse_ns ? t->pulse_ns + t->space_ns : 2 * t->space_ns;
-	if (!x4_phase_mode(e) && period)
+	if (!x4_chan_phase_mode(e) && period)
 		rate = min_u64(rate, x4_div(X4_NSEC_PER_SEC, period));
 	return rate;
 }
@@ -80,9 +83,7 @@ static u64 top_speed(const struct x4_engine *e, const struct x4_path_slot *s)
 
 bool x4_path_active(const struct x4_engine *e)
 {
-	const struct x4_path *pa = &e->path;
-
-	return pa->state != X4_PATH_IDLE || pa->head != x4_read_once(pa->tail);
+	return x4_chan_path_active(e);
 }
 
 int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
@@ -115,7 +116,7 @@ int x4_path_check(const struct x4_engine *e, const struct x4_segment *s)
 	for (i = 0; i < X4_AXES; i++)
 		if (s->steps[i])
 			axes |= 1u << i;
-	if (axes & ~x4_mode_axes(e))
+	if (axes & ~x4_chan_mode_axes(e))
 		return X4_ERR_PARAM_FAIL;
 	/* Its rate at v_max: within what the port can do. */
 	if ((u64)s->v_max * leader > rate_max(e) * s->length)
@@ -234,7 +235,7 @@ static void set_reversal(const struct x4_engine *e, struct x4_path_slot *s,
 
 	s->v_rev = X4_PATH_VALUE_MAX;
 	s->dirs = 0;
-	if (x4_phase_mode(e))
+	if (x4_chan_phase_mode(e))
 		return;
 	for (i = 0; i < X4_AXES; i++) {
 		if (!s->seg.steps[i])
@@ -252,7 +253,7 @@ static void set_reversal(const struct x4_engine *e, struct x4_path_slot *s,
 	for (i = 0; i < X4_AXES; i++) {
 		if (!(rev & X4_DIR_BIT(i)))
 			continue;
-		/* Its first step (x4_bres_start()): ceil(leader / 2n). */
+		/* Its first step (x4_chan_bres_start()): ceil(leader / 2n). */
 		n = s->seg.steps[i] < 0 ? -(s64)s->seg.steps[i] :
 					  s->seg.steps[i];
 		n = x4_div(s->leader + 2 * n - 1, 2 * n);
@@ -503,8 +504,8 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	for (i = 0; i < X4_AXES; i++)
 		steps[i] = s->seg.steps[i];
 	x4_plan_axes(&c->run, steps);
-	x4_bres_start(c);
-	x4_arm_switches(e, c);
+	x4_chan_bres_start(c);
+	x4_chan_arm_switches(e, c);
 	pa->started = true;
 	pa->lonely = tail == pa->head + 1;
 	if (!pa->lonely)
@@ -593,8 +594,8 @@ bool x4_path_next(struct x4_engine *e, struct x4_chan *c)
 			pa->rest = X4_REST_HELD;
 			return false;
 		}
-		if (!x4_phase_mode(e))
-			c->dir_fresh = x4_dir_changes(e, &c->run);
+		if (!x4_chan_phase_mode(e))
+			c->dir_fresh = x4_chan_dir_changes(e, &c->run);
 	} else if (!pa->v_end && pa->state == X4_PATH_HOLDING) {
 		pa->rest = X4_REST_HELD;
 		return false;
@@ -665,12 +666,13 @@ static void begin_path(struct x4_engine *e, u64 now_ns)
 	pa->rest = X4_REST_CUT;
 	c->home = 0;
 	plan_piece(e, c);
-	x4_begin(e, c, now_ns); /* directions now, the first step after */
+	x4_chan_begin(e, c, now_ns); /* directions now, the first step after */
 	if (pa->pos) /* resumed within a segment: its Bresenham goes on */
 		memcpy(c->bres, bres, sizeof(bres));
 	c->path = true;
-	c->rate = (u32)(rate_max(e) * x4_writes_per_step(e, x4_mode_axes(e)));
-	/* SETUP, then step 1 of the piece (x4_sched.c: begin_setup()). */
+	c->rate = (u32)(rate_max(e) *
+			x4_chan_writes_per_step(e, x4_chan_mode_axes(e)));
+	/* SETUP, then step 1 of the piece (x4_engine.c: begin_setup()). */
 	c->n = 1;
 	c->t_cur = x4_plan_time(&c->run, 1);
 }

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
- * x4step engine: continuous paths (x4_path.c). A path is a queue of
+ * x4step engine: continuous paths (x4_path.c), above the channels
+ * (x4_chan.h) and below the event machine (x4_engine.c). A path is a queue of
  * straight segments that run back to back, at path speeds planned ahead
  * over the whole queue so that the queue as planned always ends at rest.
  *
@@ -23,62 +24,7 @@
 #ifndef X4_PATH_H
 #define X4_PATH_H
 
-#include "x4_check.h"
-
-/* A queued segment and its planned entry speed (path units/s). */
-struct x4_path_slot {
-	struct x4_segment seg;
-	u32 leader; /* the leader axis' steps: max |steps[i]| */
-	u32 v_rate; /* the path speed of the port's fastest leader rate */
-	u32 limit; /* its entry's limit: corner, reversal, top speed */
-	u32 accel; /* its leader's acceleration, steps/s^2 */
-	u64 two_as; /* 2 a length, path units: v^2 gained or lost along it */
-	u32 entry; /* the writer stores it, the timer reads it (once) */
-	u32 v_rev; /* the fastest entry an axis reversing into it allows */
-	u8 dirs; /* the direction pins after it (X4_DIR_BIT) */
-};
-
-enum x4_path_state {
-	X4_PATH_IDLE, /* nothing runs; segments queued start at the next kick */
-	X4_PATH_RUN,
-	X4_PATH_HOLDING, /* braking along the path to rest */
-	X4_PATH_HELD, /* at rest on the path: resume, or abort */
-};
-
-/* Why the path's channel came to rest (x4_path.c, when it ends). */
-enum x4_path_rest {
-	X4_REST_CUT, /* stopped at once, or at a limit: the queue is flushed */
-	X4_REST_DRY, /* the queue ran empty */
-	X4_REST_HELD, /* a hold reached rest */
-};
-
-struct x4_path {
-	struct x4_path_slot *slot; /* `depth` slots, from the glue */
-	u32 depth; /* a power of 2; 0: no queue */
-	u32 head; /* the running (or next) segment; the timer's */
-	u32 tail; /* the next free slot; the writer's */
-	u8 state; /* enum x4_path_state, under the engine's lock */
-	u8 rest; /* enum x4_path_rest */
-	bool abort; /* flush the queue once held */
-	bool started; /* the segment at head has started */
-	bool lonely; /* it started with nothing queued after it */
-	u16 override; /* percent of v_max, 1..200 */
-	/* The running segment, in its leader's steps and steps/s. */
-	u32 leader;
-	u32 accel;
-	u32 exit; /* its planned end speed, fixed at its start */
-	u32 pos; /* steps done before the running piece */
-	u32 piece; /* steps of the running piece */
-	u32 v_end; /* speed at the end of the running piece */
-	u32 flushes; /* queues flushed: the glue's writers learn of them */
-	/* The writer's backward pass (x4_path_plan()). */
-	u32 plan; /* the slot whose entry it plans next */
-	u32 plan_tail; /* the tail it started from */
-	u64 planned; /* entries it planned: its cost, for the tests */
-	u64 done; /* segments completed */
-	u64 starved; /* refills that came after the path began to stop */
-	u64 frac; /* the ns fraction the pieces' ends left out, 32.32 */
-};
+#include "x4_state.h"
 
 #define X4_PATH_OVERRIDE_MAX 200
 /*
@@ -94,9 +40,6 @@ struct x4_path {
  * writer stopped writing.
  */
 #define X4_PATH_PLAN_WORK (8 * X4_PATH_PLAN_BUDGET)
-
-struct x4_engine;
-struct x4_chan;
 
 /* The glue gives the queue's storage; only while no path is active. */
 int x4_path_set_queue(struct x4_engine *e, struct x4_path_slot *slot,
@@ -145,5 +88,10 @@ struct x4_path_status {
 };
 
 void x4_path_get_status(const struct x4_engine *e, struct x4_path_status *st);
+
+/* The timer's half, for the event machine (x4_engine.c), on channel 0. */
+bool x4_path_next(struct x4_engine *e, struct x4_chan *c);
+u64 x4_path_end_half(const struct x4_engine *e, u64 half_ns);
+bool x4_path_ended(struct x4_engine *e, struct x4_chan *c);
 
 #endif /* X4_PATH_H */

@@ -5,9 +5,10 @@
  * current and direction of both its phases; a step walks the motor's
  * half-step table. Several motors at one instant are several writes: the
  * first goes out now, the rest are queued on the channel (X4_QUEUED).
- * Calls nothing; the channels (x4_sched.c) call it in phase mode.
+ * Calls nothing; the event machine (x4_engine.c) calls it in phase mode.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
+#include "x4_phase.h"
 
 /*
  * The half-step table MOTRUN and MOTZERO (0 % on both phases). Per phase,
@@ -71,9 +72,9 @@ static int smc_patterns(const struct x4_engine *e, u8 axes, bool rest,
 	return n;
 }
 
-int x4_engine_rest_writes(const struct x4_engine *e, u8 *bytes)
+int x4_phase_rest_writes(const struct x4_engine *e, u8 *bytes)
 {
-	if (!x4_phase_mode(e)) {
+	if (!x4_chan_phase_mode(e)) {
 		bytes[0] = e->data & X4_DIR_MASK;
 		return 1;
 	}

@@ -10,7 +10,7 @@
 #include <string.h>
 #endif
 
-int x4_errno(int result)
+int x4_req_errno(int result)
 {
 	switch (result) {
 	case X4_OK:
@@ -203,9 +203,9 @@ void x4_req_get_axes(const struct x4_engine *e, u32 inputs, u64 when,
 	ua->inputs = inputs;
 	/* Inputs never read (no controller yet) show no active switch. */
 	if (when)
-		ua->switches = x4_engine_active(e, inputs);
+		ua->switches = x4_switch_active(e, inputs);
 	for (i = 0; i < X4_AXES; i++) {
-		x4_engine_axis(e, i, &st);
+		x4_status_axis(e, i, &st);
 		ua->axis[i].position = st.position;
 		ua->axis[i].state = st.state;
 		ua->axis[i].error = st.error;

@@ -15,7 +15,7 @@
 #include "x4_engine.h"
 
 /* An X4Step result as the module's errno: 0 or negative. */
-int x4_errno(int result);
+int x4_req_errno(int result);
 /* The result a request writes back: over the write budget, the API's code. */
 s32 x4_req_result(int result);
 

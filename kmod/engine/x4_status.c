@@ -4,7 +4,8 @@
  * axes status: coordinate, ProStep4 state and error bits, and its speed
  * from the step interval it runs at. Reads the engine; changes nothing.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
+#include "x4_status.h"
 
 /* The step interval channel c runs at, between its RISE and FALL events. */
 static u64 step_interval(const struct x4_chan *c)
@@ -20,14 +21,14 @@ static u64 step_interval(const struct x4_chan *c)
 			 2 * p->single_half_ns;
 }
 
-void x4_engine_axis(const struct x4_engine *e, int axis,
+void x4_status_axis(const struct x4_engine *e, int axis,
 		    struct x4_axis_state *st)
 {
 	u8 bit = (u8)(1u << axis);
 	u64 interval;
 	int i;
 
-	st->position = x4_position(e, axis);
+	st->position = x4_chan_position(e, axis);
 	st->error = e->err[axis];
 	st->state = (e->sync & bit ? X4_AX_SYNC : 0) |
 		    (st->error ? X4_AX_ERROR : 0);

@@ -3,58 +3,13 @@
  * x4step engine: reference and limit switches, and reference runs
  * (ProStep4). Which inputs end a channel's move, what a hit does to the
  * axes (errors, sync, ambiguity on shared inputs), and the two phases of
- * a reference run. Calls the channels (x4_sched.c) to start and cut moves.
+ * a reference run. Calls the channels (x4_chan.c) to start and cut moves;
+ * the engine's event machine (x4_engine.c) calls x4_switch_halted() at a step a
+ * switch forbids and x4_switch_home_next() at a run's end, and acts on what the
+ * latter returns.
  */
-#include "x4_internal.h"
-
-/* The input bit of an input number 1..5, 0 for none. */
-static u8 input_bit(u8 input)
-{
-	return input ? (u8)(1u << (input - 1)) : 0;
-}
-
-/* The limit switch input that axis i of plan p moves toward. */
-static u8 limit_bit(const struct x4_engine *e, const struct x4_plan *p, int i)
-{
-	return input_bit(p->sign[i] > 0 ? e->sw.plus[i] : e->sw.minus[i]);
-}
-
-/*
- * Which switches end the move of channel c: the limits its axes move
- * toward, and in a reference run the REF input. A limit that is active
- * already while the axis backs off the opposite limit on the same input
- * (switches in parallel) is armed once it has been released.
- */
-void x4_arm_switches(struct x4_engine *e, struct x4_chan *c)
-{
-	const struct x4_plan *p = &c->run;
-	int i;
-
-	c->halt_mask = 0;
-	c->halt_flip = 0;
-	c->deferred = 0;
-	for (i = 0; i < X4_AXES; i++) {
-		u8 bit = limit_bit(e, p, i), back;
-
-		if (!(p->axes & (1u << i)) || !bit)
-			continue;
-		back = p->sign[i] > 0 ? e->err[i] & X4_AXERR_LIMIT_NEG &&
-					input_bit(e->sw.minus[i]) == bit :
-					e->err[i] & X4_AXERR_LIMIT_POS &&
-					input_bit(e->sw.plus[i]) == bit;
-		if (back && (e->inputs & bit))
-			c->deferred |= bit;
-		else
-			c->halt_mask |= bit;
-	}
-	if (!c->home)
-		return;
-	c->halt_mask |= c->ref_bit;
-	c->deferred &= (u8)~c->ref_bit;
-	/* Phase 1 ends when REF is active, phase 2 when it changes. */
-	if (c->home == X4_HOME_PHASE2)
-		c->halt_flip = e->inputs & c->ref_bit;
-}
+#include "x4_chan.h"
+#include "x4_switch.h"
 
 /* The limit input that axis i of running channel c watches, or 0. */
 static u8 watched_limit(const struct x4_engine *e, const struct x4_chan *c,
@@ -62,7 +17,7 @@ static u8 watched_limit(const struct x4_engine *e, const struct x4_chan *c,
 {
 	if (c->phase == X4_IDLE || !(c->run.axes & (1u << i)))
 		return 0;
-	return limit_bit(e, &c->run, i) & c->halt_mask;
+	return x4_chan_limit_bit(e, &c->run, i) & c->halt_mask;
 }
 
 /*
@@ -95,7 +50,7 @@ static noinline void limits_hit(struct x4_engine *e, u8 hit)
 				e->err[i] |= X4_AXERR_AMBIGUOUS;
 			/* The partners stop too, without a ramp. */
 			e->sync &= (u8)~c->run.axes;
-			x4_cut(c);
+			x4_chan_cut(c);
 		}
 	}
 }
@@ -117,14 +72,14 @@ static void home_phase(struct x4_engine *e, struct x4_chan *c, int axis,
 		x4_plan_search(&c->run, v, 0, v);
 	c->home = phase;
 	c->ref_found = false;
-	x4_begin(e, c, now_ns);
+	x4_chan_begin(e, c, now_ns);
 	/* The budget holds the faster phase for the whole reference run. */
 	if (c->rate < c->home_rate)
 		c->rate = c->home_rate;
 }
 
 /* Switches that channel c watches (hit) are active at its step tick. */
-void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
+void x4_switch_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 {
 	int axis = c->run.leader;
 
@@ -135,18 +90,18 @@ void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
 	if (c->home == X4_HOME_PHASE1) {
 		/*
 		 * Stop before this step, or brake past REF with it first;
-		 * x4_home_next() follows when the axis stands.
+		 * x4_switch_home_next() follows when the axis stands.
 		 */
 		c->ref_found = true;
 		c->halt_mask &= (u8)~c->ref_bit;
-		x4_halt_chan(c, true);
+		x4_chan_halt(c, true);
 		return;
 	}
 	/* Phase 2: REF changed at this step: the coordinate's zero. */
 	e->steps[axis] = 0;
 	e->pos_base[axis] = 0;
 	e->sync |= (u8)(1u << axis);
-	x4_cut(c);
+	x4_chan_cut(c);
 }
 
 /*
@@ -154,7 +109,7 @@ void x4_halted(struct x4_engine *e, struct x4_chan *c, u8 hit)
  * rest. A brake that ran off the switch (REF no longer active: a cam
  * shorter than the brake) ends the run: phase 2 would find the far edge.
  */
-bool x4_home_next(struct x4_engine *e, struct x4_chan *c)
+bool x4_switch_home_next(struct x4_engine *e, struct x4_chan *c)
 {
 	int axis = c->run.leader;
 
@@ -172,7 +127,7 @@ bool x4_home_next(struct x4_engine *e, struct x4_chan *c)
 	return true;
 }
 
-int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
+int x4_switch_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 		   s32 vref2, u32 sref, u64 now_ns)
 {
 	const struct x4_profile *ax;
@@ -181,7 +136,7 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	int ret;
 
 	if (axis < 1 || axis > X4_AXES ||
-	    !(x4_mode_axes(e) & (1u << (axis - 1))) ||
+	    !(x4_chan_mode_axes(e) & (1u << (axis - 1))) ||
 	    x4_home_check(phases, vref1, vref2, sref) || !e->sw.ref[axis - 1])
 		return X4_ERR_PARAM_FAIL;
 	/* Phase 1's brake must fit the ramp limits (at most an hour). */
@@ -189,24 +144,26 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	if (phases & X4_HOME_BRAKE && phases & X4_HOME_PHASE1 &&
 	    x4_ramp_too_long(x4_abs_s32(vref1), ax->ae))
 		return X4_ERR_PARAM_FAIL;
-	ret = x4_freq_check(e, phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 1);
+	ret = x4_chan_freq_check(e, phases & X4_HOME_PHASE1 ?
+				 x4_abs_s32(vref1) : 1);
 	if (!ret)
-		ret = x4_freq_check(e, phases & X4_HOME_PHASE2 ? x4_abs_s32(vref2) : 1);
+		ret = x4_chan_freq_check(e, phases & X4_HOME_PHASE2 ?
+					 x4_abs_s32(vref2) : 1);
 	if (ret)
 		return ret;
-	if (x4_busy_axes(e) & (1u << (axis - 1)))
+	if (x4_chan_busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
 	vmax = phases & X4_HOME_PHASE1 ? x4_abs_s32(vref1) : 0;
 	if (phases & X4_HOME_PHASE2 && x4_abs_s32(vref2) > vmax)
 		vmax = x4_abs_s32(vref2);
-	rate = vmax * x4_writes_per_step(e, 1);
-	if (x4_budget_check(e, rate))
+	rate = vmax * x4_chan_writes_per_step(e, 1);
+	if (x4_chan_budget_check(e, rate))
 		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
 	c->home_rate = rate;
 	c->sref = sref;
 	c->vref2 = vref2;
-	c->ref_bit = input_bit(e->sw.ref[axis - 1]);
+	c->ref_bit = x4_chan_input_bit(e->sw.ref[axis - 1]);
 	c->home_next = (phases & X4_HOME_AUTO) == X4_HOME_AUTO;
 	c->home_brake = phases & X4_HOME_BRAKE;
 	e->sync &= (u8)~(1u << (axis - 1));
@@ -217,7 +174,7 @@ int x4_engine_home(struct x4_engine *e, s32 axis, u8 phases, s32 vref1,
 	return X4_OK;
 }
 
-int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw)
+int x4_switch_set(struct x4_engine *e, const struct x4_switches *sw)
 {
 	int i;
 
@@ -227,7 +184,7 @@ int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw)
 		if (sw->ref[i] > X4_INPUTS || sw->plus[i] > X4_INPUTS ||
 		    sw->minus[i] > X4_INPUTS)
 			return X4_ERR_PARAM_FAIL;
-	if (x4_engine_busy(e))
+	if (e->busy)
 		return X4_ERR_IS_ACTIVE;
 	e->sw = *sw;
 	return X4_OK;
@@ -237,11 +194,11 @@ int x4_engine_set_switches(struct x4_engine *e, const struct x4_switches *sw)
  * The input pin levels (X4GetIn bits, 1 = HIGH), sampled by the glue on
  * every tick while a move watches switches, and before a move starts.
  */
-void x4_engine_sense(struct x4_engine *e, u8 levels)
+void x4_switch_sense(struct x4_engine *e, u8 levels)
 {
 	int i;
 
-	e->inputs = x4_engine_active(e, levels);
+	e->inputs = x4_switch_active(e, levels);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
 		u8 released = c->deferred & (u8)~e->inputs;

@@ -6,7 +6,7 @@
  */
 #include "x4_track.h"
 
-#include "x4_internal.h"
+#include "x4_chan.h"
 
 #include <linux/x4step.h>
 #ifdef __KERNEL__
@@ -60,7 +60,7 @@ void x4_track_stop(struct x4_track *t, u8 chans)
 static u8 x4_track_move_axes(const struct x4_track *t,
 			     const struct x4_engine *e, int i)
 {
-	return !i && t->path ? x4_mode_axes(e) : e->ch[i].run.axes;
+	return !i && t->path ? x4_chan_mode_axes(e) : e->ch[i].run.axes;
 }
 
 int x4_track_path_abort(struct x4_track *t, struct x4_engine *e)
@@ -71,7 +71,7 @@ int x4_track_path_abort(struct x4_track *t, struct x4_engine *e)
 	if (ret)
 		return ret;
 	if (held)
-		t->push(t, X4STEP_EV_MOVE_ENDED, x4_mode_axes(e),
+		t->push(t, X4STEP_EV_MOVE_ENDED, x4_chan_mode_axes(e),
 			X4STEP_END_ABORTED, 0, 0);
 	else if (x4_path_active(e))
 		t->path_aborting = true; /* its end says so */

@@ -32,7 +32,7 @@ int out(void *arg, const T &v) {
 template <typename T>
 int run_result(void *arg, int ret) {
   static_cast<T *>(arg)->result = x4_req_result(ret);
-  return x4_errno(ret);
+  return x4_req_errno(ret);
 }
 
 }  // namespace
@@ -128,9 +128,9 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       if (x4_req_bad_estop(&es)) return -EINVAL;
       if (es.how == X4STEP_HALT_STOP) {
         x4_track_brake(&track_, &eng_, x4_track_chans(&eng_, 0x0f), X4STEP_SRC_ESTOP, X4STEP_HALT_STOP);
-        return x4_errno(stop_locked(0x0f));
+        return x4_req_errno(stop_locked(0x0f));
       }
-      return x4_errno(brake_locked(0x0f, X4STEP_SRC_ESTOP, X4STEP_HALT_BRAKE));
+      return x4_req_errno(brake_locked(0x0f, X4STEP_SRC_ESTOP, X4STEP_HALT_BRAKE));
     }
     case X4STEP_GET_PATH:
     case X4STEP_GET_PATH_CONFIG:
@@ -171,16 +171,16 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       m.ramp_ms = m_in.ramp_ms;
       const int ret = x4_engine_load(&eng_, &m);
       um->result = ret;
-      return x4_errno(ret);
+      return x4_req_errno(ret);
     }
     case X4STEP_START:
-      return x4_errno(
+      return x4_req_errno(
           run_locked([](x4_engine *e, const void *, std::uint64_t now) { return x4_engine_start(e, now); },
                      nullptr, X4STEP_KIND_LOADED));
     case X4STEP_BRAKE:
-      return x4_errno(brake_locked(0x0f, X4STEP_SRC_IOCTL, 0));
+      return x4_req_errno(brake_locked(0x0f, X4STEP_SRC_IOCTL, 0));
     case X4STEP_STOP:
-      return x4_errno(stop_locked(0x0f));
+      return x4_req_errno(stop_locked(0x0f));
     case X4STEP_MOVE_ENDLESS: {
       const auto e = in<x4step_endless>(arg);
       static_cast<x4step_endless *>(arg)->result = X4_ERR_PARAM_FAIL;
@@ -207,7 +207,7 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       return run_result<x4step_home>(arg, run_locked(
                                               [](x4_engine *eng, const void *a, std::uint64_t now) {
                                                 const auto *k = static_cast<const x4step_home *>(a);
-                                                return x4_engine_home(eng, k->axis,
+                                                return x4_switch_home(eng, k->axis,
                                                                       static_cast<u8>(k->phases), k->vref1,
                                                                       k->vref2, k->sref, now);
                                               },
@@ -217,8 +217,8 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       const auto h = in<x4step_halt>(arg);
       if (x4_req_bad_halt(&h)) return -EINVAL;
       const auto axes = static_cast<std::uint8_t>(h.axes);
-      return x4_errno(h.how == X4STEP_HALT_STOP ? stop_locked(axes)
-                                                : brake_locked(axes, X4STEP_SRC_IOCTL, 0));
+      return x4_req_errno(h.how == X4STEP_HALT_STOP ? stop_locked(axes)
+                                                    : brake_locked(axes, X4STEP_SRC_IOCTL, 0));
     }
     case X4STEP_SET_POSITION: {
       const auto up = in<x4step_position>(arg);
@@ -226,20 +226,20 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       x4_track_stop(&track_, x4_track_chans(&eng_, static_cast<u8>(up.axes)));
       const int ret = x4_engine_set_position(&eng_, static_cast<u8>(up.axes), up.position);
       halted_locked();
-      return x4_errno(ret);
+      return x4_req_errno(ret);
     }
     case X4STEP_SET_PROFILE: {
       const auto up = in<x4step_profile>(arg);
       x4_profile p;
       const int ret = x4_req_profile(&up, &p);
-      return ret ? ret : x4_errno(x4_engine_set_profile(&eng_, static_cast<s32>(up.axis), &p));
+      return ret ? ret : x4_req_errno(x4_engine_set_profile(&eng_, static_cast<s32>(up.axis), &p));
     }
     case X4STEP_SET_SWITCHES: {
       const auto us = in<x4step_switches>(arg);
       if (x4_req_bad_switches(&us)) return -EINVAL;
       x4_switches sw;
       x4_req_switches(&us, &sw);
-      return x4_errno(x4_engine_set_switches(&eng_, &sw));
+      return x4_req_errno(x4_switch_set(&eng_, &sw));
     }
     case X4STEP_SET_OUTPUT:
     case X4STEP_SET_OUTPUTS: {
@@ -277,7 +277,7 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
         cfg_flags_ = cfg.flags;
         write_rest_locked();
       }
-      return x4_errno(ret);
+      return x4_req_errno(ret);
     }
     case X4STEP_SET_PATH_CONFIG:
       return path_config_locked(in<x4step_path_config>(arg));
@@ -288,7 +288,7 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       if (x4_req_bad_step_timing(&ut)) return -EINVAL;
       x4_timing t;
       x4_req_step_timing(&ut, &t);
-      return x4_errno(x4_engine_configure(&eng_, &t, eng_.mode));
+      return x4_req_errno(x4_engine_configure(&eng_, &t, eng_.mode));
     }
   }
 }

@@ -33,7 +33,7 @@ int port::path_resize_locked(std::uint32_t depth) {
   if (eng_.path.depth == depth) return 0;
   std::vector<x4_path_slot> slots(depth);
   const int ret = x4_path_set_queue(&eng_, slots.data(), depth);
-  if (ret) return x4_errno(ret);
+  if (ret) return x4_req_errno(ret);
   path_slots_.swap(slots);
   return 0;
 }
@@ -95,7 +95,7 @@ ssize_t port::write(file &f, const void *buf, size_t n) {
       x4_segment seg;
       ret = x4_req_segment(&r, &seg);
       if (!ret) ret = x4_path_check(&eng_, &seg);
-      ret = x4_errno(ret);
+      ret = x4_req_errno(ret);
       if (ret) break;
       x4_path_push(&eng_, &seg);
       done += sizeof r;
@@ -125,16 +125,16 @@ int port::path_ctl_locked(const x4step_path_ctl &c) {
       const int ret =
           c.cmd == X4STEP_PATH_ABORT ? x4_track_path_abort(&track_, &eng_) : x4_path_hold(&eng_, false);
       changed_locked();
-      return x4_errno(ret);
+      return x4_req_errno(ret);
     }
     case X4STEP_PATH_CLEAR:
       path_flushes_seen_ = eng_.path.flushes;
       return 0;
     case X4STEP_PATH_RESUME:
-      return x4_errno(run_locked(resume, nullptr, X4STEP_KIND_PATH));
+      return x4_req_errno(run_locked(resume, nullptr, X4STEP_KIND_PATH));
     case X4STEP_PATH_OVERRIDE: {
       const int ret = x4_path_set_override(&eng_, c.value);
-      if (ret) return x4_errno(ret);
+      if (ret) return x4_req_errno(ret);
       x4_path_replan(&eng_);
       run_locked(kick, nullptr, X4STEP_KIND_PATH);
       return 0;

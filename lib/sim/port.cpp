@@ -130,7 +130,7 @@ void port::write_locked(std::uint64_t t) {
 
 void port::write_rest_locked() {
   std::uint8_t bytes[X4_SMC_AXES];
-  const int n = x4_engine_rest_writes(&eng_, bytes);
+  const int n = x4_phase_rest_writes(&eng_, bytes);
   for (int i = 0; i < n; i++) {
     eng_.data = bytes[i];
     write_locked(now_locked());
@@ -151,7 +151,7 @@ void port::set_invert_locked(std::uint8_t clock_invert, std::uint8_t dir_invert)
 // x4_fire_locked(): the pending event at engine time t, and its write.
 void port::fire_locked(std::uint64_t t) {
   const int c = static_cast<int>(eng_.cur - eng_.ch);
-  if (claimed_ && x4_engine_rise_watched(&eng_)) x4_engine_sense(&eng_, static_cast<u8>(inputs_locked()));
+  if (claimed_ && x4_engine_rise_watched(&eng_)) x4_switch_sense(&eng_, static_cast<u8>(inputs_locked()));
   x4_engine_fire(&eng_, t);
   write_locked(t);
   x4_engine_written(&eng_, t);
@@ -406,7 +406,7 @@ void port::let_go_locked() {
 
 // x4_port_run().
 int port::run_locked(starter start, const void *arg, unsigned kind) {
-  if (claimed_) x4_engine_sense(&eng_, static_cast<u8>(inputs_locked()));
+  if (claimed_) x4_switch_sense(&eng_, static_cast<u8>(inputs_locked()));
   const int ret = start(&eng_, arg, now_locked());
   if (ret == X4_OK) {
     last_brake_code_ = 0;

@@ -23,13 +23,13 @@ static int limit_hit() {
   for (int i = 0; i < X4_AXES; i++) sw.plus[i] = 1;
   const x4_profile prof = {0, 0, 10000, 100000, 100000};
   const int32_t target[X4_AXES] = {100000, 90000, 80000, 70000};
-  int ret = x4_engine_set_switches(&e, &sw);
+  int ret = x4_switch_set(&e, &sw);
   for (int i = 0; i < X4_AXES; i++) ret |= x4_engine_set_profile(&e, i + 1, &prof);
-  x4_engine_sense(&e, 0);
+  x4_switch_sense(&e, 0);
   ret |= x4_engine_goto(&e, 0x0f, target, false, 0);
   if (ret) return 1;
   for (int n = 0; n < 400; n++) x4_engine_fire(&e, x4_engine_due(&e));
-  x4_engine_sense(&e, 1);
+  x4_switch_sense(&e, 1);
   while (e.cur->phase != X4_RISE) x4_engine_fire(&e, x4_engine_due(&e));
   CALLGRIND_ZERO_STATS;
   x4_engine_fire(&e, x4_engine_due(&e));

@@ -393,12 +393,12 @@ TEST(Budget, HomingCountsItsFasterPhase) {
   Eng eng;
   x4_switches sw{};
   sw.ref[0] = 1;
-  ASSERT_EQ(x4_engine_set_switches(&eng.e, &sw), X4_OK);
+  ASSERT_EQ(x4_switch_set(&eng.e, &sw), X4_OK);
   eng.Goto(1, 100000, Prof(0, 0, 45000, 100000, 100000));
   eng.Goto(2, 100000, Prof(0, 0, 45000, 100000, 100000));
-  EXPECT_EQ(x4_engine_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -100, 10001, 1000, kStart),
+  EXPECT_EQ(x4_switch_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -100, 10001, 1000, kStart),
             X4_ERR_RATE_BUDGET);
-  EXPECT_EQ(x4_engine_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -10000, 100, 1000, kStart), X4_OK);
+  EXPECT_EQ(x4_switch_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -10000, 100, 1000, kStart), X4_OK);
 }
 
 TEST(Budget, PhaseModeCountsOneWritePerMotor) {
@@ -419,8 +419,8 @@ TEST(Budget, AReferenceRunHoldsItsFasterPhase) {
   Eng eng;
   x4_switches sw{};
   sw.ref[0] = 1;
-  ASSERT_EQ(x4_engine_set_switches(&eng.e, &sw), X4_OK);
-  ASSERT_EQ(x4_engine_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -100, 45000, 1000, kStart), X4_OK);
+  ASSERT_EQ(x4_switch_set(&eng.e, &sw), X4_OK);
+  ASSERT_EQ(x4_switch_home(&eng.e, 1, X4_HOME_PHASE1 | X4_HOME_PHASE2, -100, 45000, 1000, kStart), X4_OK);
   eng.Goto(1, 100000, Prof(0, 0, 45000, 100000, 100000));
   EXPECT_EQ(x4_engine_endless(&eng.e, 3, false, 10001, 0, kStart), X4_ERR_RATE_BUDGET);
   EXPECT_EQ(x4_engine_endless(&eng.e, 3, false, 10000, 0, kStart), X4_OK);

@@ -909,12 +909,12 @@ TEST(PathSwitches, LimitStopsThePathAtOnce) {
   Path p;
   x4_switches sw{};
   sw.minus[0] = 1;  // the circle's first chords move X toward E-
-  ASSERT_EQ(x4_engine_set_switches(&p.e, &sw), X4_OK);
+  ASSERT_EQ(x4_switch_set(&p.e, &sw), X4_OK);
   for (const auto &s : Circle(2000, 36, 20000, 100000, 20000)) ASSERT_EQ(p.Push(s), X4_OK);
   Recording r;
   record(p.e, r, 500);
   const size_t rises = r.rises[0].size();
-  x4_engine_sense(&p.e, 0x01);  // E+ of X active: X moves toward it
+  x4_switch_sense(&p.e, 0x01);  // E+ of X active: X moves toward it
   record(p.e, r);
   EXPECT_LE(r.rises[0].size(), rises + 1);
   EXPECT_TRUE(p.e.err[0] & X4_AXERR_LIMIT_NEG);

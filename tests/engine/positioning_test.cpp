@@ -187,7 +187,7 @@ class Rig {
     const uint8_t active = Active();
     if (seen.empty() || seen.back().second != active)
       seen.push_back({x4_engine_busy(&e) ? e.due : now, active});
-    x4_engine_sense(&e, active ^ nc_wiring);
+    x4_switch_sense(&e, active ^ nc_wiring);
   }
 
   // The first tick from which input (1..5) was seen active, 0: never.
@@ -199,7 +199,7 @@ class Rig {
 
   int SetSwitches(x4_switches sw) {
     sw.nc = nc_wiring;
-    return x4_engine_set_switches(&e, &sw);
+    return x4_switch_set(&e, &sw);
   }
   int SetProfile(int axis, const x4_profile &p) { return x4_engine_set_profile(&e, axis + 1, &p); }
   int SetPosition(uint8_t axes, const Targets &pos) { return x4_engine_set_position(&e, axes, pos.data()); }
@@ -214,7 +214,7 @@ class Rig {
   }
   int Home(int axis, uint8_t phases, int32_t vref1, int32_t vref2, uint32_t sref) {
     Sense();
-    return x4_engine_home(&e, axis + 1, phases, vref1, vref2, sref, now);
+    return x4_switch_home(&e, axis + 1, phases, vref1, vref2, sref, now);
   }
   int Start(const x4_move &m) {
     Sense();
@@ -224,7 +224,7 @@ class Rig {
 
   x4_axis_state Axis(int axis) const {
     x4_axis_state st;
-    x4_engine_axis(&e, axis, &st);
+    x4_status_axis(&e, axis, &st);
     return st;
   }
 
@@ -848,7 +848,7 @@ TEST(Coordinates, BusyAxesAreActiveOthersFree) {
   EXPECT_EQ(rig.Home(0, X4_HOME_PHASE1 | X4_HOME_PHASE2, 100, -100, 1000), X4_ERR_IS_ACTIVE);
   EXPECT_EQ(x4_engine_endless(&rig.e, 1, false, 1000, 10, rig.now), X4_ERR_IS_ACTIVE);
   EXPECT_EQ(rig.Start(Move(10, 10, 0, 0, 1000, 0)), X4_ERR_IS_ACTIVE);
-  EXPECT_EQ(x4_engine_set_switches(&rig.e, &rig.e.sw), X4_ERR_IS_ACTIVE);
+  EXPECT_EQ(x4_switch_set(&rig.e, &rig.e.sw), X4_ERR_IS_ACTIVE);
   EXPECT_EQ(std::memcmp(&before.ch, &rig.e.ch, sizeof before.ch), 0) << "nothing started";
   EXPECT_EQ(rig.GotoAxis(1, 10), X4_OK);
   const Recording r = rig.Run();
@@ -1603,14 +1603,14 @@ TEST(Homing, ParameterErrorsChangeNothing) {
       {5, both, 100, -100, 1000},
   };
   for (const auto &b : bad) {
-    EXPECT_EQ(x4_engine_home(&rig.e, b.axis, b.phases, b.vref1, b.vref2, b.sref, kStart), X4_ERR_PARAM_FAIL)
+    EXPECT_EQ(x4_switch_home(&rig.e, b.axis, b.phases, b.vref1, b.vref2, b.sref, kStart), X4_ERR_PARAM_FAIL)
         << b.axis << " " << int(b.phases) << " " << b.vref1 << " " << b.vref2 << " " << b.sref;
   }
   EXPECT_EQ(std::memcmp(&before, &rig.e, sizeof before), 0);
   EXPECT_EQ(rig.Axis(1).state, uint32_t(X4_AX_SYNC));
   // The limits themselves are fine.
-  EXPECT_EQ(x4_engine_home(&rig.e, 2, both, 45000, -45000, 0x7fffffff, kStart), X4_OK);
-  EXPECT_EQ(x4_engine_home(&rig.e, 3, X4_HOME_PHASE2, 0, 100, 1, kStart), X4_ERR_PARAM_FAIL) << "no REF";
+  EXPECT_EQ(x4_switch_home(&rig.e, 2, both, 45000, -45000, 0x7fffffff, kStart), X4_OK);
+  EXPECT_EQ(x4_switch_home(&rig.e, 3, X4_HOME_PHASE2, 0, 100, 1, kStart), X4_ERR_PARAM_FAIL) << "no REF";
 }
 
 // ---- 5. synchronization ----------------------------------------------------------------
@@ -1756,18 +1756,18 @@ TEST(Validation, SwitchRanges) {
       x4_switches sw = NoSwitches();
       uint8_t *f = field == 0 ? sw.ref : field == 1 ? sw.plus : sw.minus;
       f[axis] = 6;
-      EXPECT_EQ(x4_engine_set_switches(&rig.e, &sw), X4_ERR_PARAM_FAIL) << field << " " << axis;
+      EXPECT_EQ(x4_switch_set(&rig.e, &sw), X4_ERR_PARAM_FAIL) << field << " " << axis;
       f[axis] = 5;
-      EXPECT_EQ(x4_engine_set_switches(&rig.e, &sw), X4_OK);
+      EXPECT_EQ(x4_switch_set(&rig.e, &sw), X4_OK);
     }
   x4_switches sw = NoSwitches();
   sw.nc = 0x20;
-  EXPECT_EQ(x4_engine_set_switches(&rig.e, &sw), X4_ERR_PARAM_FAIL);
+  EXPECT_EQ(x4_switch_set(&rig.e, &sw), X4_ERR_PARAM_FAIL);
   sw.nc = 0x1f;
-  EXPECT_EQ(x4_engine_set_switches(&rig.e, &sw), X4_OK);
+  EXPECT_EQ(x4_switch_set(&rig.e, &sw), X4_OK);
   EXPECT_EQ(rig.e.sw.nc, 0x1f);
   sw.nc = 0;
-  ASSERT_EQ(x4_engine_set_switches(&rig.e, &sw), X4_OK);
+  ASSERT_EQ(x4_switch_set(&rig.e, &sw), X4_OK);
   EXPECT_EQ(std::memcmp(&before, &rig.e, sizeof before), 0);
 }
 

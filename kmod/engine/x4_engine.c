@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later
 /*
- * x4step engine: the channels. The commands that start, brake and stop
- * moves; the event state machine that turns a running plan into clock,
- * direction and control edges (SETUP, RISE, FALL, END); Bresenham for the
- * minor axes; the write budget; and the rule that a late event moves the
- * rest of its channel's schedule instead of shortening a pulse or space.
- * Calls the plan maths (x4_plan.c), the switches (x4_switch.c) at a step
- * a switch forbids, and the phase output (x4_phase.c) in SMC mode.
+ * x4step engine: the top level, the engine's API (x4_engine.h). The
+ * commands that start, brake and stop moves; the event state machine that
+ * turns a running plan into clock, direction and control edges (SETUP,
+ * RISE, FALL, END); Bresenham for the minor axes; and the rule that a late
+ * event moves the rest of its channel's schedule instead of shortening a
+ * pulse or space. Calls the levels below: the channels (x4_chan.c), the
+ * switches (x4_switch.c) at a step a switch forbids, the phase output
+ * (x4_phase.c) in SMC mode, the path (x4_path.c) at a piece's end. They
+ * never call it: what they report back (a path that goes on, a reference
+ * run's phase 2) they return, and this level acts on it.
  */
-#include "x4_internal.h"
+#include "x4_chan.h"
+#include "x4_engine.h"
 
 #ifdef __KERNEL__
 #include <linux/string.h>
@@ -43,119 +47,9 @@ int x4_engine_configure(struct x4_engine *e, const struct x4_timing *t,
 	return X4_OK;
 }
 
-/*
- * Whether steps at freq_hz fit the port's timing: a fixed pulse plus the
- * minimum space, or half a period each for the symmetric clock.
- */
-int x4_freq_check(const struct x4_engine *e, s32 freq_hz)
-{
-	u64 period = x4_div(X4_NSEC_PER_SEC, (u64)freq_hz);
-	const struct x4_timing *t = &e->timing;
-
-	if (e->mode != X4_MODE_CLOCK_DIR)
-		return X4_OK; /* phase patterns have no pulse */
-	if (t->pulse_ns ? t->pulse_ns + t->space_ns > period :
-			  t->space_ns > period / 2)
-		return X4_ERR_FREQ_TOO_HIGH;
-	return X4_OK;
-}
-
-/* The axes an output mode drives, as a mask. */
-u8 x4_mode_axes(const struct x4_engine *e)
-{
-	return x4_phase_mode(e) ? 0x07 : 0x0f;
-}
-
 u8 x4_engine_chan_axes(const struct x4_engine *e, int i)
 {
-	return e->ch[i].path ? x4_mode_axes(e) : e->ch[i].run.axes;
-}
-
-/* The axes of the running moves; an active path owns them all. */
-u8 x4_busy_axes(const struct x4_engine *e)
-{
-	u8 axes = 0;
-	int i;
-
-	if (x4_path_active(e))
-		return x4_mode_axes(e);
-	for (i = 0; i < X4_AXES; i++)
-		if (e->busy & (1u << i))
-			axes |= e->ch[i].run.axes;
-	return axes;
-}
-
-/* Port writes of one leader step: clock up and down, or a phase pattern per motor. */
-u32 x4_writes_per_step(const struct x4_engine *e, u8 axes)
-{
-	u32 n = 0;
-
-	if (!x4_phase_mode(e))
-		return 2;
-	for (; axes; axes &= axes - 1)
-		n++;
-	return n;
-}
-
-/*
- * Port writes per second of plan p at its top speed: the cruise interval
- * (2 c_num / c_den ns) is the shortest of every shape.
- */
-static u32 plan_rate(const struct x4_engine *e, const struct x4_plan *p)
-{
-	u64 steps = x4_div(p->c_den * X4_NSEC_PER_SEC + 2 * p->c_num - 1,
-			   2 * p->c_num);
-
-	return (u32)(steps * x4_writes_per_step(e, p->axes));
-}
-
-/* Whether moves needing `add` more writes per second fit the budget. */
-int x4_budget_check(const struct x4_engine *e, u64 add)
-{
-	int i;
-
-	for (i = 0; i < X4_AXES; i++)
-		if (e->busy & (1u << i))
-			add += e->ch[i].rate;
-	return e->budget && add > e->budget ? X4_ERR_RATE_BUDGET : X4_OK;
-}
-
-/* Start counting the axes' steps afresh; their coordinates stay. */
-static void fold_steps(struct x4_engine *e, u8 axes)
-{
-	int i;
-
-	for (i = 0; i < X4_AXES; i++) {
-		if (!(axes & (1u << i)))
-			continue;
-		e->pos_base[i] += (u32)e->steps[i];
-		e->steps[i] = 0;
-	}
-}
-
-/* The earliest event of all channels is the next; the outputs of all. */
-static void schedule_all(struct x4_engine *e)
-{
-	u64 due = X4_NO_STEP;
-	u8 busy = 0, ctl = 0;
-	int i;
-
-	for (i = 0; i < X4_AXES; i++) {
-		const struct x4_chan *c = &e->ch[i];
-
-		if (c->phase == X4_IDLE)
-			continue;
-		busy |= 1u << i;
-		ctl |= c->ctl;
-		if (c->t_pending < due) {
-			due = c->t_pending;
-			e->cur = &e->ch[i];
-		}
-	}
-	e->busy = busy;
-	e->solo = busy && !(busy & (busy - 1));
-	e->due = due;
-	e->ctl = (u8)((e->ctl & (X4_CTL_SIGNAL1 | X4_CTL_SIGNAL2)) | ctl);
+	return e->ch[i].path ? x4_chan_mode_axes(e) : e->ch[i].run.axes;
 }
 
 /* After an event of channel e->cur: the common case is that it runs alone. */
@@ -167,32 +61,7 @@ static inline void schedule(struct x4_engine *e, const struct x4_chan *c)
 			      c->ctl);
 		return;
 	}
-	schedule_all(e);
-}
-
-/* Begin the move in c->run: directions go out at now_ns. */
-void x4_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
-{
-	int i;
-
-	c->phase = X4_SETUP;
-	c->no_steps = false;
-	c->path = false;
-	c->path_cut = false;
-	c->dir_fresh = 0;
-	c->n = 0;
-	c->t_cur = 0;
-	c->ctl = 0;
-	c->t_pending = now_ns;
-	c->origin = now_ns + e->timing.dir_setup_ns;
-	c->rate = plan_rate(e, &c->run);
-	x4_bres_start(c);
-	x4_arm_switches(e, c);
-	for (i = 0; i < X4_AXES; i++)
-		if (c->run.axes & (1u << i))
-			e->err[i] = 0; /* a new command to the axis */
-	fold_steps(e, c->run.axes);
-	schedule_all(e);
+	x4_chan_schedule_all(e);
 }
 
 /* Channel i runs the moves whose lowest axis is i. */
@@ -208,8 +77,8 @@ int x4_engine_load(struct x4_engine *e, const struct x4_move *m)
 	int i;
 
 	if (!ret)
-		ret = x4_freq_check(e, m->freq_hz);
-	if (!ret && x4_phase_mode(e) && m->steps[3])
+		ret = x4_chan_freq_check(e, m->freq_hz);
+	if (!ret && x4_chan_phase_mode(e) && m->steps[3])
 		ret = X4_ERR_PARAM_FAIL; /* the SMC boards drive 3 motors */
 	if (ret)
 		return ret;
@@ -230,16 +99,16 @@ int x4_engine_start(struct x4_engine *e, u64 now_ns)
 
 	if (!e->loaded)
 		return X4_ERR_NOT_LOADED;
-	if (x4_busy_axes(e) & e->next.axes)
+	if (x4_chan_busy_axes(e) & e->next.axes)
 		return X4_ERR_IS_ACTIVE;
-	if (x4_budget_check(e, plan_rate(e, &e->next)))
+	if (x4_chan_budget_check(e, x4_chan_plan_rate(e, &e->next)))
 		return X4_ERR_RATE_BUDGET;
 	c = chan_of(e, e->next.axes);
 	c->run = e->next;
 	c->home = 0;
 	e->loaded = false;
-	fold_steps(e, 0x0f); /* X4Start clears every step counter */
-	x4_begin(e, c, now_ns);
+	x4_chan_fold_steps(e, 0x0f); /* X4Start clears every step counter */
+	x4_chan_begin(e, c, now_ns);
 	return X4_OK;
 }
 
@@ -250,26 +119,28 @@ int x4_engine_endless(struct x4_engine *e, s32 axis, bool negative,
 	struct x4_chan *c;
 	int ret;
 
-	if (axis < 1 || axis > X4_AXES || !(x4_mode_axes(e) & (1u << (axis - 1))))
+	if (axis < 1 || axis > X4_AXES ||
+	    !(x4_chan_mode_axes(e) & (1u << (axis - 1))))
 		return X4_ERR_PARAM_FAIL;
 	ret = x4_ramp_check(freq_hz, ramp_ms);
 	if (!ret)
-		ret = x4_freq_check(e, freq_hz);
+		ret = x4_chan_freq_check(e, freq_hz);
 	if (ret)
 		return ret;
 	if (e->loaded)
 		return X4_ERR_IS_LOADED;
-	if (x4_busy_axes(e) & (1u << (axis - 1)))
+	if (x4_chan_busy_axes(e) & (1u << (axis - 1)))
 		return X4_ERR_IS_ACTIVE;
-	if (x4_budget_check(e, (u64)freq_hz * x4_writes_per_step(e, 1)))
+	if (x4_chan_budget_check(e,
+				 (u64)freq_hz * x4_chan_writes_per_step(e, 1)))
 		return X4_ERR_RATE_BUDGET;
 	c = &e->ch[axis - 1];
 	steps[axis - 1] = negative ? -1 : 1;
 	x4_plan_axes(&c->run, steps);
 	x4_plan_x4step(&c->run, 0, (u32)freq_hz, (u32)ramp_ms);
 	c->home = 0;
-	fold_steps(e, 0x0f);
-	x4_begin(e, c, now_ns);
+	x4_chan_fold_steps(e, 0x0f);
+	x4_chan_begin(e, c, now_ns);
 	return X4_OK;
 }
 
@@ -288,7 +159,7 @@ int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
 	s64 steps[X4_AXES];
 	int i, ret;
 
-	if (!axes || axes & ~x4_mode_axes(e))
+	if (!axes || axes & ~x4_chan_mode_axes(e))
 		return X4_ERR_PARAM_FAIL;
 	g->axes = axes;
 	g->moving = 0;
@@ -296,23 +167,23 @@ int x4_engine_plan_goto(const struct x4_engine *e, u8 axes,
 	for (i = 0; i < X4_AXES; i++) {
 		if (!(axes & (1u << i)))
 			continue;
-		ret = x4_freq_check(e, (s32)e->prof[i].vm);
+		ret = x4_chan_freq_check(e, (s32)e->prof[i].vm);
 		if (ret)
 			return ret;
 	}
-	if (x4_busy_axes(e) & axes)
+	if (x4_chan_busy_axes(e) & axes)
 		return X4_ERR_IS_ACTIVE;
 	for (i = 0; i < X4_AXES; i++) {
-		g->from[i] = x4_position(e, i);
+		g->from[i] = x4_chan_position(e, i);
 		steps[i] = relative ? (s64)target[i] :
 				      (s64)target[i] - g->from[i];
 		if (!(axes & (1u << i)) || !steps[i])
 			continue; /* not commanded, or there already */
 		g->moving |= 1u << i;
 		/* A profile move's top speed is at most vm. */
-		g->rate += (u64)e->prof[i].vm * x4_writes_per_step(e, 1);
+		g->rate += (u64)e->prof[i].vm * x4_chan_writes_per_step(e, 1);
 	}
-	if (x4_budget_check(e, g->rate))
+	if (x4_chan_budget_check(e, g->rate))
 		return X4_ERR_RATE_BUDGET;
 	for (i = 0; i < X4_AXES; i++) {
 		s64 one[X4_AXES] = { 0 };
@@ -331,12 +202,12 @@ int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
 {
 	int i;
 
-	if (x4_busy_axes(e) & g->axes)
+	if (x4_chan_busy_axes(e) & g->axes)
 		return X4_ERR_IS_ACTIVE;
-	if (x4_budget_check(e, g->rate))
+	if (x4_chan_budget_check(e, g->rate))
 		return X4_ERR_RATE_BUDGET;
 	for (i = 0; i < X4_AXES; i++)
-		if (g->axes & (1u << i) && x4_position(e, i) != g->from[i])
+		if (g->axes & (1u << i) && x4_chan_position(e, i) != g->from[i])
 			return X4_ERR_PARAM_FAIL; /* planned from elsewhere */
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
@@ -349,7 +220,7 @@ int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
 		}
 		c->run = g->plan[i];
 		c->home = 0;
-		x4_begin(e, c, now_ns);
+		x4_chan_begin(e, c, now_ns);
 	}
 	return X4_OK;
 }
@@ -364,59 +235,6 @@ int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 	return ret ? ret : x4_engine_start_goto(e, &g, now_ns);
 }
 #endif
-
-/*
- * Channel c makes no step from leader step nb (due at t_nb) on but those
- * of a brake along its plan's ramp (ramp), or none at all. The pending
- * event keeps its time, so the glue never has to re-arm its timer: only
- * what happens at that time changes.
- */
-static void stop_from(struct x4_chan *c, u64 nb, u64 t_nb, bool ramp)
-{
-	if (ramp && x4_plan_brake(&c->run, nb, t_nb))
-		return;
-	/* No ramp to follow: step nb - 1 was the last. */
-	if (c->phase == X4_SETUP)
-		c->no_steps = true;
-	else if (c->phase == X4_RISE)
-		c->phase = X4_END; /* at the time step nb was due */
-	else
-		c->run.last = nb - 1;
-}
-
-/* Brake channel c along its ramp (ramp), or end it at its pending event. */
-void x4_halt_chan(struct x4_chan *c, bool ramp)
-{
-	switch (c->phase) {
-	case X4_IDLE:
-	case X4_END:
-		break;
-	case X4_SETUP:
-		stop_from(c, 0, 0, ramp);
-		break;
-	case X4_RISE:
-		stop_from(c, c->n, c->t_cur, ramp);
-		break;
-	case X4_FALL:
-		if (c->n < c->run.last)
-			stop_from(c, c->n + 1, c->t_next, ramp);
-		break;
-	case X4_QUEUED: /* what comes after this instant's writes */
-		c->phase = c->phase_after;
-		x4_halt_chan(c, ramp);
-		c->phase_after = c->phase;
-		c->phase = X4_QUEUED;
-		break;
-	}
-}
-
-/* No further step of channel c: it ends at its pending event. */
-void x4_cut(struct x4_chan *c)
-{
-	c->home = 0;
-	c->path_cut = c->path;
-	x4_halt_chan(c, false);
-}
 
 void x4_engine_set_signal(struct x4_engine *e, u8 signal_bit, bool high)
 {
@@ -479,18 +297,19 @@ static noinline void begin_setup(struct x4_engine *e, struct x4_chan *c,
 	}
 	c->phase = c->no_steps ? X4_END : X4_RISE;
 	c->t_pending = c->origin + c->t_cur;
-	if (x4_phase_mode(e))
+	if (x4_chan_phase_mode(e))
 		x4_phase_move(e, c, now_ns);
 	else /* axes that do not move keep their direction level */
-		e->data = (u8)((e->data & ~x4_dir_bits(p->axes)) | p->dirs);
+		e->data = (u8)((e->data & ~x4_chan_dir_bits(p->axes)) |
+				p->dirs);
 }
 
 /* Channel c's move has ended (a reference run may go on to phase 2). */
-void x4_end(struct x4_engine *e, struct x4_chan *c)
+static void end_move(struct x4_engine *e, struct x4_chan *c)
 {
 	bool path_goes_on = false;
 
-	if (c->home && x4_home_next(e, c))
+	if (c->home && x4_switch_home_next(e, c))
 		return;
 	if (c->path)
 		path_goes_on = x4_path_ended(e, c);
@@ -506,7 +325,7 @@ void x4_end(struct x4_engine *e, struct x4_chan *c)
 		x4_path_kick(e, c->t_pending);
 		return;
 	}
-	if (x4_phase_mode(e))
+	if (x4_chan_phase_mode(e))
 		x4_phase_rest(e, c);
 }
 
@@ -551,7 +370,7 @@ static void path_goes_on(struct x4_engine *e, struct x4_chan *c, u64 t)
 	if (c->dir_fresh) {
 		c->phase = X4_SETUP;
 		c->t_pending = t + e->timing.dir_hold_ns;
-	} else if (!x4_phase_mode(e)) {
+	} else if (!x4_chan_phase_mode(e)) {
 		keep_min(e, c, t + c->space_min);
 	}
 }
@@ -564,14 +383,14 @@ static noinline void last_step_done(struct x4_engine *e, struct x4_chan *c,
 		path_goes_on(e, c, t);
 		return;
 	}
-	if (!e->timing.dir_hold_ns && !x4_phase_mode(e)) {
-		x4_end(e, c);
+	if (!e->timing.dir_hold_ns && !x4_chan_phase_mode(e)) {
+		end_move(e, c);
 		return;
 	}
 	/* Phase mode: give the motor its last step period to settle. */
 	c->phase = X4_END;
 	c->t_pending = t + e->timing.dir_hold_ns +
-		       (x4_phase_mode(e) ? 2 * c->half_ns : 0);
+		       (x4_chan_phase_mode(e) ? 2 * c->half_ns : 0);
 }
 
 /* After step n's clock fell (or its pattern went out): what comes next. */
@@ -659,7 +478,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	bool ramp;
 
 	if (hit) {
-		x4_halted(e, c, hit);
+		x4_switch_halted(e, c, hit);
 		return;
 	}
 	if (c->home && !c->ref_found && c->n >= c->sref) {
@@ -668,7 +487,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		 * without finding the switch.
 		 */
 		e->err[p->leader] |= X4_AXERR_REF_TRAVEL;
-		x4_cut(c);
+		x4_chan_cut(c);
 		return;
 	}
 	if (c->dir_fresh && dir_wait(c, t_step, now_ns))
@@ -692,7 +511,7 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		now_ns = t_step;
 	e->fired = c;
 	e->edge_shifted = false;
-	if (x4_phase_mode(e)) {
+	if (x4_chan_phase_mode(e)) {
 		x4_phase_walk(e, c);
 		step_done(e, c, now_ns);
 		c->space_min = min_of(2 * c->half_ns, 2 * X4_CLOCK_MIN_NS);
@@ -741,7 +560,7 @@ static noinline void fire_event(struct x4_engine *e, struct x4_chan *c,
 		begin_setup(e, c, now_ns);
 		break;
 	case X4_END:
-		x4_end(e, c);
+		end_move(e, c);
 		break;
 	case X4_QUEUED:
 		x4_phase_queued(e, c);
@@ -773,7 +592,7 @@ void x4_engine_fire(struct x4_engine *e, u64 now_ns)
 	if (e->solo)
 		e->due = c->t_pending;
 	else
-		schedule_all(e);
+		x4_chan_schedule_all(e);
 }
 
 /*
@@ -809,7 +628,7 @@ u64 x4_engine_slack(const struct x4_engine *e)
 	const struct x4_chan *c = e->cur;
 	u64 next, need;
 
-	if (x4_phase_mode(e) || !c->n)
+	if (x4_chan_phase_mode(e) || !c->n)
 		return X4_NO_STEP; /* no pulse; the first step has no before */
 	if (c->phase == X4_RISE) {
 		next = 2 * c->half_ns;
@@ -832,12 +651,12 @@ u64 x4_engine_slack(const struct x4_engine *e)
  */
 static void stop_chan(struct x4_engine *e, struct x4_chan *c)
 {
-	e->data &= (u8)~(c->run.axes ? x4_clk_bits(c->run.axes) : 0);
+	e->data &= (u8)~(c->run.axes ? x4_chan_clk_bits(c->run.axes) : 0);
 	e->sync &= (u8)~c->run.axes;
 	c->home = 0;
 	c->path_cut = c->path;
 	c->t_pending = 0;
-	x4_end(e, c); /* phase mode: the rest patterns are queued, due at once */
+	end_move(e, c); /* phase mode: the rest patterns are queued, due at once */
 }
 
 /* Brake (or stop) the moves of the axes in `axes`. */
@@ -851,7 +670,7 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 	 * a queued one that has not started yet.
 	 */
 	if ((stop || e->path.state == X4_PATH_IDLE) && !e->ch[0].path &&
-	    x4_path_active(e) && axes & x4_mode_axes(e))
+	    x4_path_active(e) && axes & x4_chan_mode_axes(e))
 		ret = x4_path_hold(e, stop);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];
@@ -870,10 +689,10 @@ int x4_engine_halt(struct x4_engine *e, u8 axes, bool stop)
 			x4_path_hold(e, false); /* along the path */
 		} else {
 			c->home = 0;
-			x4_halt_chan(c, true);
+			x4_chan_halt(c, true);
 		}
 	}
-	schedule_all(e);
+	x4_chan_schedule_all(e);
 	return ret;
 }
 
