@@ -25,15 +25,15 @@ T Filled(unsigned char fill) {
 }
 
 TEST(Req, ErrnoOfEachResult) {
-  EXPECT_EQ(x4_errno(X4_OK), 0);
-  EXPECT_EQ(x4_errno(X4_ERR_IS_ACTIVE), -EBUSY);
-  EXPECT_EQ(x4_errno(X4_ERR_IS_LOADED), -EEXIST);
-  EXPECT_EQ(x4_errno(X4_ERR_NOT_LOADED), -ENODATA);
-  EXPECT_EQ(x4_errno(X4_ERR_NOT_ACTIVE), -ESRCH);
-  EXPECT_EQ(x4_errno(X4_ERR_RATE_BUDGET), -ERANGE);
+  EXPECT_EQ(x4_req_errno(X4_OK), 0);
+  EXPECT_EQ(x4_req_errno(X4_ERR_IS_ACTIVE), -EBUSY);
+  EXPECT_EQ(x4_req_errno(X4_ERR_IS_LOADED), -EEXIST);
+  EXPECT_EQ(x4_req_errno(X4_ERR_NOT_LOADED), -ENODATA);
+  EXPECT_EQ(x4_req_errno(X4_ERR_NOT_ACTIVE), -ESRCH);
+  EXPECT_EQ(x4_req_errno(X4_ERR_RATE_BUDGET), -ERANGE);
   for (int r : {X4_ERR_NO_STEPS, X4_ERR_FREQ_TOO_HIGH, X4_ERR_FREQ_TOO_LOW, X4_ERR_RAMP_TOO_HIGH,
                 X4_ERR_RAMP_FREQ, X4_ERR_PARAM_FAIL, X4_ERR_STEPS_TOO_HIGH})
-    EXPECT_EQ(x4_errno(r), -EINVAL) << r;
+    EXPECT_EQ(x4_req_errno(r), -EINVAL) << r;
 }
 
 TEST(Req, ResultOverTheBudgetIsFreqTooHigh) {
@@ -305,7 +305,7 @@ TEST(Req, SwitchesProfileAndTimingRoundTrip) {
   EXPECT_EQ(std::memcmp(sw.plus, us.plus, sizeof sw.plus), 0);
   EXPECT_EQ(std::memcmp(sw.minus, us.minus, sizeof sw.minus), 0);
   EXPECT_EQ(sw.nc, 0x14);
-  ASSERT_EQ(x4_engine_set_switches(&e, &sw), X4_OK);
+  ASSERT_EQ(x4_switch_set(&e, &sw), X4_OK);
   x4step_switches got = Filled<x4step_switches>(0xff);
   x4_req_get_switches(&e, &got);
   EXPECT_EQ(std::memcmp(&got, &us, sizeof us), 0);
@@ -347,18 +347,18 @@ TEST(Req, AxesFromTheEngine) {
   x4_engine_init(&e);
   x4_switches sw{};
   sw.plus[0] = 2;  // input 2: axis 1's E+
-  ASSERT_EQ(x4_engine_set_switches(&e, &sw), X4_OK);
+  ASSERT_EQ(x4_switch_set(&e, &sw), X4_OK);
   const int32_t pos[X4_AXES] = {10, -20, 30, -40};
   ASSERT_EQ(x4_engine_set_position(&e, 0x0f, pos), X4_OK);
 
   x4step_axes ua{};
   x4_req_get_axes(&e, 0x02, 1, &ua);
   EXPECT_EQ(ua.inputs, 0x02u);
-  EXPECT_EQ(ua.switches, uint32_t(x4_engine_active(&e, 0x02)));
+  EXPECT_EQ(ua.switches, uint32_t(x4_switch_active(&e, 0x02)));
   EXPECT_NE(ua.switches, 0u);
   for (int i = 0; i < X4_AXES; i++) {
     x4_axis_state st;
-    x4_engine_axis(&e, i, &st);
+    x4_status_axis(&e, i, &st);
     EXPECT_EQ(ua.axis[i].position, pos[i]) << i;
     EXPECT_EQ(ua.axis[i].state, st.state) << i;
     EXPECT_EQ(ua.axis[i].error, st.error) << i;

@@ -62,11 +62,11 @@ struct Rig {
     uint8_t bits = 0;
     for (const Switch &s : switches)
       if (machine[s.axis] >= s.lo && machine[s.axis] <= s.hi) bits |= uint8_t(1u << (s.input - 1));
-    x4_engine_sense(&e, bits);
+    x4_switch_sense(&e, bits);
   }
 
   int SetSwitches(const x4_switches &sw) {
-    const int ret = x4_engine_set_switches(&e, &sw);
+    const int ret = x4_switch_set(&e, &sw);
     Sense();
     return ret;
   }
@@ -261,7 +261,7 @@ struct Homing : Rig {
 
 TEST(Track, ReferenceRunHomed) {
   Homing rig;
-  ASSERT_EQ(x4_engine_home(&rig.e, 2, X4_HOME_AUTO, 2000, -500, 10000, rig.now), X4_OK);
+  ASSERT_EQ(x4_switch_home(&rig.e, 2, X4_HOME_AUTO, 2000, -500, 10000, rig.now), X4_OK);
   rig.Commanded(X4STEP_KIND_HOME);
   rig.Run();
   const Ev ref{X4STEP_EV_SWITCH, 0x2, X4STEP_SW_REF, 1, 0};
@@ -273,7 +273,7 @@ TEST(Track, ReferenceRunHomed) {
 
 TEST(Track, ReferenceRunPhase1Only) {
   Homing rig;
-  ASSERT_EQ(x4_engine_home(&rig.e, 2, X4_HOME_PHASE1, 2000, 0, 10000, rig.now), X4_OK);
+  ASSERT_EQ(x4_switch_home(&rig.e, 2, X4_HOME_PHASE1, 2000, 0, 10000, rig.now), X4_OK);
   rig.Commanded(X4STEP_KIND_HOME);
   rig.Run();
   const Ev ref{X4STEP_EV_SWITCH, 0x2, X4STEP_SW_REF, 1, 0};
@@ -284,7 +284,7 @@ TEST(Track, ReferenceRunPhase1Only) {
 
 TEST(Track, ReferenceRunTooLong) {
   Homing rig;
-  ASSERT_EQ(x4_engine_home(&rig.e, 2, X4_HOME_AUTO, 2000, -500, 20, rig.now), X4_OK);
+  ASSERT_EQ(x4_switch_home(&rig.e, 2, X4_HOME_AUTO, 2000, -500, 20, rig.now), X4_OK);
   rig.Commanded(X4STEP_KIND_HOME);
   rig.Run();
   EXPECT_EQ(rig.Take(), (std::vector<Ev>{Started(0x2, X4STEP_KIND_HOME), Ended(0x2, X4STEP_END_REF_TRAVEL)}))
@@ -293,7 +293,7 @@ TEST(Track, ReferenceRunTooLong) {
 
 TEST(Track, ReferenceRunBrakedBeforeRef) {
   Homing rig;
-  ASSERT_EQ(x4_engine_home(&rig.e, 2, X4_HOME_AUTO, 2000, -500, 10000, rig.now), X4_OK);
+  ASSERT_EQ(x4_switch_home(&rig.e, 2, X4_HOME_AUTO, 2000, -500, 10000, rig.now), X4_OK);
   rig.Commanded(X4STEP_KIND_HOME);
   rig.Run(10);
   const uint8_t chans = x4_track_chans(&rig.e, 0x2);
