@@ -752,7 +752,7 @@ if [ -r "$vmod" ]; then
 	a1=$(at 1) a2=$(at 2) a3=$(at 3) c1=$(coordinate 1) c2=$(coordinate 2) c3=$(coordinate 3)
 	check gcode-check 0 'part.ngc: OK: 207 lines, ' '' m gcode -m "$tmp/mill.ini" --check "$tmp/part.ngc"
 	same gcode-check-moves-nothing "$(at 1) $(at 2) $(at 3)" "$a1 $a2 $a3"
-	check gcode-run 0 '^gcode: done, at X3.33 Y-1.12 Z0.5 (mm)$' '' \
+	check gcode-run 0 '^gcode: done in [0-9:]*, estimated [0-9:]*, at X3.33 Y-1.12 Z0.5 (mm)$' '' \
 		x4ctl gcode -m "$tmp/mill.ini" --svg "$tmp/part.svg" "$tmp/part.ngc"
 	# The plot: the planned toolpath and the positions the module reported.
 	for c in planned done; do
