@@ -269,6 +269,7 @@ int run_program(const config &c, const program &prog) {
     aborted = ps.aborted();
     r.end_messages(aborted);
     ps.finish();
+    meter.ended(ps.status(), ps.done());
     const x4step::axes_status a = ctl.get_axes();
     for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
     plot.done(pose_of(mc, a), ps.done());

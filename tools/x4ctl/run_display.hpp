@@ -45,6 +45,8 @@ class progress_meter {
   /// One record: a line of at most width characters, or a JSON object.
   std::string record(const x4step::path_status &s, std::uint64_t done, bool json, size_t width);
 
+  /// The run ended: what was done at its end, for the end line.
+  void ended(const x4step::path_status &s, std::uint64_t done) { measure(s, done); }
   /// Machine time since the meter began (the run's start).
   double elapsed() const;
   /// The estimate of the whole run at the override it began with.

@@ -77,8 +77,9 @@ struct frame {
   double lo, hi, step;
 };
 
-frame frame_on(const range &r, double step) {
-  double lo = std::floor(r.lo / step + 1e-9) * step, hi = std::ceil(r.hi / step - 1e-9) * step;
+// On whole steps, with a margin of pad either side: the path clear of the frame.
+frame frame_on(const range &r, double step, double pad) {
+  double lo = std::floor((r.lo - pad) / step + 1e-9) * step, hi = std::ceil((r.hi + pad) / step - 1e-9) * step;
   if (hi - lo < step * 0.5) lo -= step, hi += step;  // a flat axis: a step either side
   return {lo, hi, step};
 }
@@ -200,13 +201,15 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
   range rx, ry, rz;
   for (size_t i = 1; i < pts.size(); i++) rx.add(pts[i][g::X]), ry.add(pts[i][g::Y]), rz.add(pts[i][g::Z]);
   rx.add(0), ry.add(0), rz.add(0);
-  const double step = grid_step(std::max({rx.span(), ry.span(), 1e-3}), 8);
-  view top{"top", "top view", g::X, g::Y, frame_on(rx, step), frame_on(ry, step), 0, 0, left_px, top_px};
+  const double span = std::max({rx.span(), ry.span(), 1e-3}), step = grid_step(span, 8);
+  view top{"top", "top view", g::X, g::Y, frame_on(rx, step, 0.02 * span), frame_on(ry, step, 0.02 * span), 0, 0,
+           left_px, top_px};
   const double k = std::min(top_w / (top.fh.hi - top.fh.lo), top_h / (top.fv.hi - top.fv.lo));
   top.kh = top.kv = k;
   // The side view under it: X as above, Z at true scale unless that is
   // too flat or too high to read.
-  const frame fz = frame_on(rz, grid_step(std::max(rz.span(), step * 1e-3), 4));
+  const double zspan = std::max(rz.span(), step * 1e-3);
+  const frame fz = frame_on(rz, grid_step(zspan, 4), 0.02 * zspan);
   // Z's own scale: a round multiple (or fraction) of X's.
   const double true_h = (fz.hi - fz.lo) * k;
   double z_ratio = 1;
@@ -364,10 +367,11 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
   note("grid: " + label(step, step) + " " + units + (z_true ? "" : ", Z " + label(fz.step, fz.step) + " " + units));
   if (run) {
     const deviation d = largest_deviation();
-    char v[32];
-    std::snprintf(v, sizeof v, "%.4g", d.distance);
+    char v[32], text[32];
+    std::snprintf(v, sizeof v, "%.6g", d.distance);
+    std::snprintf(text, sizeof text, "%.4f", d.distance);
     note("largest deviation done vs planned:", " font-weight=\"bold\"");
-    note(std::string(v) + " " + units + (d.line ? " (line " + std::to_string(d.line) + ")" : ""),
+    note(std::string(text) + " " + units + (d.line ? " (line " + std::to_string(d.line) + ")" : ""),
          " id=\"deviation\" data-value=\"" + std::string(v) + "\" font-weight=\"bold\"");
   }
   o << "</g>\n</svg>\n";
