@@ -113,6 +113,16 @@ for vid in ("top", "side"):
     outside = [q for q in planned if not (x0 - 1e-6 <= page(q)[0] <= x1 + 1e-6 and y0 - 1e-6 <= page(q)[1] <= y1 + 1e-6)]
     if outside:
         fail(f"{vid}: {len(outside)} points outside the frame, e.g. {outside[0]}")
+    # ... and tight: no more than a grid step and the margin beyond the
+    # program and work zero (not the machine's envelope, not where it stood).
+    for (lo, hi), (plo, phi), axis in (((x0, x1), (e + a * min(0, *[q[0] for q in planned]), e + a * max(0, *[q[0] for q in planned])), 0),
+                                        ((y1, y0), (f + d * min(0, *[q[1] for q in planned]), f + d * max(0, *[q[1] for q in planned])), 1)):
+        labels = sorted(float(t.get("data-value")) for t in view.iter(S + "text")
+                        if t.get("class") == "label" and t.get("data-axis") == {"top": "XY", "side": "XZ"}[vid][axis])
+        grid = (labels[1] - labels[0]) * abs(a if axis == 0 else d) if len(labels) > 1 else 0
+        slack = grid + 0.05 * abs(hi - lo)
+        if abs(plo - lo) > slack or abs(hi - phi) > slack:
+            fail(f"{vid}: the frame {lo:.0f}..{hi:.0f} px is loose around the program's {plo:.0f}..{phi:.0f} px")
     o = view.find("s:g[@class='origin']", ns)
     if o is None or max(abs(float(o.get("data-x")) - e), abs(float(o.get("data-y")) - f)) > 1e-6:
         fail(f"{vid}: work zero is not marked at (0, 0)")
