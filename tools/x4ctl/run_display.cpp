@@ -42,7 +42,8 @@ std::string fit_line(const std::vector<std::vector<std::string>> &fields, const 
 }
 
 progress_meter::progress_meter(const m::machine &mc, x4step::controller &ctl, const m::plan_summary &total,
-                               std::string command, bool keys, unsigned override_percent, const g::pose &start)
+                               std::string command, bool keys, unsigned override_percent,
+                               const g::pose &start)
     : mc_(mc),
       ctl_(ctl),
       command_(std::move(command)),
@@ -100,7 +101,8 @@ void progress_meter::measure(const x4step::path_status &s, std::uint64_t done) {
   now_secs_ += t * r.seg_seconds;
 }
 
-std::string progress_meter::record(const x4step::path_status &s, std::uint64_t done, bool json, size_t width) {
+std::string progress_meter::record(const x4step::path_status &s, std::uint64_t done, bool json,
+                                   size_t width) {
   measure(s, done);
   const double percent = total_.length > 0 ? std::min(100.0, 100 * now_len_ / total_.length) : 100;
   const double feed = double(s.speed) / ppu_ * 60;
@@ -144,7 +146,8 @@ std::string progress_meter::record(const x4step::path_status &s, std::uint64_t d
       line.empty() ? std::vector<std::string>{} : std::vector<std::string>{"line " + line, "L" + line, ""},
       {f + " " + units_ + "/min", f, ""},
       // The override when it is not 100 %.
-      s.override_percent == 100 ? std::vector<std::string>{} : std::vector<std::string>{"override " + ovr, "ovr " + ovr, ""},
+      s.override_percent == 100 ? std::vector<std::string>{}
+                                : std::vector<std::string>{"override " + ovr, "ovr " + ovr, ""},
       {clock_text(elapsed) + " elapsed", clock_text(elapsed), ""},
       {clock_text(remaining) + " left", ""},
       keys,

@@ -79,7 +79,8 @@ struct frame {
 
 // On whole steps, with a margin of pad either side: the path clear of the frame.
 frame frame_on(const range &r, double step, double pad) {
-  double lo = std::floor((r.lo - pad) / step + 1e-9) * step, hi = std::ceil((r.hi + pad) / step - 1e-9) * step;
+  double lo = std::floor((r.lo - pad) / step + 1e-9) * step,
+         hi = std::ceil((r.hi + pad) / step - 1e-9) * step;
   if (hi - lo < step * 0.5) lo -= step, hi += step;  // a flat axis: a step either side
   return {lo, hi, step};
 }
@@ -193,7 +194,8 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
   std::vector<bool> motors_rapid;  // the segment running at that position was a rapid
   for (const sample &s : done_) {
     motors.push_back(work(s.at));
-    motors_rapid.push_back(!planned_.empty() && planned_[std::min<size_t>(s.running, planned_.size() - 1)].rapid);
+    motors_rapid.push_back(!planned_.empty() &&
+                           planned_[std::min<size_t>(s.running, planned_.size() - 1)].rapid);
   }
 
   // Framed on the program (its segments' ends, not where the machine
@@ -202,8 +204,9 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
   for (size_t i = 1; i < pts.size(); i++) rx.add(pts[i][g::X]), ry.add(pts[i][g::Y]), rz.add(pts[i][g::Z]);
   rx.add(0), ry.add(0), rz.add(0);
   const double span = std::max({rx.span(), ry.span(), 1e-3}), step = grid_step(span, 8);
-  view top{"top", "top view", g::X, g::Y, frame_on(rx, step, 0.02 * span), frame_on(ry, step, 0.02 * span), 0, 0,
-           left_px, top_px};
+  view top{
+      "top", "top view", g::X,    g::Y,  frame_on(rx, step, 0.02 * span), frame_on(ry, step, 0.02 * span),
+      0,     0,          left_px, top_px};
   const double k = std::min(top_w / (top.fh.hi - top.fh.lo), top_h / (top.fv.hi - top.fv.lo));
   top.kh = top.kv = k;
   // The side view under it: X as above, Z at true scale unless that is
@@ -217,8 +220,8 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
     z_ratio = round_up_125(side_min / true_h);
   else if (true_h > side_max)
     z_ratio = 1 / round_up_125(true_h / side_max);
-  view side{"side", "side view", g::X, g::Z, top.fh, fz, k, k * z_ratio, left_px,
-            top_px + top.height() + gap_px};
+  view side{"side", "side view", g::X,        g::Z,    top.fh,
+            fz,     k,           k * z_ratio, left_px, top_px + top.height() + gap_px};
   const bool z_true = std::fabs(z_ratio - 1) < 1e-9;
 
   const double legend_x = left_px + top.width() + 50;
@@ -268,7 +271,8 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
         o << "<text class=\"label\" data-axis=\"" << letters[horiz ? v.h : v.v] << "\" data-value=\""
           << label(a, f.step) << "\"";
         if (horiz)
-          o << " x=\"" << num(v.px(a)) << "\" y=\"" << num(v.y0 + v.height() + 15) << "\" text-anchor=\"middle\">";
+          o << " x=\"" << num(v.px(a)) << "\" y=\"" << num(v.y0 + v.height() + 15)
+            << "\" text-anchor=\"middle\">";
         else
           o << " x=\"" << num(v.x0 - 6) << "\" y=\"" << num(v.py(a) + 4) << "\" text-anchor=\"end\">";
         o << label(a, f.step) << "</text>\n";
@@ -326,13 +330,15 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
   double y = top_px + 4;
   o << "<g id=\"legend\">\n<text x=\"" << num(legend_x) << "\" y=\"" << num(y) << "\" font-weight=\"bold\">"
     << (run ? "planned and done" : "planned") << "</text>\n";
-  auto entry = [&](const char *cls, const char *colour, double width, const char *dash, const std::string &text) {
+  auto entry = [&](const char *cls, const char *colour, double width, const char *dash,
+                   const std::string &text) {
     y += 22;
-    o << "<g class=\"entry\" data-kind=\"" << cls << "\"><line class=\"swatch\" x1=\"" << num(legend_x) << "\" y1=\""
-      << num(y - 4) << "\" x2=\"" << num(legend_x + 36) << "\" y2=\"" << num(y - 4) << "\" stroke=\"" << colour
-      << "\" stroke-width=\"" << width << "\" stroke-linecap=\"round\"";
+    o << "<g class=\"entry\" data-kind=\"" << cls << "\"><line class=\"swatch\" x1=\"" << num(legend_x)
+      << "\" y1=\"" << num(y - 4) << "\" x2=\"" << num(legend_x + 36) << "\" y2=\"" << num(y - 4)
+      << "\" stroke=\"" << colour << "\" stroke-width=\"" << width << "\" stroke-linecap=\"round\"";
     if (dash) o << " stroke-dasharray=\"" << dash << "\"";
-    o << "/><text x=\"" << num(legend_x + 46) << "\" y=\"" << num(y) << "\">" << xml_text(text) << "</text></g>\n";
+    o << "/><text x=\"" << num(legend_x + 46) << "\" y=\"" << num(y) << "\">" << xml_text(text)
+      << "</text></g>\n";
   };
   entry("cut", run ? band_colour : cut_colour, run ? 6 : 1.6, nullptr, "cut (G1 G2 G3), planned");
   entry("rapid", rapid_colour, 1.2, rapid_dash, "rapid (G0), planned");
@@ -343,7 +349,8 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
           completed_ < planned_.size() ? "planned, not done" : "planned, not done (none)");
   }
   y += 22;
-  o << "<g class=\"entry\" data-kind=\"origin\" stroke=\"#c0392b\" stroke-width=\"1.5\" fill=\"none\"><circle cx=\""
+  o << "<g class=\"entry\" data-kind=\"origin\" stroke=\"#c0392b\" stroke-width=\"1.5\" "
+       "fill=\"none\"><circle cx=\""
     << num(legend_x + 18) << "\" cy=\"" << num(y - 4) << "\" r=\"5\"/><line x1=\"" << num(legend_x + 9)
     << "\" y1=\"" << num(y - 4) << "\" x2=\"" << num(legend_x + 27) << "\" y2=\"" << num(y - 4)
     << "\"/><text x=\"" << num(legend_x + 46) << "\" y=\"" << num(y)
@@ -364,7 +371,8 @@ void toolpath_plot::write(const std::string &path, const std::string &units, con
     note("work coordinates, " + units + " (no work offset:");
     note("the same as machine coordinates)");
   }
-  note("grid: " + label(step, step) + " " + units + (z_true ? "" : ", Z " + label(fz.step, fz.step) + " " + units));
+  note("grid: " + label(step, step) + " " + units +
+       (z_true ? "" : ", Z " + label(fz.step, fz.step) + " " + units));
   if (run) {
     const deviation d = largest_deviation();
     char v[32], text[32];
