@@ -148,7 +148,7 @@ live(0, {"COLUMNS": "50"}, 49)
 # machine time (far more than the wall time), close to the estimate.
 dwell = os.path.join(tmp, "dwell.ngc")
 with open(dwell, "w") as f:
-    f.write("G21 G90\nG1 X20 F120\nG4 P30\nG1 X0\nM2\n")
+    f.write("G21 G90\nG1 X20 F120\nG4 P30\n(MSG,dwelled)\nG1 X0\nM2\n")
 t0 = time.time()
 r = subprocess.run([X4CTL, "--sim", "gcode", "--machine", MACHINE, dwell], env=env({"X4STEP_SIM_TIME": "virtual"}),
                    stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=60)
@@ -161,6 +161,13 @@ check("virtual time: a 30 s dwell takes no wall time",
       r.returncode == 0 and wall < 10, f"exit {r.returncode}, {wall:.1f} s\n{r.stdout}{r.stderr}")
 check("virtual time: the end line's machine time (dwell included) is the estimate's, give or take the ramps",
       estimate == 50 and estimate <= machine <= estimate + 3, r.stdout)
+
+r = subprocess.run([X4CTL, "--sim", "gcode", "--json", "--machine", MACHINE, dwell],
+                   env=env({"X4STEP_SIM_TIME": "virtual"}), stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                   timeout=60)
+msg = [x for x in map(json.loads, r.stdout.splitlines()) if "message" in x]
+check("--json: a message with its time on the same clock (after the 10 s move and the 30 s dwell)",
+      len(msg) == 1 and msg[0]["message"] == "MSG: dwelled" and 40 <= msg[0]["elapsed"] < 42, r.stdout[-400:])
 
 # --json in virtual time: the summary first, progress on the port's clock,
 # the result with units and times.

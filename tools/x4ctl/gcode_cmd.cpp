@@ -196,7 +196,10 @@ class runner : public m::planner_output {
   void set_pin(m::pin p, bool on) {
     if (p != m::pin::none) ctl_.set_output(p == m::pin::pin1 ? x4step::signal::one : x4step::signal::two, on);
   }
-  void say(const std::string &text) { ps_.say(json_ ? json_document().add("message", text).str() : text); }
+  // With JSON the time too, on the progress records' clock.
+  void say(const std::string &text) {
+    ps_.say(json_ ? json_document().add("message", text).add("elapsed", meter_.elapsed()).str() : text);
+  }
 
   const m::machine &mc_;
   x4step::controller &ctl_;
