@@ -11,9 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <utility>

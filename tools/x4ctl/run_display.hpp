@@ -5,6 +5,7 @@
 #ifndef X4CTL_RUN_DISPLAY_HPP
 #define X4CTL_RUN_DISPLAY_HPP
 
+#include <chrono>
 #include <cstdint>
 #include <deque>
 #include <string>
