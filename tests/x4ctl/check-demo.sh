@@ -29,7 +29,7 @@ X4STEP_SIM_TIME=virtual X4STEP_SIM_VCD=$dir/run.vcd timeout 60 \
 	"$x4ctl" --sim gcode --machine "$machine" "$program" </dev/null >"$dir/out" 2>&1
 st=$?
 cat "$dir/out"
-[ $st -eq 0 ] && grep -q '^gcode: done, at ' "$dir/out"
+[ $st -eq 0 ] && grep -q '^gcode: done in [0-9:]*, estimated [0-9:]*, at ' "$dir/out"
 check "it runs to its end on the simulated port" $?
 "$sim_check" "$machine" "$program" "$dir/run.vcd"
 check "its steps: the programmed end exactly, within ARC_TOLERANCE + 1 step of the path" $?

@@ -27,7 +27,7 @@ blocks=("G1 X1 Y0.5 F30" "G91 G0 Z-0.25" "G90 G2 X2 Y0.5 I0.5 J0 F20")
 mdi "$dir/run.vcd" "${blocks[@]}"
 st=$?
 cat "$dir/out"
-[ $st -eq 0 ] && grep -qx 'mdi: done, at X2 Y0.5 Z-0.25 A0 (inch)' "$dir/out"
+[ $st -eq 0 ] && grep -qxE 'mdi: done in [0-9:]+, estimated [0-9:]+, at X2 Y0\.5 Z-0\.25 A0 \(inch\)' "$dir/out"
 check "three blocks run to their end" $?
 printf '%s\n' "${blocks[@]}" M2 >"$dir/blocks.ngc"
 "$sim_check" "$machine" "$dir/blocks.ngc" "$dir/run.vcd"
@@ -45,7 +45,7 @@ check "messages in program order, DEBUG named as such" $?
 mdi "$dir/units.vcd" "G21" && mdi "$dir/units.vcd" "G0 X1"
 st=$?
 cat "$dir/out"
-[ $st -eq 0 ] && grep -qx 'mdi: done, at X1 Y0 Z0 A0 (inch)' "$dir/out"
+[ $st -eq 0 ] && grep -qxE 'mdi: done in [0-9:]+, estimated [0-9:]+, at X1 Y0 Z0 A0 \(inch\)' "$dir/out"
 check "the modal state of one invocation does not reach the next" $?
 "$x4ctl" mdi --help | grep -q "Nothing persists between invocations"
 check "--help says so" $?

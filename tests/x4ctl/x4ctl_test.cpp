@@ -23,9 +23,11 @@
 #include "motion.hpp"
 #include "path.hpp"
 #include "position.hpp"
+#include "run_display.hpp"
 #include "show.hpp"
 #include "subcommand.hpp"
 #include "term.hpp"
+#include "toolpath_svg.hpp"
 
 namespace x4ctl {
 namespace {
@@ -816,6 +818,29 @@ TEST(Gcode, CheckSummarizesWithoutAPort) {
   r = run({"gcode", "--check", prog.path()});
   ::unsetenv("X4STEP_MACHINE");
   EXPECT_EQ(r.status, 0) << r.err;
+}
+
+TEST(RunDisplay, FitLineShortensInItsOrderThenCuts) {
+  const std::vector<std::vector<std::string>> fields = {
+      {"gcode: running 5.0%", "running 5.0%"}, {"line 123", "L123", ""}, {"12:34 left", ""}};
+  const std::vector<size_t> shrink = {0, 1, 1, 2};
+  EXPECT_EQ(x4ctl::fit_line(fields, shrink, 80), "gcode: running 5.0% | line 123 | 12:34 left");
+  EXPECT_EQ(x4ctl::fit_line(fields, shrink, 36), "running 5.0% | line 123 | 12:34 left");
+  EXPECT_EQ(x4ctl::fit_line(fields, shrink, 35), "running 5.0% | L123 | 12:34 left");
+  EXPECT_EQ(x4ctl::fit_line(fields, shrink, 30), "running 5.0% | 12:34 left");
+  EXPECT_EQ(x4ctl::fit_line(fields, shrink, 20), "running 5.0%");
+  EXPECT_EQ(x4ctl::fit_line(fields, shrink, 7), "running");
+  EXPECT_EQ(x4ctl::clock_text(59.6), "1:00");
+  EXPECT_EQ(x4ctl::clock_text(3725), "1:02:05");
+}
+
+TEST(RunDisplay, GridStepsAreOneTwoFive) {
+  EXPECT_DOUBLE_EQ(x4ctl::round_up_125(0.03), 0.05);
+  EXPECT_DOUBLE_EQ(x4ctl::round_up_125(2), 2);
+  EXPECT_DOUBLE_EQ(x4ctl::round_up_125(7), 10);
+  EXPECT_DOUBLE_EQ(x4ctl::grid_step(183.5, 8), 20);
+  EXPECT_DOUBLE_EQ(x4ctl::grid_step(0.3, 4), 0.1);
+  EXPECT_DOUBLE_EQ(x4ctl::grid_step(600, 8), 100);
 }
 
 TEST(Gcode, CheckRefusesWithFileAndLine) {

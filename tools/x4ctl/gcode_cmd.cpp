@@ -11,9 +11,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <sstream>
 #include <utility>
@@ -23,6 +21,7 @@
 #include "machine_io.hpp"
 #include "path_stream.hpp"
 #include "planner.hpp"
+#include "run_display.hpp"
 #include "show.hpp"
 #include "toolpath_svg.hpp"
 
@@ -77,23 +76,12 @@ struct counter : m::planner_output {
   long pauses = 0;                // M0, M1, M6: an operator at a terminal
   toolpath_plot *plot = nullptr;  // --check --svg: the planned path
   void segment(const x4step::segment &, const m::segment_info &i) override {
-    if (plot) plot->planned(i.end);
+    if (plot) plot->planned(i);
   }
   void pause(bool, int) override { pauses++; }
   // Once per command: the check pass sees every line once.
   void warning(const g::error &w) override { std::cerr << w.what() << "\n"; }
 };
-
-std::string clock_text(double seconds) {
-  const long s = std::lround(std::max(0.0, seconds));
-  std::ostringstream o;
-  if (s >= 3600)
-    o << s / 3600 << ":" << std::setw(2) << std::setfill('0') << (s / 60) % 60;
-  else
-    o << s / 60;
-  o << ":" << std::setw(2) << std::setfill('0') << s % 60;
-  return o.str();
-}
 
 void print_summary(const m::machine &mc, const config &c, const program &p, const m::plan_summary &s,
                    const counter &n) {
@@ -134,65 +122,6 @@ void print_summary(const m::machine &mc, const config &c, const program &p, cons
   std::cout << "\n";
 }
 
-// The progress of a run: what is done, from the segments the kernel completed.
-class progress_meter {
- public:
-  progress_meter(const m::machine &mc, const m::plan_summary &total, std::string command)
-      : command_(std::move(command)),
-        units_(units_name(mc)),
-        ppu_(m::path_units_per_unit(mc.units)),
-        total_(total) {}
-
-  void queued(const m::segment_info &i) {
-    queued_len_ += i.length;
-    queued_secs_ += i.length / i.speed;
-    pending_.push_back({queued_len_, queued_secs_});
-  }
-
-  std::string record(const x4step::path_status &s, std::uint64_t done, bool json) {
-    while (taken_ < done && !pending_.empty()) {
-      done_ = pending_.front();
-      pending_.pop_front();
-      taken_++;
-    }
-    const double percent = total_.length > 0 ? 100 * done_.length / total_.length : 100;
-    const double feed = double(s.speed) / ppu_ * 60;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const double remaining = (total_.seconds - done_.seconds) * 100 / std::max(1u, s.override_percent);
-    std::ostringstream state;
-    state << s.state;
-    if (json)
-      return json_document()
-          .add("state", state.str())
-          .add("line", s.tag)
-          .add("percent", percent)
-          .add("feed", feed)
-          .add("override", s.override_percent)
-          .add("elapsed", elapsed)
-          .add("remaining", remaining)
-          .str();
-    std::ostringstream o;
-    o << command_ << ": " << state.str() << " " << std::fixed << std::setprecision(1) << percent << "%, line "
-      << s.tag << ", F" << std::lround(feed) << " " << units_ << "/min, " << s.override_percent << "%, "
-      << clock_text(elapsed) << " elapsed, about " << clock_text(remaining) << " left";
-    return o.str();
-  }
-
- private:
-  struct mark {
-    double length = 0, seconds = 0;  // at the end of a segment, from the start
-  };
-  std::string command_;
-  std::string units_;
-  double ppu_;
-  m::plan_summary total_;
-  std::deque<mark> pending_;  // queued, not yet done: at most the queue's depth
-  mark done_;
-  double queued_len_ = 0, queued_secs_ = 0;
-  std::uint64_t taken_ = 0;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
 struct run_aborted {};
 
 // The run pass: segments into the queue; dwells, pauses and outputs with the path at rest.
@@ -203,13 +132,14 @@ class runner : public m::planner_output {
       : mc_(mc), ctl_(ctl), ps_(ps), meter_(meter), json_(json), no_pause_(no_pause) {}
 
   void segment(const x4step::segment &s, const m::segment_info &i) override {
-    if (plot) plot->planned(i.end);
+    if (plot) plot->planned(i);
     meter_.queued(i);
     if (!ps_.push(s)) throw run_aborted{};
   }
   void dwell(double seconds) override {
     rest();
     if (!ps_.wait_for(std::chrono::milliseconds(std::lround(seconds * 1000)))) throw run_aborted{};
+    meter_.dwelled(seconds);
   }
   void pause(bool optional, int tool) override {
     rest();
@@ -264,7 +194,10 @@ class runner : public m::planner_output {
   void set_pin(m::pin p, bool on) {
     if (p != m::pin::none) ctl_.set_output(p == m::pin::pin1 ? x4step::signal::one : x4step::signal::two, on);
   }
-  void say(const std::string &text) { ps_.say(json_ ? json_document().add("message", text).str() : text); }
+  // With JSON the time too, on the progress records' clock.
+  void say(const std::string &text) {
+    ps_.say(json_ ? json_document().add("message", text).add("elapsed", meter_.elapsed()).str() : text);
+  }
 
   const m::machine &mc_;
   x4step::controller &ctl_;
@@ -287,13 +220,10 @@ int run_program(const config &c, const program &prog) {
   if (!c.svg.empty() && !std::ofstream(c.svg))
     throw failure("--svg " + c.svg + ": cannot write: " + std::strerror(errno), errno);
   if (c.check) {
-    if (!c.svg.empty()) {
-      n.plot = &plot;
-      plot.planned(g::pose{});
-    }
+    if (!c.svg.empty()) n.plot = &plot;
     print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n), n);
     n.plot = nullptr;
-    if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name + " (planned)");
+    if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name + " (planned, as from machine zero)");
     return 0;
   }
   check_text(mc, prog);
@@ -308,25 +238,27 @@ int run_program(const config &c, const program &prog) {
                       " pauses for the operator (M0, M1, M6): run it from a terminal");
   // Only a program found good changes the port's settings.
   prepare_port(port, mc);
-  if (!c.json && prog.is_file) print_summary(mc, c, prog, total, n);
+  // The summary first, as text or as the first JSON record (mdi's blocks
+  // are on its command line: no summary in text).
+  if (c.json || prog.is_file) print_summary(mc, c, prog, total, n);
 
-  progress_meter meter(mc, total, prog.command());
+  progress_meter meter(mc, ctl, total, prog.command(), keyboard, c.override_percent, start);
   bool aborted = false;
   std::array<long, x4step::axes> end{};
   {
     path_stream ps(ctl, c.override_percent, c.json, keyboard,
-                   [&](const x4step::path_status &s, std::uint64_t done, bool json) {
-                     return meter.record(s, done, json);
+                   [&](const x4step::path_status &s, std::uint64_t done, bool json, size_t width) {
+                     return meter.record(s, done, json, width);
                    });
     runner r(mc, ctl, ps, meter, c.json, c.no_pause);
     if (!c.svg.empty()) {
       r.plot = &plot;
-      plot.planned(start);
-      plot.done(start);
+      plot.start(start);
+      plot.done(start, 0);
     }
     ps.on_poll([&] {
       r.show_due_messages();
-      if (r.plot) plot.done(pose_of(mc, ctl.get_axes()));
+      if (r.plot) plot.done(pose_of(mc, ctl.get_axes()), ps.done());
     });
     try {
       plan(mc, prog, start, r);
@@ -338,9 +270,11 @@ int run_program(const config &c, const program &prog) {
     aborted = ps.aborted();
     r.end_messages(aborted);
     ps.finish();
+    meter.ended(ps.status(), ps.done());
     const x4step::axes_status a = ctl.get_axes();
     for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
-    plot.done(pose_of(mc, a));
+    plot.done(pose_of(mc, a), ps.done());
+    plot.completed(ps.done());
   }
   if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name);
   std::ostringstream where;
@@ -352,11 +286,9 @@ int run_program(const config &c, const program &prog) {
     pos.add(std::string(1, axis_letters[a]), v);
   }
   if (c.json)
-    std::cout << json_document().add("result", aborted ? "aborted" : "done").add("position", pos).str()
-              << "\n";
+    std::cout << meter.end_json(aborted, pos) << "\n";
   else
-    std::cout << prog.command() << ": " << (aborted ? "aborted" : "done") << ", at" << where.str() << " ("
-              << units_name(mc) << ")\n";
+    std::cout << meter.end_line(aborted, where.str()) << "\n";
   return aborted ? 1 : 0;
 }
 

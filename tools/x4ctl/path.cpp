@@ -202,7 +202,7 @@ int cmd_path(const config &c) {
                     " steps/s; the port's step timing allows " + std::to_string(fmax) + ": lower its speed");
   }
   path_stream ps(ctl, c.override_percent, c.json, false,
-                 [&](const x4step::path_status &s, std::uint64_t done, bool json) {
+                 [&](const x4step::path_status &s, std::uint64_t done, bool json, size_t) {
                    return progress(s, done, segs.size(), json);
                  });
   for (const auto &s : segs)

@@ -30,13 +30,13 @@ path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, boo
   path_.set_override(override_);
   status_ = path_.status();
   base_ = status_.done;
-  last_shown_ = steady::now() - std::chrono::seconds(1);
+  last_shown_ = (json_ ? ctl_.now() : steady::now()) - std::chrono::seconds(1);
   con_.keys_on();
 }
 
 path_stream::~path_stream() {
   con_.keys_off();
-  if (drawn_) std::cout << "\n" << std::flush;
+  if (drawn_) std::cout << "\r\033[K" << std::flush;
 }
 
 void path_stream::take(key k) {
@@ -130,10 +130,16 @@ bool path_stream::drain() {
 }
 
 bool path_stream::wait_for(std::chrono::milliseconds t) {
-  const auto until = steady::now() + t;
-  while (!aborted_ && steady::now() < until) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - steady::now()).count();
-    serve(static_cast<int>(std::clamp<long long>(left, 1, 20)));
+  const auto until = ctl_.now() + t;
+  while (!aborted_ && ctl_.now() < until) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - ctl_.now()).count();
+    const auto slice = std::chrono::milliseconds(std::clamp<long long>(left, 1, 20));
+    serve(0);
+    // The port's clock: a dwell in virtual time takes no time here.
+    if (ctl_.clock_runs())
+      ::poll(nullptr, 0, static_cast<int>(slice.count()));
+    else
+      ctl_.sleep_for(slice);
   }
   return !aborted_;
 }
@@ -149,14 +155,21 @@ bool path_stream::wait_for_operator() {
 }
 
 void path_stream::show(bool now) {
-  const auto t = steady::now();
+  // JSON records every 200 ms of the port's clock (as many in virtual
+  // time as in real time); a terminal's line 10 times a second.
+  const auto t = json_ ? ctl_.now() : steady::now();
   if (!now && t - last_shown_ < std::chrono::milliseconds(json_ ? 200 : 100)) return;
   last_shown_ = t;
   if (live_) {
-    std::cout << "\r" << progress_(status_, done(), false) << "\033[K" << std::flush;
+    // One line, never wrapped: a column is left free, so that the cursor
+    // stays on the line whatever the terminal does at its right margin.
+    const size_t width = std::max<size_t>(terminal_columns(STDOUT_FILENO), 2) - 1;
+    std::string line = progress_(status_, done(), false, width);
+    if (line.size() > width) line.resize(width);
+    std::cout << "\r" << line << "\033[K" << std::flush;
     drawn_ = true;
   } else if (json_) {
-    std::cout << progress_(status_, done(), true) << "\n" << std::flush;
+    std::cout << progress_(status_, done(), true, 0) << "\n" << std::flush;
   }
 }
 
@@ -166,8 +179,10 @@ void path_stream::show_now() {
 }
 
 void path_stream::finish() {
-  show_now();
-  if (drawn_) std::cout << "\n" << std::flush;
+  // JSON: the last record; a terminal: the line is cleared for the end
+  // line that follows.
+  if (json_) show_now();
+  if (drawn_) std::cout << "\r\033[K" << std::flush;
   drawn_ = false;
 }
 

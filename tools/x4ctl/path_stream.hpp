@@ -17,8 +17,10 @@ namespace x4ctl {
 class path_stream {
  public:
   /// One progress record for the status (done: segments completed since
-  /// the stream began): a line to redraw on a terminal, or a JSON object.
-  using progress_fn = std::function<std::string(const x4step::path_status &, std::uint64_t done, bool json)>;
+  /// the stream began): a line to redraw on a terminal, at most width
+  /// characters (what is wider is cut there), or a JSON object.
+  using progress_fn =
+      std::function<std::string(const x4step::path_status &, std::uint64_t done, bool json, size_t width)>;
 
   /// keyboard: read keys from a terminal on stdin: space holds and
   /// resumes, ESC aborts (hold, then flush), + and - change the override
@@ -37,13 +39,15 @@ class path_stream {
   /// Waits until the path stands at its end (a hold is waited out); false:
   /// aborted, by the user or by the kernel (a flush: fewer done than queued).
   bool drain();
-  /// Waits for the time given, serving keys; false: aborted.
+  /// Waits for the time given on the port's clock (a simulated port's
+  /// virtual time passes at once), serving keys; false: aborted.
   bool wait_for(std::chrono::milliseconds t);
   /// Waits for space (go on) or ESC (abort) with the path at rest; false: aborted.
   bool wait_for_operator();
   /// Shows the progress now.
   void show_now();
-  /// Shows the last progress and ends its line: what is printed next stays below it.
+  /// Ends the progress: with JSON a last record; on a terminal the live
+  /// line is cleared for the end line that follows.
   void finish();
   /// Prints a line of text between progress redraws (a message, a pause).
   void say(const std::string &text);

@@ -3,11 +3,13 @@
 #include "term.hpp"
 
 #include <poll.h>
+#include <sys/ioctl.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 
 namespace x4ctl {
 namespace {
@@ -90,6 +92,17 @@ bool send_request(pid_t pid, bool stop, x4step::axis_set axes) {
 }
 
 bool quit_requested() { return g_quit != 0; }
+
+size_t terminal_columns(int fd) {
+  winsize w{};
+  if (::ioctl(fd, TIOCGWINSZ, &w) == 0 && w.ws_col > 0) return w.ws_col;
+  if (const char *c = std::getenv("COLUMNS")) {
+    char *end = nullptr;
+    const long n = std::strtol(c, &end, 10);
+    if (end != c && *end == '\0' && n > 0 && n < 10000) return size_t(n);
+  }
+  return 80;
+}
 
 void nap(milliseconds timeout) {
   if (timeout.count() > 0) ::poll(nullptr, 0, static_cast<int>(timeout.count()));

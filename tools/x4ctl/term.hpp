@@ -31,6 +31,10 @@ bool send_request(pid_t pid, bool stop, x4step::axis_set axes);
 /// SIGINT, SIGTERM or SIGHUP came: end after the current move.
 bool quit_requested();
 
+/// The width of the terminal on fd in columns (TIOCGWINSZ), else
+/// $COLUMNS, else 80: what a line redrawn in place may take.
+size_t terminal_columns(int fd);
+
 /// Waits up to timeout, less if a signal comes.
 void nap(milliseconds timeout);
 

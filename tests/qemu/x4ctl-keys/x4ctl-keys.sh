@@ -233,7 +233,7 @@ else
 	rc=$?
 	if [ "$rc" = 1 ]; then pass gcode-esc-aborts; else fail gcode-esc-aborts "exit $rc"; fi
 fi
-has gcode-esc-message "$tmp/g.out" '^gcode: aborted, at X[0-9.]* (mm)$'
+has gcode-esc-message "$tmp/g.out" '^gcode: aborted at [0-9.]*% after [0-9:]*, estimated [0-9:]*, at X[0-9.]* (mm)$'
 p4=$(pos1)
 usleep 300000
 p5=$(pos1)

@@ -756,12 +756,14 @@ if [ -r "$vmod" ]; then
 	a1=$(at 1) a2=$(at 2) a3=$(at 3) c1=$(coordinate 1) c2=$(coordinate 2) c3=$(coordinate 3)
 	check gcode-check 0 'part.ngc: OK: 207 lines, ' '' m gcode -m "$tmp/mill.ini" --check "$tmp/part.ngc"
 	same gcode-check-moves-nothing "$(at 1) $(at 2) $(at 3)" "$a1 $a2 $a3"
-	check gcode-run 0 '^gcode: done, at X3.33 Y-1.12 Z0.5 (mm)$' '' \
+	check gcode-run 0 '^gcode: done in [0-9:]*, estimated [0-9:]*, at X3.33 Y-1.12 Z0.5 (mm)$' '' \
 		x4ctl gcode -m "$tmp/mill.ini" --svg "$tmp/part.svg" "$tmp/part.ngc"
-	# The plot: the planned toolpath and the positions the module reported.
-	for c in planned "done"; do
-		has "gcode-svg-$c" "$tmp/part.svg" "class=\"$c\"[^>]* points=\"[-0-9]"
+	# The plot: the planned cuts and rapids, the positions the module
+	# reported, the largest deviation (x4ctl.gcode_svg reads the rest).
+	for c in cut rapid "done"; do
+		has "gcode-svg-$c" "$tmp/part.svg" "class=\"$c\"[^>]* d=\"M-\{0,1\}[0-9]"
 	done
+	has gcode-svg-deviation "$tmp/part.svg" 'id="deviation" data-value="[0-9]'
 	# X 3.333 * 100 = 333; Y -1.117 * -100 = 111.7 -> 112; Z 50.
 	same gcode-edges "$(at 1) $(at 2) $(at 3)" "$((a1 + 333 - c1)) $((a2 + 112 - c2)) $((a3 + 50 - c3))"
 	printf 'G91 G1 X0.5 F600\nM2\n' >"$tmp/nudge.ngc"

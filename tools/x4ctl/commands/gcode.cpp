@@ -30,8 +30,11 @@ const subcommand &gcode_subcommand() {
         "per unit, speeds, soft limits, port: machines/README.md). The whole program\n"
         "is checked first, from where the machine stands: a bad line, or a point\n"
         "beyond a soft limit, is named as FILE:LINE:COLUMN and nothing moves. Then\n"
-        "it runs on the module's path queue, with its progress: percent of the path\n"
-        "length, line, feed, elapsed and remaining time.\n"
+        "it runs on the module's path queue, with its progress on one line that fits\n"
+        "the terminal: state, percent of the path length, line, feed, elapsed and\n"
+        "remaining time, the keys that work (on a narrow terminal the least needed\n"
+        "go first); at the end the machine time and the estimate (\"done in 2:18,\n"
+        "estimated 2:11\"), on the port's clock (a simulated port's virtual time).\n"
         "Keys on a terminal: space holds and resumes, ESC aborts (hold, then flush),\n"
         "+ and - change the feed override by 10 %. Ctrl-C aborts too; 'x4ctl stop'\n"
         "stops at once. M0, M1 and M6 wait for space (or ESC) with the path at\n"
@@ -48,15 +51,18 @@ const subcommand &gcode_subcommand() {
         no_pause_option("M0, M1 and M6 stop the path, say so and go on without\n"
                         "waiting (a preview on the simulated port, a script)"),
         {"svg", 0, "FILE",
-         "draw the planned toolpath and what the motors did\n"
-         "(positions read during the run), top view X Y and\n"
-         "side view X Z, in the machine's units; with --check\n"
-         "the planned path only",
+         "draw the planned toolpath (cuts solid, rapids dashed)\n"
+         "and what the motors did (positions read during the\n"
+         "run; planned but not done in orange), top view X Y\n"
+         "and side view X Z (Z scaled up on a flat part), in\n"
+         "work coordinates, with a grid, a legend and the\n"
+         "largest deviation; with --check the planned path only",
          [](parse_state &s, const option_value &o) {
            if (o.value.empty()) throw usage_error(s.prefix + "--svg needs a file");
            s.c.svg = o.value;
          }},
-        json_option("the summary, progress and result as JSON lines"),
+        json_option("the summary, progress and result as JSON lines\n"
+                    "(times in seconds on the port's clock)"),
     };
     c.epilogue =
         "Exit status: 0 the program ran to its end (or --check found it good); 1 it\n"

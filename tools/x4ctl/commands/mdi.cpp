@@ -39,7 +39,8 @@ const subcommand &mdi_subcommand() {
         check_option("check the blocks and stop there; nothing moves"),
         override_option(),
         no_pause_option("M0, M1 and M6 stop the path, say so and go on"),
-        json_option("progress and result as JSON lines"),
+        json_option("the summary, progress and result as JSON lines\n"
+                    "(times in seconds on the port's clock)"),
     };
     c.epilogue =
         "Exit status: 0 the blocks ran to their end (or --check found them good);\n"
