@@ -6,9 +6,13 @@
 #                                          `x4ctl help COMMAND` of every command
 #   mkman.sh header VERSION OUT.3 HEADER...  x4step(3) from the doc comments
 #                                          (/** ... */) of the C headers
+#   mkman.sh machine VERSION OUT.5         x4step-machine(5) from machines/README.md
+# ENVIRONMENT comes from docs/simulator.md's table, EXAMPLES from the help
+# texts' examples and examples/ (scripts/md2man.py turns Markdown to roff).
 # The texts are kept as they are (no-fill blocks): what --help shows is what
 # man shows. tests/man/check-man.sh checks that.
 set -eu
+top=$(cd "$(dirname "$0")/.." && pwd)
 
 # Text to roff, line by line: backslashes, minus signs, and lines that roff
 # would take for requests.
@@ -36,17 +40,31 @@ EOF
 	printf '%s\n' "$main" | sed '1,/^$/d' | block
 	echo ".SH COMMANDS"
 	# Every command the overview lists ("  NAME ..." after "Commands:").
-	for c in $(printf '%s\n' "$main" | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z]*\)\( .*\)\{0,1\}$/\1/p'); do
+	cmds=$(printf '%s\n' "$main" | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z]*\)\( .*\)\{0,1\}$/\1/p')
+	for c in $cmds; do
 		echo ".SS $c"
 		"$bin" help "$c" | block
 	done
+	cat <<'EOF'
+.SH ENVIRONMENT
+.TP
+.B X4STEP_MACHINE
+the machine file of the commands that take \fB\-\-machine\fR, when it is not given
+EOF
+	"$top/scripts/md2man.py" "$top/docs/simulator.md" "Names and settings"
+	echo ".SH EXAMPLES"
+	# The examples of every command's help, in the order of the overview.
+	for c in $cmds; do
+		"$bin" help "$c" | sed -n '/^Examples\{0,1\}:/,/^[^ E]/{/^[^ E]/d;s/^Examples\{0,1\}: *//;/^$/d;p}'
+	done | sed 's/^ *//' | block
 	cat <<'EOF'
 .SH FILES
 .TP
 .I /dev/x4stepN
 the port parportN (LPT N+1); group lp may open it
 .SH SEE ALSO
-.BR x4step (3)
+.BR x4step (3),
+.BR x4step\-machine (5)
 EOF
 }
 
@@ -125,9 +143,16 @@ EOF
 			esac
 		done
 	done
+	echo ".SH ENVIRONMENT"
+	"$top/scripts/md2man.py" "$top/docs/simulator.md" "Names and settings"
+	echo ".SH EXAMPLES"
+	echo "The X4Step manual's first example (examples/first.c):"
+	block <"$top/examples/first.c"
+	"$top/scripts/md2man.py" "$top/examples/README.md" "Build"
 	cat <<'EOF'
 .SH SEE ALSO
-.BR x4ctl (1);
+.BR x4ctl (1),
+.BR x4step\-machine (5);
 the C++ API in
 .IR x4step.hpp ,
 the kernel interface in
@@ -135,15 +160,31 @@ the kernel interface in
 EOF
 }
 
+# x4step-machine(5): the machine files' document.
+machine_page() {
+	cat <<EOF
+.TH X4STEP\-MACHINE 5 "" "x4step $1" "File Formats"
+.SH NAME
+x4step\-machine \- machine files: a machine in real units for x4ctl
+EOF
+	"$top/scripts/md2man.py" "$top/machines/README.md"
+	cat <<'EOF'
+.SH SEE ALSO
+.BR x4ctl (1),
+.BR x4step (3)
+EOF
+}
+
 case "${1:-}" in
 x4ctl) x4ctl_page "$2" "$3" >"$4" ;;
+machine) machine_page "$2" >"$3" ;;
 header)
 	version=$2 out=$3
 	shift 3
 	header_page "$version" "$@" >"$out"
 	;;
 *)
-	echo "usage: $0 x4ctl X4CTL VERSION OUT | header VERSION OUT HEADER..." >&2
+	echo "usage: $0 x4ctl X4CTL VERSION OUT | header VERSION OUT HEADER... | machine VERSION OUT" >&2
 	exit 2
 	;;
 esac
