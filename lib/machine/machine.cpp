@@ -230,7 +230,7 @@ void read_x4step(ini &f, machine &m) {
 // [TRAJ]: the axis letters in joint order.
 std::string read_traj(ini &f, machine &m) {
   reader r(f, "TRAJ", f.find("TRAJ"));
-  r.refuse_unknown("COORDINATES, LINEAR_UNITS, ANGULAR_UNITS and MAX_LINEAR_VELOCITY");
+  r.refuse_unknown("COORDINATES, LINEAR_UNITS, ANGULAR_UNITS, MAX_LINEAR_VELOCITY and NO_FORCE_HOMING");
   if (r.section_line() == 0)
     throw error(f.file(), 0, "[TRAJ]", "no [TRAJ] section: it needs COORDINATES and LINEAR_UNITS");
   const std::string coords = upper(r.required_text("COORDINATES", "the axis letters, e.g. XYZ"));
@@ -252,6 +252,7 @@ std::string read_traj(ini &f, machine &m) {
       r.fail("ANGULAR_UNITS", "'" + *a + "': rotary axes are in degrees (degree)");
   if (r.has("MAX_LINEAR_VELOCITY"))
     m.max_linear_velocity = r.positive("MAX_LINEAR_VELOCITY", "the most along the path, units/s");
+  m.no_force_homing = r.whole("NO_FORCE_HOMING", 0, 1).value_or(0) == 1;
   return letters;
 }
 
@@ -387,13 +388,14 @@ machine read(std::istream &in, const std::string &name) {
   ini f(in, name);
   machine m;
   for (const std::string &s : f.order()) {
-    const bool known = s == "EMC" || s == "EMCIO" || s == "X4STEP" || s == "TRAJ" ||
+    const bool known = s == "EMC" || s == "EMCIO" || s == "RS274NGC" || s == "X4STEP" || s == "TRAJ" ||
                        (s.size() == 6 && s.compare(0, 5, "AXIS_") == 0) ||
                        (s.size() == 7 && s.compare(0, 6, "JOINT_") == 0);
     if (!known)
       throw error(
           name, f.find(s)->line, "[" + s + "]",
-          "unknown section: a machine file has EMC, EMCIO, X4STEP, TRAJ, AXIS_<letter> and JOINT_<n>");
+          "unknown section: a machine file has EMC, EMCIO, RS274NGC, X4STEP, TRAJ, AXIS_<letter> and "
+          "JOINT_<n>");
   }
   reader emc(f, "EMC", f.find("EMC"));
   emc.refuse_unknown("MACHINE");
@@ -403,6 +405,12 @@ machine read(std::istream &in, const std::string &name) {
   if (const std::string *t = io.text("TOOL_TABLE")) {
     if (t->empty()) io.fail("TOOL_TABLE", "empty: give the tool table's file");
     m.tool_table = (*t)[0] == '/' ? *t : directory_of(name) + *t;
+  }
+  reader ngc(f, "RS274NGC", f.find("RS274NGC"));
+  ngc.refuse_unknown("PARAMETER_FILE");
+  if (const std::string *t = ngc.text("PARAMETER_FILE")) {
+    if (t->empty()) ngc.fail("PARAMETER_FILE", "empty: give the parameter file's name (e.g. x4step.var)");
+    m.parameter_file = (*t)[0] == '/' ? *t : directory_of(name) + *t;
   }
 
   read_x4step(f, m);

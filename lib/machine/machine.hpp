@@ -79,6 +79,11 @@ struct machine {
   double junction_deviation = 0;   ///< GRBL's, machine units
   pin spindle = pin::none, flood = pin::none, mist = pin::none;
   std::string tool_table;  ///< [EMCIO] TOOL_TABLE, relative to the file's directory made absolute
+  /// [RS274NGC] PARAMETER_FILE, made absolute as tool_table; empty: none
+  /// (offsets last one command): params.hpp.
+  std::string parameter_file;
+  /// [TRAJ] NO_FORCE_HOMING = 1: programs may move axes not homed.
+  bool no_force_homing = false;
 };
 
 /// Whether `units` lies within the axis' soft limits (a billionth of the
