@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "x4step.hpp"
@@ -102,6 +103,7 @@ struct config {
   std::string letters;             ///< home: the axes' letters (empty: all); jog: the axis' (c.dir its way)
   std::optional<double> feed;      ///< jog, panel --feed: units/min
   std::optional<double> distance;  ///< jog --distance: units, > 0; none: to the soft limit
+  std::vector<std::pair<char, double>> work;  ///< touch-off: LETTER=VALUE, work coordinates
   /// home and jog in machine units: --machine or axis letters given.
   bool machine_units() const { return !machine.empty() || !letters.empty(); }
 };
