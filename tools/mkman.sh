@@ -36,7 +36,7 @@ EOF
 	printf '%s\n' "$main" | sed '1,/^$/d' | block
 	echo ".SH COMMANDS"
 	# Every command the overview lists ("  NAME ..." after "Commands:").
-	for c in $(printf '%s\n' "$main" | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z]*\)\( .*\)\{0,1\}$/\1/p'); do
+	for c in $(printf '%s\n' "$main" | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z-]*\)\( .*\)\{0,1\}$/\1/p'); do
 		echo ".SS $c"
 		"$bin" help "$c" | block
 	done

@@ -392,10 +392,9 @@ machine read(std::istream &in, const std::string &name) {
                        (s.size() == 6 && s.compare(0, 5, "AXIS_") == 0) ||
                        (s.size() == 7 && s.compare(0, 6, "JOINT_") == 0);
     if (!known)
-      throw error(
-          name, f.find(s)->line, "[" + s + "]",
-          "unknown section: a machine file has EMC, EMCIO, RS274NGC, X4STEP, TRAJ, AXIS_<letter> and "
-          "JOINT_<n>");
+      throw error(name, f.find(s)->line, "[" + s + "]",
+                  "unknown section: a machine file has EMC, EMCIO, RS274NGC, X4STEP, TRAJ, AXIS_<letter> and "
+                  "JOINT_<n>");
   }
   reader emc(f, "EMC", f.find("EMC"));
   emc.refuse_unknown("MACHINE");

@@ -62,7 +62,8 @@ std::vector<axis_line> read_lines(const std::string &path) {
 
 class lock_file {
  public:
-  explicit lock_file(const std::string &path) : fd_(::open((path + ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
+  explicit lock_file(const std::string &path)
+      : fd_(::open((path + ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
     if (fd_ >= 0)
       while (::flock(fd_, LOCK_EX) < 0 && errno == EINTR) {
       }
@@ -130,8 +131,8 @@ void port::save_state_locked() {
       throw std::runtime_error("cannot replace it: " + why);
     }
   } catch (const std::exception &e) {
-    std::fprintf(stderr, "X4STEP_SIM_STATE=%s: the simulated port's state is not kept: %s\n", opt_.state.c_str(),
-                 e.what());
+    std::fprintf(stderr, "X4STEP_SIM_STATE=%s: the simulated port's state is not kept: %s\n",
+                 opt_.state.c_str(), e.what());
   }
 }
 

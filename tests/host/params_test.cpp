@@ -66,9 +66,9 @@ TEST(params, linuxcnc_numbers) {
   c.g28 = {1, 2, 3, 4, 0, 0};
   c.g30 = {5, 0, 0, 0, 0, 0};
   c.g92 = {0, 0, -1.5, 0, 0, 0};
-  c.g5x[0] = {10, 20, 30, 0, 0, 0};   // G54
-  c.g5x[1] = {0, -7, 0, 0, 0, 0};     // G55
-  c.g5x[8] = {0, 0, 0, 90, 0, 0};     // G59.3
+  c.g5x[0] = {10, 20, 30, 0, 0, 0};  // G54
+  c.g5x[1] = {0, -7, 0, 0, 0, 0};    // G55
+  c.g5x[8] = {0, 0, 0, 90, 0, 0};    // G59.3
   c.system = 1;
   m::parameters p;
   m::set_coordinates(p, c);
@@ -192,7 +192,8 @@ TEST(params, interpreter_state) {
   s.g5x[0][g::Z] = -20;  // G54: work Z0 at machine Z -20
   s.g5x[1][g::X] = 100;
   ends e;
-  g::coordinate_state after = run("G0 Z5\nG55 G0 X1\nG10 L2 P3 Y4\nG54 G0 Z0\nG28.1\nG92 X0\nG30.1\nM2\n", s, e);
+  g::coordinate_state after =
+      run("G0 Z5\nG55 G0 X1\nG10 L2 P3 Y4\nG54 G0 Z0\nG28.1\nG92 X0\nG30.1\nM2\n", s, e);
   ASSERT_GE(e.at.size(), 3u);
   EXPECT_DOUBLE_EQ(e.at[0][g::Z], -15);
   EXPECT_DOUBLE_EQ(e.at[1][g::X], 101);
@@ -220,7 +221,8 @@ TEST(params, interpreter_state) {
 // The planner's extents in work coordinates, from the offsets in force.
 TEST(params, work_extents) {
   std::istringstream good(
-      "[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATION = 0.02\n[TRAJ]\nCOORDINATES = XZ\nLINEAR_UNITS = mm\n"
+      "[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATION = 0.02\n[TRAJ]\nCOORDINATES = XZ\nLINEAR_UNITS = "
+      "mm\n"
       "[AXIS_X]\nMIN_LIMIT = -10\nMAX_LIMIT = 100\nMAX_VELOCITY = 20\nMAX_ACCELERATION = 200\n"
       "[AXIS_Z]\nMIN_LIMIT = -50\nMAX_LIMIT = 0\nMAX_VELOCITY = 10\nMAX_ACCELERATION = 100\n"
       "[JOINT_0]\nMOTOR = 1\nSCALE = 800\n[JOINT_1]\nMOTOR = 3\nSCALE = -400\n"

@@ -315,7 +315,8 @@ int run_program(const config &c, const program &prog) {
   const g::pose start = pose_of(mc, at_start);
   // (A simulated port without a machine, X4STEP_SIM_MACHINE, has no switches to home on.)
   const bool can_home = !is_sim_device(ctl.path()) || x4step::sim_machine_switches();
-  const std::vector<size_t> unhomed = can_home ? unhomed_axes(mc, at_start, machine_axes_of(mc)) : std::vector<size_t>{};
+  const std::vector<size_t> unhomed =
+      can_home ? unhomed_axes(mc, at_start, machine_axes_of(mc)) : std::vector<size_t>{};
   m::plan_summary total;
   try {
     total = plan(mc, prog, start, n, coords);

@@ -72,8 +72,8 @@ g::coordinate_state load_coordinates(const m::machine &mc, const std::string &co
   }
 }
 
-void save_coordinates(const m::machine &mc, const g::coordinate_state &before, const g::coordinate_state &after,
-                      const std::string &command) {
+void save_coordinates(const m::machine &mc, const g::coordinate_state &before,
+                      const g::coordinate_state &after, const std::string &command) {
   if (mc.parameter_file.empty() || before == after) return;
   try {
     m::parameter_file(mc.parameter_file).update([&](g::coordinate_state &now) {
@@ -120,8 +120,8 @@ std::string unhomed_text(const config &c, const m::machine &mc, const std::vecto
   const bool all = unhomed_axes(mc, x4step::axes_status{}, machine_axes_of(mc)).size() == axes.size();
   std::string letters;
   for (size_t a : axes) letters += axis_letters[a];
-  return names + (axes.size() == 1 ? " is" : " are") + " not homed: home first: x4ctl" + (c.sim ? " --sim" : "") +
-         " home --machine " + file + (all ? "" : " " + letters) +
+  return names + (axes.size() == 1 ? " is" : " are") + " not homed: home first: x4ctl" +
+         (c.sim ? " --sim" : "") + " home --machine " + file + (all ? "" : " " + letters) +
          " (a machine without home switches may set [TRAJ] NO_FORCE_HOMING = 1)";
 }
 

@@ -39,8 +39,8 @@ void prepare_port(port &p, const m::machine &mc);
 g::coordinate_state load_coordinates(const m::machine &mc, const std::string &command);
 /// Puts what a command changed (before -> after) into the parameter file,
 /// under its lock (nothing if it has none or nothing changed).
-void save_coordinates(const m::machine &mc, const g::coordinate_state &before, const g::coordinate_state &after,
-                      const std::string &command);
+void save_coordinates(const m::machine &mc, const g::coordinate_state &before,
+                      const g::coordinate_state &after, const std::string &command);
 
 /// ", work X1 Z-2" for the axes given: where they stand (machine
 /// position p) in the active work system of the parameter file; "" if

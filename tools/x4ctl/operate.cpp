@@ -161,7 +161,8 @@ axes_outcome move_machine(port &p, console &con, const m::machine &mc, const mac
   for (size_t a = 0; a < g::n_axes; a++) {
     if (!to[a]) continue;
     if (!mc.axes[a]) throw usage_error("the machine has no " + letter(a) + " axis ([TRAJ] COORDINATES)");
-    if (const std::string why = refused_by_limits(mc, a, from[a], *to[a]); !why.empty()) throw usage_error(why);
+    if (const std::string why = refused_by_limits(mc, a, from[a], *to[a]); !why.empty())
+      throw usage_error(why);
     steps[size_t(mc.axes[a]->motor)] = steps_of(*mc.axes[a], *to[a]);
     axes |= motor_of(*mc.axes[a]);
   }
@@ -229,7 +230,8 @@ void home_machine(port &p, console &con, const m::machine &mc, const std::vector
                       where_text(mc, {a}, h.end) + later);
   }
   const x4step::axes_status end = p.get_axes();
-  out << "home: done, at" << where_text(mc, homed, end) << work_text(mc, homed, pose_of(mc, end), "home") << "\n";
+  out << "home: done, at" << where_text(mc, homed, end) << work_text(mc, homed, pose_of(mc, end), "home")
+      << "\n";
 }
 
 key any_key_brakes::read_key(milliseconds timeout) {

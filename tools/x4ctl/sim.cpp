@@ -35,9 +35,10 @@ std::string sim_forgets_text(const std::string &dev) {
   return "note: " + dev +
          " is a simulated port of this x4ctl alone: the setting ends with it (the module keeps its "
          "settings; a simulated port starts afresh in every program" +
-         (sim_state_file().empty() ? ")"
-                                   : ", but for the axes' coordinates and synchronization, which X4STEP_SIM_STATE=" +
-                                         sim_state_file() + " keeps)");
+         (sim_state_file().empty()
+              ? ")"
+              : ", but for the axes' coordinates and synchronization, which X4STEP_SIM_STATE=" +
+                    sim_state_file() + " keeps)");
 }
 
 std::string sim_state_file() {

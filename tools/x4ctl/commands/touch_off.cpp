@@ -24,9 +24,11 @@ void operands(parse_state &s, const std::vector<std::string> &ops) {
     char *end = nullptr;
     const double v = o.size() > at ? std::strtod(o.c_str() + at, &end) : 0;
     if (!is_axis_letter(o[0]) || !end || *end || !std::isfinite(v))
-      throw usage_error(s.prefix + "'" + o + "': give LETTER=VALUE, the work coordinate where the axis stands, e.g. Z=0");
+      throw usage_error(s.prefix + "'" + o +
+                        "': give LETTER=VALUE, the work coordinate where the axis stands, e.g. Z=0");
     for (const auto &w : s.c.work)
-      if (w.first == upper(o[0])) throw usage_error(s.prefix + "'" + o + "': axis " + w.first + " given twice");
+      if (w.first == upper(o[0]))
+        throw usage_error(s.prefix + "'" + o + "': axis " + w.first + " given twice");
     s.c.work.emplace_back(upper(o[0]), v);
   }
 }
@@ -40,13 +42,15 @@ int run(const config &c) {
                       "x4step.var (beside the machine file)");
   for (const auto &w : c.work)
     if (!mc.axes[size_t(std::string(axis_letters).find(w.first))])
-      throw usage_error(std::string("touch-off: the machine has no ") + w.first + " axis ([TRAJ] COORDINATES)");
+      throw usage_error(std::string("touch-off: the machine has no ") + w.first +
+                        " axis ([TRAJ] COORDINATES)");
   controller_port p(open_controller(machine_device(c, mc)));
   const x4step::axes_status st = p.get_axes();
   const g::pose at = pose_of(mc, st);
   for (const auto &w : c.work) {
     const m::axis &ax = *mc.axes[size_t(std::string(axis_letters).find(w.first))];
-    if (st[motor_of(ax)].running) throw failure(std::string("touch-off: ") + w.first + " is moving: wait until it stands");
+    if (st[motor_of(ax)].running)
+      throw failure(std::string("touch-off: ") + w.first + " is moving: wait until it stands");
   }
   g::coordinate_state now;
   try {
@@ -63,10 +67,13 @@ int run(const config &c) {
   const g::pose off = now.work_offset();
   for (const auto &w : c.work) {
     const size_t a = std::string(axis_letters).find(w.first);
-    std::cout << "touch-off: " << system_names[now.system] << " " << w.first << " " << number(now.g5x[size_t(now.system)][a])
-              << ": " << w.first << " stands at work " << number(at[a] - off[a]) << ", machine " << number(at[a])
-              << " (" << (a < 3 ? units_name(mc) : "deg") << ")"
-              << (st[motor_of(*mc.axes[a])].synced ? "" : "; not homed: the offset holds only until the port loses the position")
+    std::cout << "touch-off: " << system_names[now.system] << " " << w.first << " "
+              << number(now.g5x[size_t(now.system)][a]) << ": " << w.first << " stands at work "
+              << number(at[a] - off[a]) << ", machine " << number(at[a]) << " ("
+              << (a < 3 ? units_name(mc) : "deg") << ")"
+              << (st[motor_of(*mc.axes[a])].synced
+                      ? ""
+                      : "; not homed: the offset holds only until the port loses the position")
               << "\n";
   }
   std::cout << "touch-off: kept in " << mc.parameter_file << "\n";
@@ -81,7 +88,7 @@ const subcommand &touch_off_subcommand() {
     c.name = "touch-off";
     c.usage = {"[OPTIONS] LETTER=VALUE..."};
     c.synopsis = "LETTER=VALUE...";
-    c.summary = "where the machine stands becomes these work coordinates (Z=0)";
+    c.summary = "where the axes stand becomes work coordinates (Z=0)";
     c.prose =
         "Touch off: where each named axis stands now becomes that coordinate of the\n"
         "active work system (G54 unless a program left another): its offset is set as\n"
