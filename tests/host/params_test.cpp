@@ -243,3 +243,42 @@ TEST(params, work_extents) {
   EXPECT_DOUBLE_EQ(sum.work_max[g::Z], 2);
   EXPECT_EQ(after, s);
 }
+
+// The machine file's keys for it: [RS274NGC] PARAMETER_FILE and [TRAJ] NO_FORCE_HOMING.
+TEST(params, machine_file_keys) {
+  const std::string base =
+      "[X4STEP]\nARC_TOLERANCE = 0.01\nJUNCTION_DEVIATION = 0.02\n[TRAJ]\nCOORDINATES = X\nLINEAR_UNITS = "
+      "mm\n"
+      "[AXIS_X]\nMIN_LIMIT = -10\nMAX_LIMIT = 100\nMAX_VELOCITY = 20\nMAX_ACCELERATION = 200\n"
+      "[JOINT_0]\nMOTOR = 1\nSCALE = 800\n";
+  auto read = [](const std::string &text) {
+    std::istringstream in(text);
+    return m::read(in, "d/m.ini");
+  };
+  auto refused = [&](const std::string &text) {
+    try {
+      read(text);
+    } catch (const m::error &e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  m::machine mc = read(base);
+  EXPECT_EQ(mc.parameter_file, "");
+  EXPECT_FALSE(mc.no_force_homing);
+  mc = read(base + "[RS274NGC]\nPARAMETER_FILE = /var/lib/x4step/mill.var\n");
+  EXPECT_EQ(mc.parameter_file, "/var/lib/x4step/mill.var");
+  auto with_traj = [&](const std::string &line) {
+    std::string t = base;
+    return t.insert(t.find("[AXIS_X]"), line);
+  };
+  mc = read(with_traj("NO_FORCE_HOMING = 1\n"));
+  EXPECT_TRUE(mc.no_force_homing);
+  EXPECT_FALSE(read(with_traj("NO_FORCE_HOMING = 0\n")).no_force_homing);
+  EXPECT_EQ(refused(base + "[RS274NGC]\nPARAMETER_FILE =\n"),
+            "d/m.ini:16: [RS274NGC] PARAMETER_FILE: empty: give the parameter file's name (e.g. x4step.var)");
+  EXPECT_EQ(refused(base + "[RS274NGC]\nSUBROUTINE_PATH = x\n"),
+            "d/m.ini:16: [RS274NGC] SUBROUTINE_PATH: unknown key: [RS274NGC] takes PARAMETER_FILE");
+  EXPECT_EQ(refused(with_traj("NO_FORCE_HOMING = 2\n")),
+            "d/m.ini:7: [TRAJ] NO_FORCE_HOMING: '2': use a whole number 0..1");
+}
