@@ -90,6 +90,13 @@ check "mdi in work coordinates from the parameter file" $?
 run "$dir/a.vcd" mdi --machine "$machine" "G10 L20 P2 Z5" && grep -qx '5243	-26.000000' "$dir/mill.var" &&
 	grep -qx '5223	-20.000000' "$dir/mill.var"
 check "mdi G10 L20 P2 Z5 sets G55 Z in the parameter file (5243), G54 stays" $?
+run "$dir/a.vcd" touch-off --machine "$machine" --system G55 X=2 &&
+	grep -qx 'touch-off: G55 X 8: X stands at work 2, machine 10 (mm)' "$dir/out" && grep -qx '5241	8.000000' "$dir/mill.var" &&
+	grep -qx '5221	10.000000' "$dir/mill.var" && grep -qx '5220	1.000000' "$dir/mill.var"
+check "touch-off --system G55 X=2 sets G55 (5241); G54 and the active system stay" $?
+run "$dir/a.vcd" touch-off --machine "$machine" --system G60 X=2
+[ $? -eq 2 ] && grep -q 'use G54, G55, G56, G57, G58, G59, G59.1, G59.2 or G59.3' "$dir/out"
+check "touch-off --system G60: refused" $?
 run "$dir/a.vcd" mdi --machine "$machine" "G91 G0 Z1" && run "$dir/a.vcd" mdi --machine "$machine" "G0 Z1" &&
 	grep -qx 'mdi: done, at X10 Y5 Z-19 (mm)' "$dir/out"
 check "mdi's G91 ends with the command (G90 again), offsets do not" $?

@@ -104,6 +104,7 @@ struct config {
   std::optional<double> feed;      ///< jog, panel --feed: units/min
   std::optional<double> distance;  ///< jog --distance: units, > 0; none: to the soft limit
   std::vector<std::pair<char, double>> work;  ///< touch-off: LETTER=VALUE, work coordinates
+  int work_system = -1;                       ///< touch-off --system: 0 G54 .. 8 G59.3; -1 the active one
   /// home and jog in machine units: --machine or axis letters given.
   bool machine_units() const { return !machine.empty() || !letters.empty(); }
 };

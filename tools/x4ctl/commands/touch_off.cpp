@@ -56,24 +56,23 @@ int run(const config &c) {
   try {
     // As G10 L20 in the active system: offset = machine - G92 - value.
     now = m::parameter_file(mc.parameter_file).update([&](g::coordinate_state &s) {
+      const size_t sys = size_t(c.work_system >= 0 ? c.work_system : s.system);
       for (const auto &w : c.work) {
         const size_t a = std::string(axis_letters).find(w.first);
-        s.g5x[size_t(s.system)][a] = at[a] - s.g92[a] - w.second;
+        s.g5x[sys][a] = at[a] - s.g92[a] - w.second;
       }
     });
   } catch (const m::parameter_error &e) {
     throw failure(std::string("touch-off: ") + e.what());
   }
-  const g::pose off = now.work_offset();
+  const size_t sys = size_t(c.work_system >= 0 ? c.work_system : now.system);
   for (const auto &w : c.work) {
     const size_t a = std::string(axis_letters).find(w.first);
-    std::cout << "touch-off: " << system_names[now.system] << " " << w.first << " "
-              << number(now.g5x[size_t(now.system)][a]) << ": " << w.first << " stands at work "
-              << number(at[a] - off[a]) << ", machine " << number(at[a]) << " ("
-              << (a < 3 ? units_name(mc) : "deg") << ")"
-              << (st[motor_of(*mc.axes[a])].synced
-                      ? ""
-                      : "; not homed: the offset holds only until the port loses the position")
+    const bool synced = st[motor_of(*mc.axes[a])].synced;
+    std::cout << "touch-off: " << system_names[sys] << " " << w.first << " " << number(now.g5x[sys][a])
+              << ": " << w.first << " stands at work " << number(at[a] - now.g5x[sys][a] - now.g92[a])
+              << ", machine " << number(at[a]) << " (" << (a < 3 ? units_name(mc) : "deg") << ")"
+              << (synced ? "" : "; not homed: the offset holds only until the port loses the position")
               << "\n";
   }
   std::cout << "touch-off: kept in " << mc.parameter_file << "\n";
@@ -91,13 +90,26 @@ const subcommand &touch_off_subcommand() {
     c.summary = "where the axes stand becomes work coordinates (Z=0)";
     c.prose =
         "Touch off: where each named axis stands now becomes that coordinate of the\n"
-        "active work system (G54 unless a program left another): its offset is set as\n"
-        "'G10 L20' would set it (machine position - G92 offset - VALUE) and kept in\n"
+        "active work system (G54 after any program) or of --system: its offset is\n"
+        "set as 'G10 L20' sets it (machine position - G92 offset - VALUE) and kept in\n"
         "the machine file's parameter file ([RS274NGC] PARAMETER_FILE, LinuxCNC's\n"
         ".var numbering), which gcode, mdi and the panel read. Jog the tool onto the\n"
         "stock's top, then 'touch-off Z=0'; onto a corner, 'touch-off X=0 Y=0'.\n"
         "Nothing moves.\n";
-    c.options = {machine_option(machine_file_help)};
+    c.options = {
+        machine_option(machine_file_help),
+        {"system", 0, "G54..G59.3",
+         "the work system to set (default: the active one,\n"
+         "G54 after any program: M2 selects it)",
+         [](parse_state &s, const option_value &o) {
+           for (size_t i = 0; i < sizeof system_names / sizeof *system_names; i++)
+             if (o.value == system_names[i] || o.value == std::string("g") + (system_names[i] + 1))
+               s.c.work_system = int(i);
+           if (s.c.work_system < 0)
+             throw usage_error(s.prefix + "--system " + o.value +
+                               ": use G54, G55, G56, G57, G58, G59, G59.1, G59.2 or G59.3");
+         }},
+    };
     c.epilogue =
         "Exit status: 0 done; 1 the port refused or the parameter file cannot be\n"
         "written; 2 bad usage, a bad machine file or none named.\n"
