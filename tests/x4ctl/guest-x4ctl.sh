@@ -782,7 +782,7 @@ if [ -r "$vmod" ]; then
 	check homed-first-stop 0 '^stopped: ' '' m stop
 	check homed-first-unsynced 0 '^axis 3 .*not synchronized' '' m status
 	z=$(at 3)
-	check homed-first-refused 1 '' 'z0.ngc: Z is not homed: home first: x4ctl home --machine .*hmill.ini Z ' \
+	check homed-first-refused 1 '' 'z0.ngc: Z is not homed: home first: x4ctl home --machine .*hmill.ini (a machine without home switches' \
 		x4ctl gcode -m "$tmp/hmill.ini" "$tmp/z0.ngc"
 	same homed-first-moves-nothing "$(at 3)" "$z"
 	check homed-first-zero 0 '^axis 3 at 0, synchronized$' '' m zero 3
