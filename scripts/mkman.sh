@@ -40,7 +40,7 @@ EOF
 	printf '%s\n' "$main" | sed '1,/^$/d' | block
 	echo ".SH COMMANDS"
 	# Every command the overview lists ("  NAME ..." after "Commands:").
-	cmds=$(printf '%s\n' "$main" | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z]*\)\( .*\)\{0,1\}$/\1/p')
+	cmds=$(printf '%s\n' "$main" | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z-]*\)\( .*\)\{0,1\}$/\1/p')
 	for c in $cmds; do
 		echo ".SS $c"
 		"$bin" help "$c" | block

@@ -24,9 +24,11 @@
  * Coordinates: every position given to the sink is in machine coordinates
  * (program position + G5x offset + G92 offset + tool length offset) in the
  * machine's length unit (options::machine_units); rotary axes A B C are
- * in degrees. The offsets and the G28/G30 positions live in memory, from
- * zero at construction, for the interpreter's life (no .var file yet);
- * the position starts at options::start.
+ * in degrees. The offsets, the active coordinate system and the G28/G30
+ * positions start as options::coordinates gives them (zero by default)
+ * and live in memory for the interpreter's life; coordinates() gives them
+ * back for the caller to keep (lib/machine's parameter file); the
+ * position starts at options::start.
  *
  * Not installed (yet): built as a static library inside the tree, linked
  * by the tests, the bench and, through the planner (lib/machine), x4ctl.
@@ -136,6 +138,27 @@ class sink {
   virtual void source_line(const std::string & /*file*/, int /*line*/) {}
 };
 
+/// What LinuxCNC keeps in its parameter file (.var) between programs: the
+/// work offsets, the active system, the G28/G30 positions and the G92
+/// offset; machine coordinates, machine units (degrees for A B C).
+struct coordinate_state {
+  std::array<pose, 9> g5x{};  ///< G54, G55 ... G59, G59.1, G59.2, G59.3
+  int system = 0;             ///< the active one: 0 G54 .. 8 G59.3
+  pose g28{}, g30{};          ///< G28.1 and G30.1 store these
+  pose g92{};                 ///< G92's offset (G92.1 zeroes it)
+  bool operator==(const coordinate_state &o) const {
+    return g5x == o.g5x && system == o.system && g28 == o.g28 && g30 == o.g30 && g92 == o.g92;
+  }
+  bool operator!=(const coordinate_state &o) const { return !(*this == o); }
+  /// From work (program) to machine coordinates: the active system's
+  /// offset plus G92's (no tool length offset).
+  pose work_offset() const {
+    pose p{};
+    for (size_t a = 0; a < p.size(); a++) p[a] = g5x.at(size_t(system))[a] + g92[a];
+    return p;
+  }
+};
+
 struct options {
   /// The unit of every length given to the sink.
   units machine_units = units::mm;
@@ -145,6 +168,8 @@ struct options {
   bool block_delete = false;
   /// Where the machine stands at the start, machine coordinates and units.
   pose start{};
+  /// The offsets and stored positions to start with (machine units).
+  coordinate_state coordinates{};
 };
 
 /// One tool: length offsets (G43 H) in machine units.
@@ -187,6 +212,12 @@ class interpreter {
 
   /// The current position, machine coordinates, machine units.
   pose position() const;
+  /// The offsets, the active system and the stored positions now
+  /// (machine units): what a parameter file keeps.
+  coordinate_state coordinates() const;
+  /// From work to machine coordinates now (coordinates().work_offset()),
+  /// cheaply: a sink may ask it for every point.
+  pose work_offset() const;
   units program_units() const noexcept;
 
  private:

@@ -341,6 +341,12 @@ struct interpreter::impl : modal_state {
     k = prog_units == units::inch ? mm_per_inch : 1.0;
     out_scale = o.machine_units == units::inch ? mm_per_inch : 1.0;
     for (int a = 0; a < n_axes; ++a) pos[size_t(a)] = o.start[size_t(a)] * (a < 3 ? out_scale : 1.0);
+    const coordinate_state &c = o.coordinates;
+    for (size_t i = 0; i < g5x.size(); ++i) g5x[i] = to_mm(c.g5x[i]);
+    cs = c.system >= 0 && c.system < int(g5x.size()) ? c.system : 0;
+    g28 = to_mm(c.g28);
+    g30 = to_mm(c.g30);
+    g92 = to_mm(c.g92);
     events.reserve(16);
   }
 
@@ -647,6 +653,11 @@ struct interpreter::impl : modal_state {
     return t;
   }
 
+  pose to_mm(const pose &p) const {
+    pose o = p;
+    for (int a = 0; a < 3; ++a) o[size_t(a)] = p[size_t(a)] * out_scale;
+    return o;
+  }
   pose to_out(const pose &p) const {
     pose o = p;
     for (int a = 0; a < 3; ++a) o[size_t(a)] = p[size_t(a)] / out_scale;
@@ -1295,6 +1306,22 @@ bool interpreter::execute_line(std::string_view line, const std::string &name, i
 }
 
 pose interpreter::position() const { return p_->to_out(p_->pos); }
+
+pose interpreter::work_offset() const {
+  pose o{};
+  for (size_t a = 0; a < o.size(); ++a) o[a] = p_->g5x[size_t(p_->cs)][a] + p_->g92[a];
+  return p_->to_out(o);
+}
+
+coordinate_state interpreter::coordinates() const {
+  coordinate_state c;
+  for (size_t i = 0; i < c.g5x.size(); ++i) c.g5x[i] = p_->to_out(p_->g5x[i]);
+  c.system = p_->cs;
+  c.g28 = p_->to_out(p_->g28);
+  c.g30 = p_->to_out(p_->g30);
+  c.g92 = p_->to_out(p_->g92);
+  return c;
+}
 units interpreter::program_units() const noexcept { return p_->prog_units; }
 
 std::map<int, tool> read_tool_table(const std::string &path, units in, units machine) {

@@ -30,6 +30,7 @@ struct key_name {
 constexpr key_name x4step_keys[] = {
     {"EMC", "MACHINE"},
     {"EMCIO", "TOOL_TABLE"},
+    {"RS274NGC", "PARAMETER_FILE"},
     {"X4STEP", "PORT"},
     {"X4STEP", "OUTPUT_MODE"},
     {"X4STEP", "ARC_TOLERANCE"},
@@ -41,6 +42,7 @@ constexpr key_name x4step_keys[] = {
     {"TRAJ", "LINEAR_UNITS"},
     {"TRAJ", "ANGULAR_UNITS"},
     {"TRAJ", "MAX_LINEAR_VELOCITY"},
+    {"TRAJ", "NO_FORCE_HOMING"},
     {"AXIS_", "MIN_LIMIT"},
     {"AXIS_", "MAX_LIMIT"},
     {"AXIS_", "MAX_VELOCITY"},
@@ -514,6 +516,7 @@ std::string read_traj(ini &f, machine &m) {
       r.fail("ANGULAR_UNITS", "'" + *a + "': rotary axes are in degrees (degree)");
   if (r.has("MAX_LINEAR_VELOCITY"))
     m.max_linear_velocity = r.positive("MAX_LINEAR_VELOCITY", "the most along the path, units/s").value_or(0);
+  m.no_force_homing = r.whole("NO_FORCE_HOMING", 0, 1).value_or(0) == 1;
   return letters;
 }
 
@@ -787,6 +790,13 @@ machine read(std::istream &in, const std::string &name) {
       io.fail("TOOL_TABLE", "empty: give the tool table's file");
     else
       m.tool_table = (*t)[0] == '/' ? *t : directory_of(name) + *t;
+  }
+  reader ngc(f, "RS274NGC");
+  if (const std::string *t = ngc.text("PARAMETER_FILE")) {
+    if (t->empty())
+      ngc.fail("PARAMETER_FILE", "empty: give the parameter file's name (e.g. x4step.var)");
+    else
+      m.parameter_file = (*t)[0] == '/' ? *t : directory_of(name) + *t;
   }
 
   read_x4step(f, m, !ignored_sections.empty());

@@ -101,6 +101,11 @@ struct machine {
   /// What the file gives that x4step accepts but does not use (LinuxCNC's
   /// own sections and keys), each listed once: "file: ignored ...".
   std::vector<std::string> warnings;
+  /// [RS274NGC] PARAMETER_FILE, made absolute as tool_table; empty: none
+  /// (offsets last one command): params.hpp.
+  std::string parameter_file;
+  /// [TRAJ] NO_FORCE_HOMING = 1: programs may move axes not homed.
+  bool no_force_homing = false;
 };
 
 /// Whether `units` lies within the axis' soft limits (a billionth of the

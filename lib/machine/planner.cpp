@@ -145,11 +145,17 @@ void planner::line_to(const gcode::pose &end, const speed &sp, bool checked) {
   sum_.segments++;
   sum_.length += len;
   sum_.seconds += len / v;
+  const gcode::pose off = work_offset_ ? work_offset_() : gcode::pose{};
   for (size_t a = 0; a < gcode::n_axes; a++) {
     if (!m_.axes[a]) continue;
-    if (!sum_.moved) sum_.min[a] = sum_.max[a] = start[a];  // from where the motion begins
+    if (!sum_.moved) {  // from where the motion begins
+      sum_.min[a] = sum_.max[a] = start[a];
+      sum_.work_min[a] = sum_.work_max[a] = start[a] - off[a];
+    }
     sum_.min[a] = std::min(sum_.min[a], end[a]);
     sum_.max[a] = std::max(sum_.max[a], end[a]);
+    sum_.work_min[a] = std::min(sum_.work_min[a], end[a] - off[a]);
+    sum_.work_max[a] = std::max(sum_.work_max[a], end[a] - off[a]);
   }
   sum_.moved = true;
 }
@@ -254,22 +260,28 @@ namespace {
 
 // The interpreter in the machine's units, with its tool table, from start.
 void interpret(const machine &m, std::istream &in, const std::string &name, gcode::sink &out,
-               const gcode::pose &start) {
+               const gcode::pose &start, const gcode::coordinate_state &coords = {},
+               gcode::coordinate_state *coords_after = nullptr, planner *p = nullptr) {
   gcode::options o;
   o.machine_units = m.units;
   o.initial_units = m.units;
   o.start = start;
+  o.coordinates = coords;
   gcode::interpreter interp(out, o);
   if (!m.tool_table.empty()) interp.set_tool_table(gcode::read_tool_table(m.tool_table, m.units, m.units));
+  if (p) p->work_offset_from([&interp] { return interp.work_offset(); });
   interp.run(in, name);
+  if (p) p->work_offset_from({});
+  if (coords_after) *coords_after = interp.coordinates();
 }
 
 }  // namespace
 
 plan_summary plan_program(const machine &m, std::istream &in, const std::string &name, planner_output &out,
-                          const gcode::pose &start) {
+                          const gcode::pose &start, const gcode::coordinate_state &coords,
+                          gcode::coordinate_state *coords_after) {
   planner p(m, out, start);
-  interpret(m, in, name, p, start);
+  interpret(m, in, name, p, start, coords, coords_after, &p);
   return p.summary();
 }
 

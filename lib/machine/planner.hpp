@@ -128,7 +128,10 @@ struct plan_summary {
   double length = 0;         ///< along the path, machine units
   double seconds = 0;        ///< at the segments' top speeds, plus dwells (no ramps)
   gcode::pose min{}, max{};  ///< extents of the planned points and the start, machine units
-  bool moved = false;        ///< min/max hold something
+  /// The same in work coordinates: each point less the work offset
+  /// (G5x + G92, no tool length) in force when it was planned.
+  gcode::pose work_min{}, work_max{};
+  bool moved = false;  ///< min/max hold something
   /// Each motor's step position after it (motor 1..4 at 0..3).
   std::array<long, x4step::axes> steps{};
 };
@@ -153,6 +156,9 @@ class planner : public gcode::sink {
   void source_line(const std::string &file, int line) override;
 
   const plan_summary &summary() const noexcept { return sum_; }
+  /// Where the work offset in force comes from (the interpreter's
+  /// work_offset()); without it work extents are machine extents.
+  void work_offset_from(std::function<gcode::pose()> f) { work_offset_ = std::move(f); }
 
  private:
   struct speed {
@@ -177,14 +183,18 @@ class planner : public gcode::sink {
   std::string file_;
   int line_ = 0;
   plan_summary sum_;
+  std::function<gcode::pose()> work_offset_;
 };
 
 /// Reads a whole program and plans it into out: the machine's units and
-/// tool table, the program starting where the machine stands (start).
+/// tool table, the program starting where the machine stands (start) with
+/// the offsets and stored positions `coords` (a parameter file's, params.hpp).
 /// Throws gcode::error on the first line refused, by the interpreter or
-/// by the planner (a soft limit, a move the kernel cannot take).
+/// by the planner (a soft limit, a move the kernel cannot take). If
+/// `coords_after` is given, it receives them as the program left them.
 plan_summary plan_program(const machine &m, std::istream &in, const std::string &name, planner_output &out,
-                          const gcode::pose &start = {});
+                          const gcode::pose &start = {}, const gcode::coordinate_state &coords = {},
+                          gcode::coordinate_state *coords_after = nullptr);
 
 /// The interpreter alone, in the machine's units: every error but the
 /// planner's (which need the start position), without planning.

@@ -56,6 +56,11 @@ class machine {
   void set_inputs(unsigned levels) { levels_ = levels & 0x1f; }
 
   const std::array<std::int64_t, 4> &positions() const noexcept { return pos_; }
+  /// Puts the axes where a previous program left them (X4STEP_SIM_STATE).
+  void set_positions(const std::array<std::int64_t, 4> &p) {
+    pos_ = p;
+    update_switches();
+  }
   const std::vector<machine_switch> &switches() const noexcept { return sw_; }
 
  private:

@@ -128,6 +128,7 @@ options options_from_env() {
     o.model.read(in, m);
   }
   if (const char *s = std::getenv("X4STEP_SIM_INPUTS"); s && *s) o.model.add_script(s);
+  if (const char *s = std::getenv("X4STEP_SIM_STATE"); s && *s) o.state = s;
   return o;
 }
 

@@ -30,6 +30,7 @@ struct options {
   std::vector<scripted_key> keys;  ///< X4STEP_SIM_KEYS, in time order
   bool terminal_keys = false;      ///< X4STEP_SIM_KEYS=tty: keys from stdin, a terminal
   machine model;                   ///< X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS
+  std::string state;               ///< X4STEP_SIM_STATE: positions kept between programs, "" none
 };
 
 /// The set-1 make code of a key name (esc, enter, space, tab, backspace,
@@ -51,7 +52,7 @@ bool is_sim_name(const std::string &name);
 int port_number(const std::string &name);
 /// X4STEP_SIM_TIME (virtual|real, default real), X4STEP_SIM_VCD,
 /// X4STEP_SIM_KEYS (a script, "tty": the terminal's keys, "none"),
-/// X4STEP_SIM_MACHINE and X4STEP_SIM_INPUTS; throws an error naming the
+/// X4STEP_SIM_MACHINE, X4STEP_SIM_INPUTS and X4STEP_SIM_STATE; throws an error naming the
 /// variable (or the machine file and line) and what to fix.
 options options_from_env();
 /// X4STEP_SIM=1: LPT1..4 are sim:0..3; unset, "" or "0": the devices.

@@ -43,6 +43,7 @@ port::port(int number, options o)
   x4_engine_init(&eng_);
   x4_engine_configure(&eng_, &t, X4_MODE_CLOCK_DIR);
   eng_.budget = X4_WRITE_BUDGET;
+  load_state_locked();  // nothing else has the port yet
   if (opt_.time == time_mode::real) thread_ = std::thread([this] { timer_thread(); });
   if (opt_.terminal_keys)  // options_from_env(): stdin is a terminal
     tty_ = std::make_unique<terminal>(
@@ -61,6 +62,8 @@ port::~port() {
   }
   timer_.notify_all();
   if (thread_.joinable()) thread_.join();
+  const lock l(m_);
+  save_state_locked();
 }
 
 std::shared_ptr<port> port::get(int number, const options &o) {

@@ -121,6 +121,9 @@ class port {
   void keys_due_locked(std::uint64_t t_ns);
   void advance_locked(std::uint64_t t_ns);
   void timer_thread();
+  // state.cpp: X4STEP_SIM_STATE, what a module would keep between programs.
+  void load_state_locked();
+  void save_state_locked();
 
   int run_locked(starter start, const void *arg, unsigned kind);
   int goto_locked(std::uint8_t axes, const std::int32_t *target, bool relative);

@@ -30,7 +30,7 @@ has_lines() { # WHAT TEXT
 	done
 }
 has_lines "x4ctl --help" "$("$bin" --help)" || failed=1
-cmds=$("$bin" --help | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z]*\)\( .*\)\{0,1\}$/\1/p')
+cmds=$("$bin" --help | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z-]*\)\( .*\)\{0,1\}$/\1/p')
 [ "$(printf '%s\n' "$cmds" | wc -l)" -ge 20 ] || fail "x4ctl --help lists only: $cmds"
 for c in $cmds; do
 	has_lines "x4ctl help $c" "$("$bin" help "$c")" || failed=1

@@ -43,4 +43,7 @@ expect "x4ctl home --m" "--machine"
 expect "x4ctl home --machine /dev/nul" "/dev/null"
 expect "x4ctl home -m /dev/null Z" "Z"
 expect "x4ctl panel --" "--machine --feed --port --device --sim --help"
+# touch-off (issue 30): a command with a hyphen, and its operands.
+expect "x4ctl tou" "touch-off"
+expect "x4ctl touch-off -m /dev/null Z" "Z=0"
 exit "$failed"

@@ -47,7 +47,7 @@ st=$?
 cat "$dir/out"
 [ $st -eq 0 ] && grep -qxE 'mdi: done in [0-9:]+, estimated [0-9:]+, at X1 Y0 Z0 A0 \(inch\)' "$dir/out"
 check "the modal state of one invocation does not reach the next" $?
-"$x4ctl" mdi --help | grep -q "Nothing persists between invocations"
+"$x4ctl" mdi --help | grep -q "The modal state"
 check "--help says so" $?
 
 # A bad word: its line and column, nothing moves.

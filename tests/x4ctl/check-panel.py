@@ -319,6 +319,32 @@ p.send("q")
 p.finish()
 check("and the motor did not move", vcd_steps(vcd)[:1] in ([], [0]), repr(vcd_steps(vcd)))
 
+# --- the work zero kept in the parameter file (issue 30), read by the next panel ---------
+kept = os.path.join(tmp, "kept.ini")
+with open(MACHINE) as src, open(kept, "w") as dst:
+    dst.write(src.read() + "[RS274NGC]\nPARAMETER_FILE = kept.var\n")
+state = {"X4STEP_SIM_TIME": "virtual", "X4STEP_SIM_STATE": os.path.join(tmp, "kept.state")}
+p = Panel(os.path.join(tmp, "kept.vcd"), state, command=("panel", "--machine", kept))
+f = p.wait(lambda f: "state: idle" in f)
+check("with a parameter file the zero key says nothing of 'this session only'",
+      "z or 0: work zero here  space/ESC: stop" in f, f)
+p.send("h")
+p.wait(lambda f: "state: idle" in f and "home: done" in f)
+p.send("z")
+f = p.wait(lambda f: "work zero set" in f)
+check("z: kept in the parameter file", "(kept in " + os.path.join(tmp, "kept.var") + ")" in f, f)
+p.send("q")
+p.finish()
+var = open(os.path.join(tmp, "kept.var")).read() if os.path.exists(os.path.join(tmp, "kept.var")) else ""
+check("the parameter file holds G54 at X3 Y1 Z-1 (5221..5223)",
+      "5221\t3.000000\n5222\t1.000000\n5223\t-1.000000\n" in var, var)
+p = Panel(os.path.join(tmp, "kept2.vcd"), state, command=("panel", "--machine", kept))
+f = p.wait(lambda f: "state: idle" in f)
+check("the next panel shows work 0 at machine X3 Y1 Z-1",
+      axis(f, "X") == (0, 3) and axis(f, "Y") == (0, 1) and axis(f, "Z") == (0, -1), f)
+p.send("q")
+p.finish()
+
 # --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
 p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})
 p.wait(lambda f: "state: idle" in f)

@@ -557,7 +557,7 @@ TEST(Cli, HelpTexts) {
   };
   std::vector<const subcommand *> all = {&main_command()};
   for (const command_group &g : command_groups()) all.insert(all.end(), g.commands.begin(), g.commands.end());
-  EXPECT_EQ(all.size(), 28u);
+  EXPECT_EQ(all.size(), 29u);
   const std::string overview = help_text(main_command());
   for (const subcommand *cmd : all) {
     const std::string name = name_of(*cmd);
@@ -807,12 +807,19 @@ TEST(Gcode, CheckSummarizesWithoutAPort) {
   EXPECT_TRUE(
       contains(r.out, prog.path() + ": OK: 16 lines, 79 segments, 252.6 mm along the path, about 0:48"))
       << r.out;
-  // Extents from where the motion starts (Z 0, the machine's position).
-  EXPECT_TRUE(contains(r.out, "extents (mm): X 0..70 Y 0..70 Z -1..0\n")) << r.out;
+  // Extents from where the motion starts (Z 0, the machine's position), work and machine
+  // coordinates (the same: the machine file has no parameter file).
+  EXPECT_TRUE(contains(r.out,
+                       "extents (mm, work coordinates): X 0..70 Y 0..70 Z -1..0; machine: X 0..70 Y 0..70 "
+                       "Z -1..0\n"))
+      << r.out;
   r = run({"gcode", "-m", mill, "-c", "--json", prog.path()});
   EXPECT_EQ(r.status, 0) << r.out;
   EXPECT_TRUE(contains(r.out, "\"lines\":16,\"segments\":79,\"length\":252.59")) << r.out;
-  EXPECT_TRUE(contains(r.out, "\"extents\":{\"X\":[0,70],\"Y\":[0,70],\"Z\":[-1,0]}}\n")) << r.out;
+  EXPECT_TRUE(contains(r.out,
+                       "\"extents\":{\"X\":[0,70],\"Y\":[0,70],\"Z\":[-1,0]},\"machine_extents\":{\"X\":[0,"
+                       "70],\"Y\":[0,70],\"Z\":[-1,0]}}\n"))
+      << r.out;
   // The machine from $X4STEP_MACHINE when --machine is not given.
   ::setenv("X4STEP_MACHINE", mill.c_str(), 1);
   r = run({"gcode", "--check", prog.path()});

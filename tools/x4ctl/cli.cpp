@@ -165,7 +165,8 @@ const std::vector<option> &common_options() {
       {"sim", 0, "",
        "a simulated port in this process (sim:0..3 for LPT\n"
        "1..4): no module, no root; X4STEP_SIM=1 does the same;\n"
-       "a fresh one in each x4ctl (README: without a port)",
+       "a fresh one in each x4ctl, but for the positions\n"
+       "X4STEP_SIM_STATE=FILE keeps (docs/simulator.md)",
        [](parse_state &s, const option_value &) { s.c.sim = true; }},
       {"help", 'h', "", "show this help", [](parse_state &s, const option_value &) { s.c.help = true; }},
   };

@@ -9,6 +9,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "x4step.hpp"
@@ -102,13 +103,15 @@ struct config {
   std::string letters;             ///< home: the axes' letters (empty: all); jog: the axis' (c.dir its way)
   std::optional<double> feed;      ///< jog, panel --feed: units/min
   std::optional<double> distance;  ///< jog --distance: units, > 0; none: to the soft limit
+  std::vector<std::pair<char, double>> work;  ///< touch-off: LETTER=VALUE, work coordinates
+  int work_system = -1;                       ///< touch-off --system: 0 G54 .. 8 G59.3; -1 the active one
+  /// home and jog in machine units: --machine or axis letters given.
+  bool machine_units() const { return !machine.empty() || !letters.empty(); }
 
   // machine check FILE... / machine import INI [HAL] [-o FILE]
   std::string machine_action;      ///< check or import
   std::vector<std::string> files;  ///< check: the machine files; import: INI [HAL]
   std::string output;              ///< import -o: the machine file to write; empty: standard output
-  /// home and jog in machine units: --machine or axis letters given.
-  bool machine_units() const { return !machine.empty() || !letters.empty(); }
 };
 
 /// Parses and checks the whole command line (values too, without a device).

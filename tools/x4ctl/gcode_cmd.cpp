@@ -23,6 +23,7 @@
 #include "planner.hpp"
 #include "run_display.hpp"
 #include "show.hpp"
+#include "sim.hpp"
 #include "toolpath_svg.hpp"
 
 namespace x4ctl {
@@ -52,10 +53,11 @@ struct program {
 };
 
 // Plans the whole program into out; a refused line is a usage error.
-m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &start, m::planner_output &out) {
+m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &start, m::planner_output &out,
+                     const g::coordinate_state &coords, g::coordinate_state *coords_after = nullptr) {
   std::istringstream in(p.text);
   try {
-    return m::plan_program(mc, in, p.name, out, start);
+    return m::plan_program(mc, in, p.name, out, start, coords, coords_after);
   } catch (const g::error &e) {
     throw usage_error(p.prefix() + e.what());
   }
@@ -86,15 +88,17 @@ struct counter : m::planner_output {
 void print_summary(const m::machine &mc, const config &c, const program &p, const m::plan_summary &s,
                    const counter &n) {
   if (c.json) {
-    // Extents as [min, max] per axis.
-    std::string extents = "{";
-    for (size_t a = 0; a < g::n_axes; a++) {
-      if (!mc.axes[a] || !s.moved) continue;
-      char buf[80];
-      std::snprintf(buf, sizeof buf, "\"%c\":[%.10g,%.10g]", axis_letters[a], s.min[a], s.max[a]);
-      extents += (extents.size() > 1 ? "," : "") + std::string(buf);
-    }
-    extents += "}";
+    // Extents as [min, max] per axis: work and machine coordinates.
+    auto extents_of = [&](const g::pose &lo, const g::pose &hi) {
+      std::string extents = "{";
+      for (size_t a = 0; a < g::n_axes; a++) {
+        if (!mc.axes[a] || !s.moved) continue;
+        char buf[80];
+        std::snprintf(buf, sizeof buf, "\"%c\":[%.10g,%.10g]", axis_letters[a], lo[a], hi[a]);
+        extents += (extents.size() > 1 ? "," : "") + std::string(buf);
+      }
+      return extents + "}";
+    };
     std::cout << json_document()
                      .add("file", p.name)
                      .add("machine", machine_path(c))
@@ -104,7 +108,8 @@ void print_summary(const m::machine &mc, const config &c, const program &p, cons
                      .add("length", s.length)
                      .add("seconds", s.seconds)
                      .add("pauses", n.pauses)
-                     .raw("extents", extents)
+                     .raw("extents", extents_of(s.work_min, s.work_max))
+                     .raw("machine_extents", extents_of(s.min, s.max))
                      .str()
               << "\n";
     return;
@@ -115,10 +120,14 @@ void print_summary(const m::machine &mc, const config &c, const program &p, cons
   if (n.pauses) std::cout << ", " << n.pauses << " pauses for the operator";
   std::cout << "\n";
   if (!s.moved) return;
-  std::cout << "extents (" << units_name(mc) << "):";
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a])
-      std::cout << " " << axis_letters[a] << " " << number(s.min[a]) << ".." << number(s.max[a]);
+  auto extents = [&](const g::pose &lo, const g::pose &hi) {
+    for (size_t a = 0; a < g::n_axes; a++)
+      if (mc.axes[a]) std::cout << " " << axis_letters[a] << " " << number(lo[a]) << ".." << number(hi[a]);
+  };
+  std::cout << "extents (" << units_name(mc) << ", work coordinates):";
+  extents(s.work_min, s.work_max);
+  std::cout << "; machine:";
+  extents(s.min, s.max);
   std::cout << "\n";
 }
 
@@ -214,6 +223,8 @@ class runner : public m::planner_output {
 // gcode and mdi: check, plan from where the machine stands, run.
 int run_program(const config &c, const program &prog) {
   const m::machine mc = load_machine(c, prog.command());
+  // The offsets the parameter file keeps; what the program changes goes back once it ran.
+  const g::coordinate_state coords = load_coordinates(mc, prog.command());
   counter n;
   toolpath_plot plot;
   // A plot that cannot be written fails before anything moves.
@@ -221,7 +232,7 @@ int run_program(const config &c, const program &prog) {
     throw failure("--svg " + c.svg + ": cannot write: " + std::strerror(errno), errno);
   if (c.check) {
     if (!c.svg.empty()) n.plot = &plot;
-    print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n), n);
+    print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n, coords), n);
     n.plot = nullptr;
     if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name + " (planned, as from machine zero)");
     return 0;
@@ -230,8 +241,30 @@ int run_program(const config &c, const program &prog) {
   controller_port port(open_controller(machine_device(c, mc)));
   x4step::controller &ctl = port.controller();
   // Planned from where the machine stands.
-  const g::pose start = pose_of(mc, ctl.get_axes());
-  const m::plan_summary total = plan(mc, prog, start, n);
+  const x4step::axes_status at_start = ctl.get_axes();
+  const g::pose start = pose_of(mc, at_start);
+  // (A simulated port without a machine, X4STEP_SIM_MACHINE, has no switches to home on.)
+  const bool can_home = !is_sim_device(ctl.path()) || x4step::sim_machine_switches();
+  const std::vector<size_t> unhomed =
+      can_home ? unhomed_axes(mc, at_start, machine_axes_of(mc)) : std::vector<size_t>{};
+  m::plan_summary total;
+  try {
+    total = plan(mc, prog, start, n, coords);
+  } catch (const usage_error &e) {
+    // A soft limit means little while the machine does not know where it stands.
+    if (unhomed.empty()) throw;
+    throw usage_error(std::string(e.what()) + "; but " + unhomed_text(c, mc, unhomed));
+  }
+  // Homed first: an axis with a home switch that the program moves.
+  std::vector<size_t> moved;
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a] && total.moved &&
+        (steps_of(*mc.axes[a], total.min[a]) != steps_of(*mc.axes[a], start[a]) ||
+         steps_of(*mc.axes[a], total.max[a]) != steps_of(*mc.axes[a], start[a])))
+      moved.push_back(a);
+  if (const std::vector<size_t> u = can_home ? unhomed_axes(mc, at_start, moved) : std::vector<size_t>{};
+      !u.empty())
+    throw failure((prog.is_file ? prog.name + ": " : "") + unhomed_text(c, mc, u) + "; nothing moved");
   const bool keyboard = ::isatty(STDIN_FILENO);
   if (n.pauses && !keyboard && !c.no_pause)
     throw usage_error(prog.prefix() + prog.name + ": " + std::to_string(n.pauses) +
@@ -244,6 +277,7 @@ int run_program(const config &c, const program &prog) {
 
   progress_meter meter(mc, ctl, total, prog.command(), keyboard, c.override_percent, start);
   bool aborted = false;
+  g::coordinate_state coords_after = coords;
   std::array<long, x4step::axes> end{};
   {
     path_stream ps(ctl, c.override_percent, c.json, keyboard,
@@ -261,7 +295,7 @@ int run_program(const config &c, const program &prog) {
       if (r.plot) plot.done(pose_of(mc, ctl.get_axes()), ps.done());
     });
     try {
-      plan(mc, prog, start, r);
+      plan(mc, prog, start, r, coords, &coords_after);
       ps.drain();
     } catch (const run_aborted &) {
       ps.drain();
@@ -277,6 +311,8 @@ int run_program(const config &c, const program &prog) {
     plot.completed(ps.done());
   }
   if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name);
+  // A program that ran to its end leaves its offsets (G10, G28.1, G92 ...) for the next command.
+  if (!aborted) save_coordinates(mc, coords, coords_after, prog.command());
   std::ostringstream where;
   json_object pos;
   for (size_t a = 0; a < g::n_axes; a++) {

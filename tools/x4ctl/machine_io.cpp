@@ -72,6 +72,68 @@ void prepare_port(port &p, const m::machine &mc) {
   if (p.get_config().mode() != mode) p.set_config(p.get_config().mode(mode));
 }
 
+g::coordinate_state load_coordinates(const m::machine &mc, const std::string &command) {
+  if (mc.parameter_file.empty()) return {};
+  try {
+    return m::parameter_file(mc.parameter_file).read();
+  } catch (const m::parameter_error &e) {
+    throw failure(command + ": " + e.what());
+  }
+}
+
+void save_coordinates(const m::machine &mc, const g::coordinate_state &before,
+                      const g::coordinate_state &after, const std::string &command) {
+  if (mc.parameter_file.empty() || before == after) return;
+  try {
+    m::parameter_file(mc.parameter_file).update([&](g::coordinate_state &now) {
+      m::apply_changes(now, before, after);
+    });
+  } catch (const m::parameter_error &e) {
+    throw failure(command + ": " + e.what());
+  }
+}
+
+std::string work_text(const m::machine &mc, const std::vector<size_t> &axes, const g::pose &p,
+                      const std::string &command) {
+  const g::pose off = load_coordinates(mc, command).work_offset();
+  std::string s;
+  bool any = false;
+  for (size_t a : axes) {
+    s += " " + std::string(1, axis_letters[a]) + number(p[a] - off[a]);
+    any = any || off[a] != 0;
+  }
+  return any ? ", work" + s : "";
+}
+
+std::vector<size_t> machine_axes_of(const m::machine &mc) {
+  std::vector<size_t> r;
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a]) r.push_back(a);
+  return r;
+}
+
+std::vector<size_t> unhomed_axes(const m::machine &mc, const x4step::axes_status &st,
+                                 const std::vector<size_t> &axes) {
+  std::vector<size_t> r;
+  if (mc.no_force_homing) return r;
+  for (size_t a : axes)
+    if (mc.axes[a] && mc.axes[a]->home.enabled && !st[motor_of(*mc.axes[a])].synced) r.push_back(a);
+  return r;
+}
+
+std::string unhomed_text(const config &c, const m::machine &mc, const std::vector<size_t> &axes) {
+  std::string names;
+  for (size_t i = 0; i < axes.size(); i++)
+    names += (i == 0 ? "" : i + 1 == axes.size() ? " and " : ", ") + std::string(1, axis_letters[axes[i]]);
+  const std::string file = machine_path(c);
+  const bool all = unhomed_axes(mc, x4step::axes_status{}, machine_axes_of(mc)).size() == axes.size();
+  std::string letters;
+  for (size_t a : axes) letters += axis_letters[a];
+  return names + (axes.size() == 1 ? " is" : " are") + " not homed: home first: x4ctl" +
+         (c.sim ? " --sim" : "") + " home --machine " + file + (all ? "" : " " + letters) +
+         " (a machine without home switches may set [TRAJ] NO_FORCE_HOMING = 1)";
+}
+
 std::string number(double v) {
   std::ostringstream o;
   o << std::fixed << std::setprecision(std::fabs(v) < 100 ? 3 : 1) << v;

@@ -6,10 +6,12 @@
 #define X4CTL_MACHINE_IO_HPP
 
 #include <string>
+#include <vector>
 
 #include "cli.hpp"
 #include "io.hpp"
 #include "machine.hpp"
+#include "params.hpp"
 
 namespace x4ctl {
 
@@ -34,6 +36,31 @@ std::string machine_device(const config &c, const m::machine &mc);
 /// Checks that the port can step every axis at its MAX_VELOCITY with its
 /// step timing (failure if not), then sets the machine's output mode.
 void prepare_port(port &p, const m::machine &mc);
+
+/// The offsets and stored positions of the machine's parameter file
+/// ([RS274NGC] PARAMETER_FILE; none: all zero, G54). A bad file is a
+/// failure "COMMAND: file:line: ...".
+g::coordinate_state load_coordinates(const m::machine &mc, const std::string &command);
+/// Puts what a command changed (before -> after) into the parameter file,
+/// under its lock (nothing if it has none or nothing changed).
+void save_coordinates(const m::machine &mc, const g::coordinate_state &before,
+                      const g::coordinate_state &after, const std::string &command);
+
+/// ", work X1 Z-2" for the axes given: where they stand (machine
+/// position p) in the active work system of the parameter file; "" if
+/// it has no offset for them.
+std::string work_text(const m::machine &mc, const std::vector<size_t> &axes, const g::pose &p,
+                      const std::string &command);
+
+/// Every axis of the machine (gcode::X ...).
+std::vector<size_t> machine_axes_of(const m::machine &mc);
+/// The axes among `axes` that have a home switch (HOME_SEARCH_VEL) and are
+/// not referenced on the port; none if [TRAJ] NO_FORCE_HOMING = 1.
+std::vector<size_t> unhomed_axes(const m::machine &mc, const x4step::axes_status &st,
+                                 const std::vector<size_t> &axes);
+/// "X, Y and Z are not homed: home them first: x4ctl home --machine FILE
+/// (or ...NO_FORCE_HOMING...)": why a program that moves them is refused.
+std::string unhomed_text(const config &c, const m::machine &mc, const std::vector<size_t> &axes);
 
 /// A number for people: at most 3 decimals (1 above 100), no trailing zeros.
 std::string number(double v);

@@ -143,14 +143,26 @@ std::vector<size_t> machine_axes(const m::machine &mc, const std::string &letter
 
 double jog_limit(const m::axis &a, bool positive) { return positive ? a.max_limit : a.min_limit; }
 
+std::string refused_by_limits(const m::machine &mc, size_t a, double from, double to) {
+  const std::string why = m::beyond_soft_limit(mc, a, to);
+  if (why.empty()) return why;
+  // Beyond the same limit as it starts, and nearer to it: back toward the range.
+  const m::axis &ax = *mc.axes[a];
+  if (to > ax.max_limit && from > to) return "";
+  if (to < ax.min_limit && from < to) return "";
+  return why;
+}
+
 axes_outcome move_machine(port &p, console &con, const m::machine &mc, const machine_targets &to,
                           double speed) {
   std::array<long, x4step::axes> steps{};
   x4step::axis_set axes;
+  const g::pose from = pose_of(mc, p.get_axes());
   for (size_t a = 0; a < g::n_axes; a++) {
     if (!to[a]) continue;
     if (!mc.axes[a]) throw usage_error("the machine has no " + letter(a) + " axis ([TRAJ] COORDINATES)");
-    if (const std::string why = m::beyond_soft_limit(mc, a, *to[a]); !why.empty()) throw usage_error(why);
+    if (const std::string why = refused_by_limits(mc, a, from[a], *to[a]); !why.empty())
+      throw usage_error(why);
     steps[size_t(mc.axes[a]->motor)] = steps_of(*mc.axes[a], *to[a]);
     axes |= motor_of(*mc.axes[a]);
   }
@@ -217,7 +229,9 @@ void home_machine(port &p, console &con, const m::machine &mc, const std::vector
         throw failure(letter(a) + halted_text(h.halted_by) + " on its way to HOME, at" +
                       where_text(mc, {a}, h.end) + later);
   }
-  out << "home: done, at" << where_text(mc, homed, p.get_axes()) << "\n";
+  const x4step::axes_status end = p.get_axes();
+  out << "home: done, at" << where_text(mc, homed, end) << work_text(mc, homed, pose_of(mc, end), "home")
+      << "\n";
 }
 
 key any_key_brakes::read_key(milliseconds timeout) {
@@ -261,7 +275,7 @@ int cmd_jog_machine(const config &c) {
   machine_targets to;
   if (c.distance) {
     to[a] = from + (positive ? *c.distance : -*c.distance);
-    if (const std::string why = m::beyond_soft_limit(mc, a, *to[a]); !why.empty())
+    if (const std::string why = refused_by_limits(mc, a, from, *to[a]); !why.empty())
       throw usage_error("jog: " + why + ": nothing moved");
   } else {
     to[a] = jog_limit(ax, positive);
@@ -288,7 +302,7 @@ int cmd_jog_machine(const config &c) {
   if (st.error) throw failure(letter(a) + ": " + errors_text(st.error) + " at " + at);
   const bool arrived = st.position == steps_of(ax, *to[a]);
   if (!arrived && c.distance) throw failure(letter(a) + halted_text(o.halted_by) + " at " + at);
-  std::cout << "jog: " << letter(a) << " at " << at
+  std::cout << "jog: " << letter(a) << " at " << at << work_text(mc, {a}, pose_of(mc, o.end), "jog")
             << (arrived               ? ""
                 : o.halted_by.empty() ? ", braked elsewhere"
                                       : ", braked (" + o.halted_by + ")")

@@ -44,12 +44,18 @@ using machine_targets = std::array<std::optional<double>, g::n_axes>;
 /// Moves each axis with a target to it on its own (the positioning API's
 /// independent moves, at once): at `speed` units/s, clamped to its
 /// MAX_VELOCITY (0: at MAX_VELOCITY), accelerating at MAX_ACCELERATION; each
-/// ends exactly at its target rounded to steps. A target beyond a soft
-/// limit is a usage_error, before anything moves. Follows the moves with
+/// ends exactly at its target rounded to steps. A target the soft limits
+/// refuse (refused_by_limits) is a usage_error, before anything moves. Follows the moves with
 /// con (ESC, Ctrl-C and brake requests brake them). The axes' profiles are
 /// restored afterwards.
 axes_outcome move_machine(port &p, console &con, const m::machine &mc, const machine_targets &to,
                           double speed);
+
+/// Why the soft limits refuse a move of axis a from `from` to `to`
+/// (machine units); empty if they allow it: it ends within them, or it
+/// starts beyond a limit and ends nearer to it (back toward the range,
+/// after an overrun).
+std::string refused_by_limits(const m::machine &mc, size_t a, double from, double to);
 
 /// The soft limit a continuous jog of axis a heads for.
 double jog_limit(const m::axis &a, bool positive);

@@ -118,6 +118,7 @@ class panel {
     for (double f : feed_steps)
       if (f <= max_feed_ / 4) feed_ = f;
     if (feed) feed_ = std::min(*feed, max_feed_);  // no axis goes faster anyway
+    offset_ = load_coordinates(mc_, "panel").work_offset();
   }
 
   void run();
@@ -188,7 +189,8 @@ void panel::draw(bool now) {
   line("");
   line("Right/Left X+/X-  Up/Down Y+/Y-  PgUp/PgDn Z+/Z-  ]/[ A+/A-");
   line("i: jog step  c: next jog to the soft limit  +/-: feed  g: go to  h: home");
-  line("z or 0: work zero here (this session only)  space/ESC: stop  q: quit");
+  line(std::string("z or 0: work zero here") + (mc_.parameter_file.empty() ? " (this session only)" : "") +
+       "  space/ESC: stop  q: quit");
   o << "\x1b[J";
   con_.out() << o.str() << std::flush;
 }
@@ -330,8 +332,19 @@ void panel::home() {
 }
 
 void panel::set_zero() {
-  offset_ = pose_of(mc_, p_.get_axes());
-  message_ = "work zero set where the axes stand (for this session only)";
+  const g::pose at = pose_of(mc_, p_.get_axes());
+  if (mc_.parameter_file.empty()) {
+    offset_ = at;
+    message_ = "work zero set where the axes stand (for this session only: no [RS274NGC] PARAMETER_FILE)";
+    return;
+  }
+  // As G10 L20 P0 with every axis 0: the active system's offset, in the parameter file.
+  const g::coordinate_state now = m::parameter_file(mc_.parameter_file).update([&](g::coordinate_state &s) {
+    for (size_t a = 0; a < g::n_axes; a++)
+      if (mc_.axes[a]) s.g5x[size_t(s.system)][a] = at[a] - s.g92[a];
+  });
+  offset_ = now.work_offset();
+  message_ = "work zero set where the axes stand (kept in " + mc_.parameter_file + ")";
 }
 
 void panel::change_feed(bool up) {

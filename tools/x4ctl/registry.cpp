@@ -26,6 +26,7 @@ namespace x4ctl {
   C(path)                      \
   C(gcode)                     \
   C(mdi)                       \
+  C(touch_off)                 \
   C(panel)                     \
   C(machine)
 #define X4CTL_POSITIONING_COMMANDS(C) \

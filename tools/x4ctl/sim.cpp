@@ -34,7 +34,16 @@ std::string sim_elsewhere_text(const std::string &dev, const char *command) {
 std::string sim_forgets_text(const std::string &dev) {
   return "note: " + dev +
          " is a simulated port of this x4ctl alone: the setting ends with it (the module keeps its "
-         "settings; a simulated port starts afresh in every program)";
+         "settings; a simulated port starts afresh in every program" +
+         (sim_state_file().empty()
+              ? ")"
+              : ", but for the axes' coordinates and synchronization, which X4STEP_SIM_STATE=" +
+                    sim_state_file() + " keeps)");
+}
+
+std::string sim_state_file() {
+  const char *s = std::getenv("X4STEP_SIM_STATE");
+  return s ? s : "";
 }
 
 bool sim_keys_scripted() {

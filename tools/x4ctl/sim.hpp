@@ -26,6 +26,10 @@ std::string sim_elsewhere_text(const std::string &dev, const char *command);
 /// A setting made by a one-shot x4ctl on a simulated port ends with it.
 std::string sim_forgets_text(const std::string &dev);
 
+/// X4STEP_SIM_STATE: the file that keeps the simulated port's positions
+/// and synchronization between x4ctl runs; "" none.
+std::string sim_state_file();
+
 /// A brake key comes without a terminal: X4STEP_SIM_KEYS holds a script.
 bool sim_keys_scripted();
 

@@ -5,7 +5,7 @@
 
 # The commands x4ctl --help lists.
 _x4ctl_commands() {
-	"$1" --help 2>/dev/null | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z]*\)\( .*\)\{0,1\}$/\1/p'
+	"$1" --help 2>/dev/null | sed -n '/^Commands:/,/^Run /s/^  \([a-z][a-z-]*\)\( .*\)\{0,1\}$/\1/p'
 }
 
 _x4ctl() {
@@ -65,6 +65,7 @@ _x4ctl() {
 	out) mapfile -t COMPREPLY < <(compgen -W '1 2 on off' -- "$cur") ;;
 	jog) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 + - X+ X- Y+ Y- Z+ Z- A+ A- B+ B- C+ C-' -- "$cur") ;;
 	home) mapfile -t COMPREPLY < <(compgen -W '1 2 3 4 X Y Z A B C' -- "$cur") ;;
+	touch-off) mapfile -t COMPREPLY < <(compgen -W 'X=0 Y=0 Z=0 A=0 B=0 C=0' -- "$cur") ;;
 	esac
 }
 complete -F _x4ctl x4ctl

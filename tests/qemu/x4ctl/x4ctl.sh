@@ -775,6 +775,29 @@ if [ -r "$vmod" ]; then
 	check gcode-soft-limit 2 '' 'far.ngc:2:1: X 2000 is beyond the soft limit \[AXIS_X\] MAX_LIMIT 1000' \
 		x4ctl gcode -m "$tmp/mill.ini" "$tmp/far.ngc"
 	same gcode-soft-limit-moves-nothing "$(at 1)" "$((a1 + 383 - c1))"
+
+	# Homed first and persistent offsets (issue 30): Z of this machine has a home switch.
+	# The module keeps whether an axis is referenced between commands: an emergency
+	# stop loses it, zero gives it back; touch-off's offset is read by the next gcode.
+	cp "$tmp/mill.ini" "$tmp/hmill.ini"
+	printf 'HOME_SEARCH_VEL = 1\nHOME_LATCH_VEL = -0.5\nHOME_INPUT = 3\n[RS274NGC]\nPARAMETER_FILE = hmill.var\n' \
+		>>"$tmp/hmill.ini"
+	printf 'G0 Z0\nM2\n' >"$tmp/z0.ngc"
+	check homed-first-jog 0 'running in the background' '' m jog 3 + --freq 1000
+	usleep 200000
+	check homed-first-stop 0 '^stopped: ' '' m stop
+	check homed-first-unsynced 0 '^axis 3 .*not synchronized' '' m status
+	z=$(at 3)
+	check homed-first-refused 1 '' 'z0.ngc: Z is not homed: home first: x4ctl home --machine .*hmill.ini (a machine without home switches' \
+		x4ctl gcode -m "$tmp/hmill.ini" "$tmp/z0.ngc"
+	same homed-first-moves-nothing "$(at 3)" "$z"
+	check homed-first-zero 0 '^axis 3 at 0, synchronized$' '' m zero 3
+	check touch-off 0 '^touch-off: G54 Z 0.5: Z stands at work -0.5, machine 0 (mm)$' '' \
+		x4ctl touch-off -m "$tmp/hmill.ini" Z=-0.5
+	has touch-off-var "$tmp/hmill.var" '^5223	0.500000$'
+	check homed-first-runs 0 '^gcode: done, at X[-0-9.]* Y[-0-9.]* Z0.5 (mm)$' '' \
+		x4ctl gcode -m "$tmp/hmill.ini" "$tmp/z0.ngc"
+	same touch-off-edges "$(at 3)" "$((z + 50))"
 fi
 
 settle 50

@@ -29,12 +29,18 @@ const subcommand &gcode_subcommand() {
         "and GRBL write it) on a machine described by a machine file (axes, steps\n"
         "per unit, speeds, soft limits, port: machines/README.md). The whole program\n"
         "is checked first, from where the machine stands: a bad line, or a point\n"
-        "beyond a soft limit, is named as FILE:LINE:COLUMN and nothing moves. Then\n"
-        "it runs on the module's path queue, with its progress on one line that fits\n"
+        "beyond a soft limit, is named as FILE:LINE:COLUMN and nothing moves; so is\n"
+        "a program that moves an axis with a home switch that is not homed ('x4ctl\n"
+        "home', unless the machine file says [TRAJ] NO_FORCE_HOMING = 1). Then it\n"
+        "runs on the module's path queue, with its progress on one line that fits\n"
         "the terminal: state, percent of the path length, line, feed, elapsed and\n"
         "remaining time, the keys that work (on a narrow terminal the least needed\n"
         "go first); at the end the machine time and the estimate (\"done in 2:18,\n"
         "estimated 2:11\"), on the port's clock (a simulated port's virtual time).\n"
+        "Work offsets (G54..G59.3 and the active one), G28/G30 positions and G92\n"
+        "come from the machine file's [RS274NGC] PARAMETER_FILE (LinuxCNC's .var\n"
+        "numbering; 'x4ctl touch-off' and the panel's zero set them); what a program\n"
+        "that runs to its end changes (G10 L2/L20, G28.1, G30.1, G92) is written back.\n"
         "Keys on a terminal: space holds and resumes, ESC aborts (hold, then flush),\n"
         "+ and - change the feed override by 10 %. Ctrl-C aborts too; 'x4ctl stop'\n"
         "stops at once. M0, M1 and M6 wait for space (or ESC) with the path at\n"
@@ -45,8 +51,9 @@ const subcommand &gcode_subcommand() {
     c.options = {
         machine_option(machine_file_help),
         check_option("check the program and stop there: a summary (lines,\n"
-                     "segments, path length, estimated time, extents), as\n"
-                     "if the machine stood at machine zero; nothing moves"),
+                     "segments, path length, estimated time, extents in\n"
+                     "work and machine coordinates), as if the machine\n"
+                     "stood at machine zero; nothing moves"),
         override_option(),
         no_pause_option("M0, M1 and M6 stop the path, say so and go on without\n"
                         "waiting (a preview on the simulated port, a script)"),

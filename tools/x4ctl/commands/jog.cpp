@@ -85,11 +85,14 @@ const subcommand &jog_subcommand() {
         "With an axis letter and a sign (X+, Z-), the axis of a machine file\n"
         "(machines/README.md) moves in its units, in machine coordinates: by the\n"
         "distance D, ending exactly at round(position x SCALE) steps (a target\n"
-        "beyond a soft limit is refused, nothing moves); without it toward its soft\n"
-        "limit (MAX_LIMIT for +, MIN_LIMIT for -) until any key, Ctrl-C or 'x4ctl\n"
-        "brake' brakes it, or it stops there. Soft limits apply whether the axis is\n"
-        "homed or not. At --feed, ramps at the axis' MAX_ACCELERATION (the axis'\n"
-        "own move: 'x4ctl profile' is put back afterwards).\n";
+        "beyond a soft limit is refused, nothing moves, unless the axis stands\n"
+        "beyond that limit already and the jog goes back toward the range); without\n"
+        "it toward its soft limit (MAX_LIMIT for +, MIN_LIMIT for -) until any key,\n"
+        "Ctrl-C or 'x4ctl brake' brakes it, or it stops there. Soft limits apply\n"
+        "whether the axis is homed or not. At --feed, ramps at the axis'\n"
+        "MAX_ACCELERATION (the axis' own move: 'x4ctl profile' is put back\n"
+        "afterwards). Where the axis ends is also given in work coordinates when\n"
+        "the parameter file has an offset for it ('x4ctl touch-off').\n";
     c.options = {
         freq_option(),
         ramp_option(),

@@ -30,10 +30,13 @@ const subcommand &mdi_subcommand() {
         "argument one line, as a program of those lines followed by M2: checked\n"
         "whole first (a bad word is named as mdi:LINE:COLUMN and nothing moves),\n"
         "then run as 'x4ctl gcode' runs a file, from where the machine stands, with\n"
-        "its keys and options. Nothing persists between invocations: each starts\n"
-        "in the machine file's units, G90, G17, G94, G54 with every offset zero (so\n"
-        "coordinates are machine coordinates), no tool length offset and no feed\n"
-        "rate: give G91, G20 or F again in the blocks that need them.\n";
+        "its keys and options, axes with a home switch homed first. The modal state\n"
+        "does not persist between invocations: each starts in the machine file's\n"
+        "units, G90, G17, G94, G54, no tool length offset and no feed rate (give\n"
+        "G91, G20 or F again in the blocks that need them), and ends with M2, which\n"
+        "makes G54 the active system again. The work offsets (G10 L2/L20), the\n"
+        "G28/G30 positions (G28.1/G30.1) and G92 persist: read from and written to\n"
+        "the machine file's [RS274NGC] PARAMETER_FILE, as 'x4ctl gcode' does.\n";
     c.options = {
         machine_option(machine_file_help),
         check_option("check the blocks and stop there; nothing moves"),

@@ -18,9 +18,13 @@ int run(const config &c) {
   const x4step::status s = mon.get_status();
   const x4step::axes_status a = mon.get_axes();
   std::cout << (c.json ? status_json(s, a, dev) + "\n" : status_text(s, a, dev));
-  if (is_sim_device(dev) && !c.json)
+  if (is_sim_device(dev) && !c.json && sim_state_file().empty())
     std::cerr << "x4ctl: note: " << dev
               << " is a simulated port of this x4ctl alone: a fresh one, not that of another x4ctl --sim\n";
+  else if (is_sim_device(dev) && !c.json)
+    std::cerr << "x4ctl: note: " << dev << " is a simulated port of this x4ctl alone: the coordinates and "
+              << "synchronization are those X4STEP_SIM_STATE=" << sim_state_file()
+              << " kept, the rest is fresh\n";
   return 0;
 }
 
