@@ -275,8 +275,9 @@ TEST(params, machine_file_keys) {
   mc = read(with_traj("NO_FORCE_HOMING = 1\n"));
   EXPECT_TRUE(mc.no_force_homing);
   EXPECT_FALSE(read(with_traj("NO_FORCE_HOMING = 0\n")).no_force_homing);
-  EXPECT_EQ(refused(base + "[RS274NGC]\nPARAMETER_FILE =\n"),
-            "d/m.ini:16:17: [RS274NGC] PARAMETER_FILE: empty: give the parameter file's name (e.g. x4step.var)");
+  EXPECT_EQ(
+      refused(base + "[RS274NGC]\nPARAMETER_FILE =\n"),
+      "d/m.ini:16:17: [RS274NGC] PARAMETER_FILE: empty: give the parameter file's name (e.g. x4step.var)");
   // LinuxCNC's other [RS274NGC] keys are accepted with a warning (machines/README.md).
   EXPECT_EQ(refused(base + "[RS274NGC]\nSUBROUTINE_PATH = x\n"), "accepted");
   EXPECT_EQ(refused(with_traj("NO_FORCE_HOMING = 2\n")),
