@@ -28,7 +28,7 @@ list=${1:-$top/tests/mutation/mutations.txt}
 build=${BUILD:-$top/build}
 case $build in /*) ;; *) build=$top/$build ;; esac
 work=$build/mutation
-tests="lateness_test path_test positioning_test engine_test" # fastest first
+tests="req_access_test lateness_test path_test positioning_test engine_test" # fastest first
 start=$(date +%s)
 
 if [ -d "$top/kmod/engine" ]; then
@@ -59,12 +59,12 @@ sync() { # SRC DST
 }
 
 # The pristine copy of the engine's files and of the tests; nothing else.
-keep="$files engine_test.cpp positioning_test.cpp lateness_test.cpp engine_ref.cpp engine_ref.h"
+keep="$files engine_test.cpp positioning_test.cpp lateness_test.cpp path_test.cpp req_access_test.cpp engine_ref.cpp engine_ref.h"
 for f in "$work/src"/*; do
 	case " $keep " in *" $(basename "$f") "*) ;; *) rm -f "$f" ;; esac
 done
 for f in $files; do sync "$engdir/$f" "$work/src/$f"; done
-for f in engine_test.cpp positioning_test.cpp lateness_test.cpp path_test.cpp engine_ref.cpp engine_ref.h; do
+for f in engine_test.cpp positioning_test.cpp lateness_test.cpp path_test.cpp req_access_test.cpp engine_ref.cpp engine_ref.h; do
 	sync "$top/tests/host/$f" "$work/src/$f"
 done
 
@@ -83,7 +83,7 @@ fail_build() {
 
 # The tests' objects and the pristine engine objects, two at a time.
 pids=""
-for t in engine_test positioning_test lateness_test path_test engine_ref; do
+for t in engine_test positioning_test lateness_test path_test req_access_test engine_ref; do
 	o=$work/obj/tests/$t.o
 	if need "$o" "$work/src/$t.cpp"; then
 		$CXX $cxxflags -I"$work/src" -c "$work/src/$t.cpp" -o "$o" >"$work/log/$t.build" 2>&1 &
@@ -104,7 +104,7 @@ for p in $pids; do wait "$p" || fail_build "$work/log/"; done
 
 # Link the three tests against the engine objects given.
 link() { # ENGINE_OBJS...
-	for t in engine_test positioning_test lateness_test path_test; do
+	for t in engine_test positioning_test lateness_test path_test req_access_test; do
 		$CXX -o "$bin/$t" "$work/obj/tests/$t.o" "$work/obj/tests/engine_ref.o" "$@" $ldlibs || return 1
 	done
 }
