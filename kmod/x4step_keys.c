@@ -5,9 +5,8 @@
  * input event's own context, with no round trip through user space.
  *
  * Codes are the PC/AT scan code set 1 of the X4Step manual: make code c
- * (1..127) for a press, break code c + 128 for the release. Linux key
- * codes 1..88 are set-1 make codes already; extended keys are translated
- * to the code the MF2 keyboard sends after its E0 prefix.
+ * (1..127) for a press, break code c + 128 for the release; the Linux key
+ * codes are translated by engine/x4_keys.h, as for the simulated keys.
  *
  * With X4STEP_CFG_KEYS_SWALLOW, a brake key pressed while a move runs is
  * swallowed, and so are that key's auto-repeats and its release, even once
@@ -26,6 +25,7 @@
 #include <linux/input.h>
 #include <linux/slab.h>
 
+#include "x4_keys.h"
 #include "x4step_keys.h"
 #include "x4step_registry.h"
 
@@ -37,54 +37,6 @@ struct x4_key_handle {
 	/* Keys whose press was swallowed; under the device's event_lock. */
 	DECLARE_BITMAP(swallowed, KEY_CNT);
 };
-
-static u8 x4step_set1_code(unsigned int key)
-{
-	switch (key) {
-	case 1 ... 88:
-		return key;
-	case KEY_KPENTER:
-		return 28;
-	case KEY_RIGHTCTRL:
-		return 29;
-	case KEY_KPSLASH:
-		return 53;
-	case KEY_SYSRQ:
-		return 55;
-	case KEY_RIGHTALT:
-		return 56;
-	case KEY_PAUSE:
-		return 69;
-	case KEY_HOME:
-		return 71;
-	case KEY_UP:
-		return 72;
-	case KEY_PAGEUP:
-		return 73;
-	case KEY_LEFT:
-		return 75;
-	case KEY_RIGHT:
-		return 77;
-	case KEY_END:
-		return 79;
-	case KEY_DOWN:
-		return 80;
-	case KEY_PAGEDOWN:
-		return 81;
-	case KEY_INSERT:
-		return 82;
-	case KEY_DELETE:
-		return 83;
-	case KEY_LEFTMETA:
-		return 91;
-	case KEY_RIGHTMETA:
-		return 92;
-	case KEY_COMPOSE:
-		return 93;
-	default:
-		return 0;
-	}
-}
 
 /*
  * Runs under the input device's event lock with interrupts off, which also
@@ -101,7 +53,7 @@ static bool x4step_key_filter(struct input_handle *handle, unsigned int type,
 
 	if (type != EV_KEY)
 		return false;
-	make = x4step_set1_code(code); /* 0 for any code >= 128 */
+	make = x4_key_code(code); /* 0 for any code >= 128 */
 	if (!make)
 		return false;
 	if (value == 2) /* auto-repeat is no new press: it goes with the press */
