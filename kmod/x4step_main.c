@@ -19,7 +19,6 @@
 #include <linux/parport.h>
 #include <linux/poll.h>
 #include <linux/slab.h>
-#include <linux/uaccess.h>
 #include <linux/workqueue.h>
 
 #include "x4step_compat.h"
@@ -32,6 +31,7 @@
 
 static dev_t x4_devt;
 static struct class *x4_class;
+
 static bool x4step_busy(struct x4_port *x4)
 {
 	unsigned long flags;
