@@ -26,6 +26,7 @@
 #include "x4step_ioctl.h"
 #include "x4step_keys.h"
 #include "x4step_path.h"
+#include "x4step_motion.h"
 #include "x4step_port.h"
 #include "x4step_registry.h"
 
@@ -156,10 +157,10 @@ static int x4step_release(struct inode *inode, struct file *file)
 		if (!x4->gone) { /* else x4step_detach() released the port */
 			raw_spin_lock_irqsave(&x4->slock, flags);
 			x4step_events_controller_locked(x4, X4STEP_CTL_CLOSED);
-			x4step_port_path_brake_locked(x4, X4STEP_SRC_CLOSE);
+			x4step_motion_path_brake_locked(x4, X4STEP_SRC_CLOSE);
 			if (x4_engine_busy(&x4->eng))
-				x4step_port_brake_locked(x4, 0x0f,
-							 X4STEP_SRC_CLOSE, 0);
+				x4step_motion_brake_locked(x4, 0x0f,
+							   X4STEP_SRC_CLOSE, 0);
 			busy = x4_engine_busy(&x4->eng);
 			raw_spin_unlock_irqrestore(&x4->slock, flags);
 			if (busy) {

@@ -3,7 +3,7 @@
  * x4step: the ioctls that start and halt moves. Those that start them
  * copy the request in, refuse what is invalid in itself
  * (engine/x4_req.c), start the engine through the port
- * (x4step_port_run()) and write the X4Step result back; the controller's
+ * (x4step_motion_run()) and write the X4Step result back; the controller's
  * mutex is held. The halts take only the raw lock, so that nothing
  * holding the mutex delays them.
  */
@@ -12,7 +12,7 @@
 #include "x4_req.h"
 #include "x4step_events.h"
 #include "x4step_move.h"
-#include "x4step_port.h"
+#include "x4step_motion.h"
 
 static int x4step_ioctl_load(struct x4_port *x4, struct x4step_move __user *arg)
 {
@@ -66,22 +66,22 @@ typedef int (*x4_runner)(struct x4_port *x4, const void *karg);
 
 static int x4step_run_endless(struct x4_port *x4, const void *karg)
 {
-	return x4step_port_run(x4, x4step_start_endless, karg,
-			       X4STEP_KIND_ENDLESS);
+	return x4step_motion_run(x4, x4step_start_endless, karg,
+				 X4STEP_KIND_ENDLESS);
 }
 
 static int x4step_run_home(struct x4_port *x4, const void *karg)
 {
-	return x4step_port_run(x4, x4step_start_home, karg, X4STEP_KIND_HOME);
+	return x4step_motion_run(x4, x4step_start_home, karg, X4STEP_KIND_HOME);
 }
 
-/* A goto is planned outside the raw lock (x4step_port_goto()). */
+/* A goto is planned outside the raw lock (x4step_motion_goto()). */
 static int x4step_run_goto(struct x4_port *x4, const void *karg)
 {
 	const struct x4step_goto *ug = karg;
 
-	return x4step_port_goto(x4, (u8)ug->axes, ug->target,
-				ug->flags & X4STEP_GOTO_RELATIVE);
+	return x4step_motion_goto(x4, (u8)ug->axes, ug->target,
+				  ug->flags & X4STEP_GOTO_RELATIVE);
 }
 
 /*
@@ -139,10 +139,10 @@ static int x4step_ioctl_halt(struct x4_port *x4, u32 axes, u32 how)
 	if (x4->gone)
 		ret = -ENODEV;
 	else if (how == X4STEP_HALT_STOP)
-		ret = x4_errno(x4step_port_stop_locked(x4, (u8)axes));
+		ret = x4_errno(x4step_motion_stop_locked(x4, (u8)axes));
 	else
-		ret = x4_errno(x4step_port_brake_locked(x4, (u8)axes,
-							X4STEP_SRC_IOCTL, 0));
+		ret = x4_errno(x4step_motion_brake_locked(x4, (u8)axes,
+							  X4STEP_SRC_IOCTL, 0));
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
 }
@@ -183,11 +183,11 @@ static int x4step_ioctl_estop(struct x4_port *x4,
 		x4step_events_brake_locked(x4,
 					   x4step_events_chans_locked(x4, 0x0f),
 					   X4STEP_SRC_ESTOP, X4STEP_HALT_STOP);
-		ret = x4_errno(x4step_port_stop_locked(x4, 0x0f));
+		ret = x4_errno(x4step_motion_stop_locked(x4, 0x0f));
 	} else {
-		ret = x4_errno(x4step_port_brake_locked(x4, 0x0f,
-							X4STEP_SRC_ESTOP,
-							X4STEP_HALT_BRAKE));
+		ret = x4_errno(x4step_motion_brake_locked(x4, 0x0f,
+							  X4STEP_SRC_ESTOP,
+							  X4STEP_HALT_BRAKE));
 	}
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return ret;
@@ -208,7 +208,7 @@ static int x4step_ioctl_set_position(struct x4_port *x4,
 	x4step_events_stop_locked(x4,
 				  x4step_events_chans_locked(x4, (u8)up.axes));
 	ret = x4_engine_set_position(&x4->eng, (u8)up.axes, up.position);
-	x4step_port_halted_locked(x4);
+	x4step_motion_halted_locked(x4);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	wake_up_all(&x4->wait); /* a path writer or poller: its queue is gone */
 	return x4_errno(ret);
@@ -247,8 +247,8 @@ int x4step_move_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg)
 	case X4STEP_LOAD:
 		return x4step_ioctl_load(x4, uarg);
 	case X4STEP_START:
-		return x4_errno(x4step_port_run(x4, x4step_start_loaded, NULL,
-						X4STEP_KIND_LOADED));
+		return x4_errno(x4step_motion_run(x4, x4step_start_loaded, NULL,
+						  X4STEP_KIND_LOADED));
 	case X4STEP_MOVE_ENDLESS:
 		return x4step_ioctl_run(x4, uarg, &karg.endless,
 					sizeof(karg.endless),

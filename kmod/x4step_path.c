@@ -20,7 +20,7 @@
 
 #include "x4_req.h"
 #include "x4step_path.h"
-#include "x4step_port.h"
+#include "x4step_motion.h"
 
 #define X4_PATH_CHUNK 8 /* records copied at a time: on the stack */
 
@@ -94,7 +94,7 @@ void x4step_path_free(struct x4_port *x4)
 
 /*
  * Start an idle path; a running one follows its new plan without a new
- * event. Only a start is a start (x4step_port_run() arms the timer, clears
+ * event. Only a start is a start (x4step_motion_run() arms the timer, clears
  * the last brake code): a kick of a running path leaves the timer as it
  * is, the gap it keeps after a capped callback too.
  */
@@ -153,7 +153,7 @@ static int x4step_path_go(struct x4_port *x4)
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	if (x4step_path_flushed(x4))
 		return -ECANCELED;
-	x4step_port_run(x4, x4step_kick, NULL, X4STEP_KIND_PATH);
+	x4step_motion_run(x4, x4step_kick, NULL, X4STEP_KIND_PATH);
 	return 0;
 }
 
@@ -286,8 +286,8 @@ static int x4step_path_ctl_cmd(struct x4_port *x4,
 		x4->path_flushes_seen = READ_ONCE(e->path.flushes);
 		return 0;
 	case X4STEP_PATH_RESUME:
-		return x4_errno(x4step_port_run(x4, x4step_resume, NULL,
-						X4STEP_KIND_PATH));
+		return x4_errno(x4step_motion_run(x4, x4step_resume, NULL,
+						  X4STEP_KIND_PATH));
 	case X4STEP_PATH_OVERRIDE:
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		ret = x4_path_set_override(e, c->value);
@@ -295,7 +295,7 @@ static int x4step_path_ctl_cmd(struct x4_port *x4,
 		if (ret)
 			return x4_errno(ret);
 		x4_path_replan(e); /* the writer's half: no raw lock */
-		x4step_port_run(x4, x4step_kick, NULL, X4STEP_KIND_PATH);
+		x4step_motion_run(x4, x4step_kick, NULL, X4STEP_KIND_PATH);
 		return 0;
 	default:
 		return -EINVAL;

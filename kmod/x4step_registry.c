@@ -7,7 +7,7 @@
  */
 #include <linux/rcupdate.h>
 
-#include "x4step_port.h"
+#include "x4step_motion.h"
 #include "x4step_registry.h"
 
 /* Read by the input handler under RCU. */
@@ -47,7 +47,7 @@ bool x4step_registry_brake_key(u32 code)
 	rcu_read_lock();
 	for (i = 0; i < X4_MAX_PORTS; i++) {
 		x4 = rcu_dereference(x4_ports[i]);
-		if (x4 && x4step_port_brake_key(x4, code))
+		if (x4 && x4step_motion_brake_key(x4, code))
 			swallow |= READ_ONCE(x4->cfg_flags) &
 				   X4STEP_CFG_KEYS_SWALLOW;
 	}

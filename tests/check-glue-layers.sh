@@ -12,6 +12,7 @@ levels="main
 ioctl
 move path keys
 registry
+motion
 port
 events"
 fail=0

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // libx4step: the simulated port (port.hpp): its life, its clock, and the
-// engine on its pins, as kmod/x4step_port.c and x4step_main.c do it. The
-// functions named *_locked here mirror the module's of the same name.
+// engine on its pins, as kmod/x4step_port.c, x4step_motion.c and
+// x4step_main.c do it. The functions named *_locked here mirror the
+// module's of the same name.
 #include "port.hpp"
 
 #include <linux/x4step.h>
@@ -404,7 +405,7 @@ void port::let_go_locked() {
 
 // ---- moves ------------------------------------------------------------------
 
-// x4step_port_run().
+// x4step_motion_run().
 int port::run_locked(starter start, const void *arg, unsigned kind) {
   if (claimed_) x4_engine_sense(&eng_, static_cast<u8>(inputs_locked()));
   const int ret = start(&eng_, arg, now_locked());
@@ -417,7 +418,7 @@ int port::run_locked(starter start, const void *arg, unsigned kind) {
   return ret;
 }
 
-// x4step_port_goto(): planned on a copy of the engine, as the module does.
+// x4step_motion_goto(): planned on a copy of the engine, as the module does.
 int port::goto_locked(std::uint8_t axes, const std::int32_t *target, bool relative) {
   plan_eng_ = eng_;
   const int ret = x4_engine_plan_goto(&plan_eng_, axes, target, relative, &plan_goto_);
@@ -429,7 +430,7 @@ int port::goto_locked(std::uint8_t axes, const std::int32_t *target, bool relati
       &plan_goto_, X4STEP_KIND_GOTO);
 }
 
-// x4step_port_halted_locked().
+// x4step_motion_halted_locked().
 void port::halted_locked() {
   write_locked(now_locked());
   drain_locked(0);
@@ -438,7 +439,7 @@ void port::halted_locked() {
   changed_locked();
 }
 
-// x4step_port_brake_locked().
+// x4step_motion_brake_locked().
 int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
   const std::uint8_t chans = x4_track_chans(&eng_, axes);
   const bool aborted = path_brake_locked(source);
@@ -451,7 +452,7 @@ int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
   return aborted ? X4_OK : ret;
 }
 
-// x4step_port_stop_locked().
+// x4step_motion_stop_locked().
 int port::stop_locked(std::uint8_t axes) {
   x4_track_stop(&track_, x4_track_chans(&eng_, axes));
   const int ret = x4_engine_halt(&eng_, axes, true);
@@ -487,7 +488,7 @@ void port::keys_due_locked(std::uint64_t t_ns) {
     key_locked(opt_.keys[next_key_++].code);
 }
 
-// x4step_port_brake_key().
+// x4step_motion_brake_key().
 bool port::key_locked(unsigned code) {
   bool hit = code == 1;
   for (std::uint32_t i = 0; i < n_brake_codes_ && !hit; i++) hit = brake_codes_[i] == code;
