@@ -49,12 +49,12 @@ int port::path_go_locked() {
   return 0;
 }
 
-// x4step_path_brake_aborts_locked(): whether a brake by `source` aborts the path.
+// x4step_motion_path_aborts_locked(): whether a brake by `source` aborts the path.
 bool port::path_brake_aborts_locked(unsigned source) const {
   return x4_req_brake_aborts_path(source, path_cfg_flags_) && x4_path_active(&eng_);
 }
 
-// x4step_path_brake_locked(): hold a path, and flush it too for `source`;
+// x4step_motion_path_brake_locked(): hold a path, and flush it too for `source`;
 // true: it aborted the path.
 bool port::path_brake_locked(unsigned source) {
   return path_brake_aborts_locked(source) && !x4_track_path_abort(&track_, &eng_);

@@ -1341,7 +1341,7 @@ TEST(PathHoldAtTheEnd, AbortInTheFinalBrakeFlushes) {
 
 // Scenario B: the queue ran dry, a segment came in the settle window after
 // the last step, then the controller went away (the glue's hold with
-// abort, x4step_path_brake_locked()): the path never moves again. A mere hold
+// abort, x4step_motion_path_brake_locked()): the path never moves again. A mere hold
 // there stands HELD with the segment queued.
 class PathSettle : public ::testing::TestWithParam<int> {};
 
