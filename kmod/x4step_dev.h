@@ -1,5 +1,9 @@
 /* SPDX-License-Identifier: GPL-2.0 */
-/* x4step: per-port state shared by the module's parts. */
+/*
+ * x4step: the per-port state and the open files, shared by the module's
+ * parts; each part's functions are in its own header (x4step_port.h,
+ * x4step_events.h, x4step_path.h, ...).
+ */
 #ifndef X4STEP_DEV_H
 #define X4STEP_DEV_H
 
@@ -14,7 +18,6 @@
 #include <linux/x4step.h>
 
 #include "x4_engine.h"
-#include "x4_req.h"
 #include "x4_track.h"
 
 #define X4_MAX_PORTS 16 /* minors: parport numbers 0..15 */
@@ -125,55 +128,5 @@ struct x4_file {
 	struct mutex read_lock; /* one read() at a time */
 	u64 ev_next; /* the seq of the next event this file reads */
 };
-
-void x4_port_init(struct x4_port *x4);
-void x4_port_claimed(struct x4_port *x4);
-void x4_port_quiesce(struct x4_port *x4);
-/* Engine calls that start moves, with the ioctl's arguments. */
-typedef int (*x4_starter)(struct x4_engine *e, const void *arg, u64 now_ns);
-int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg,
-		u32 kind);
-int x4_port_goto(struct x4_port *x4, u8 axes, const s32 *target,
-		 bool relative);
-void x4_port_halted_locked(struct x4_port *x4);
-int x4_port_brake_locked(struct x4_port *x4, u8 axes, u32 source, u32 code);
-int x4_port_stop_locked(struct x4_port *x4, u8 axes);
-void x4_port_write_locked(struct x4_port *x4);
-void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert);
-void x4_port_write_rest_locked(struct x4_port *x4);
-u32 x4_port_inputs_locked(struct x4_port *x4);
-void x4_port_gone(struct x4_port *x4);
-bool x4_port_brake_key(struct x4_port *x4, u32 code);
-bool x4_brake_key_all(u32 code);
-
-int x4_events_alloc(struct x4_port *x4);
-void x4_events_free(struct x4_port *x4);
-u8 x4_events_chans_locked(struct x4_port *x4, u8 axes);
-void x4_events_brake_locked(struct x4_port *x4, u8 chans, u32 source,
-			    u32 code);
-void x4_events_stop_locked(struct x4_port *x4, u8 chans);
-void x4_events_controller_locked(struct x4_port *x4, u32 how);
-void x4_events_gone_locked(struct x4_port *x4);
-void x4_events_update_locked(struct x4_port *x4, int c, u32 kind);
-void x4_events_fired_locked(struct x4_port *x4, int c);
-void x4_events_open(struct x4_port *x4, struct x4_file *xf);
-__poll_t x4_events_poll(struct x4_port *x4, struct x4_file *xf);
-ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
-		       struct file *file, char __user *buf, size_t count);
-ssize_t x4_path_write(struct x4_port *x4, struct file *file,
-		      const char __user *buf, size_t count);
-__poll_t x4_path_poll(struct x4_port *x4, struct file *file);
-void x4_path_room_locked(struct x4_port *x4);
-bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source);
-bool x4_path_brake_locked(struct x4_port *x4, u32 source);
-int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg);
-int x4_path_ctl_ioctl(struct x4_port *x4, void __user *uarg);
-int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
-		       void __user *uarg);
-void x4_path_init(struct x4_port *x4);
-void x4_path_stop(struct x4_port *x4);
-void x4_path_free(struct x4_port *x4);
-int x4_keys_init(void);
-void x4_keys_exit(void);
 
 #endif /* X4STEP_DEV_H */

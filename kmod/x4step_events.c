@@ -27,29 +27,29 @@
 #include <linux/string.h>
 #include <linux/uaccess.h>
 
-#include "x4step_dev.h"
+#include "x4step_events.h"
 
-static void x4_ev_track_push(struct x4_track *t, u32 type, u32 axes, u32 how,
-			     u32 value, u32 flags);
+static void x4step_ev_track_push(struct x4_track *t, u32 type, u32 axes,
+				 u32 how, u32 value, u32 flags);
 
-int x4_events_alloc(struct x4_port *x4)
+int x4step_events_alloc(struct x4_port *x4)
 {
 	x4->events = kcalloc(X4_EVENTS, sizeof(*x4->events), GFP_KERNEL);
 	if (!x4->events)
 		return -ENOMEM;
 	x4->ev_seq = 1;
-	x4->ev.push = x4_ev_track_push;
+	x4->ev.push = x4step_ev_track_push;
 	return 0;
 }
 
-void x4_events_free(struct x4_port *x4)
+void x4step_events_free(struct x4_port *x4)
 {
 	kfree(x4->events);
 }
 
 /* Append an event; its reader wake-up goes through the irq_work. */
-static void x4_ev_push_locked(struct x4_port *x4, u32 type, u32 axes,
-			      u32 how, u32 value, u32 flags)
+static void x4step_ev_push_locked(struct x4_port *x4, u32 type, u32 axes,
+				  u32 how, u32 value, u32 flags)
 {
 	const struct x4_engine *e = &x4->eng;
 	struct x4step_event *ev;
@@ -76,43 +76,43 @@ static void x4_ev_push_locked(struct x4_port *x4, u32 type, u32 axes,
 }
 
 /* The events the tracker (engine/x4_track.c) tells of. */
-static void x4_ev_track_push(struct x4_track *t, u32 type, u32 axes, u32 how,
-			     u32 value, u32 flags)
+static void x4step_ev_track_push(struct x4_track *t, u32 type, u32 axes,
+				 u32 how, u32 value, u32 flags)
 {
-	x4_ev_push_locked(container_of(t, struct x4_port, ev), type, axes, how,
-			  value, flags);
+	x4step_ev_push_locked(container_of(t, struct x4_port, ev), type, axes,
+			      how, value, flags);
 }
 
 /* The channels that run moves of the axes in `axes`. */
-u8 x4_events_chans_locked(struct x4_port *x4, u8 axes)
+u8 x4step_events_chans_locked(struct x4_port *x4, u8 axes)
 {
 	lockdep_assert_held(&x4->slock);
 	return x4_track_chans(&x4->eng, axes);
 }
 
 /* A brake of the moves of channels `chans` was asked for, by `source`. */
-void x4_events_brake_locked(struct x4_port *x4, u8 chans, u32 source,
-			    u32 code)
+void x4step_events_brake_locked(struct x4_port *x4, u8 chans, u32 source,
+				u32 code)
 {
 	lockdep_assert_held(&x4->slock);
 	x4_track_brake(&x4->ev, &x4->eng, chans, source, code);
 }
 
 /* The moves of channels `chans` are being stopped at once. */
-void x4_events_stop_locked(struct x4_port *x4, u8 chans)
+void x4step_events_stop_locked(struct x4_port *x4, u8 chans)
 {
 	lockdep_assert_held(&x4->slock);
 	x4_track_stop(&x4->ev, chans);
 }
 
-void x4_events_controller_locked(struct x4_port *x4, u32 how)
+void x4step_events_controller_locked(struct x4_port *x4, u32 how)
 {
-	x4_ev_push_locked(x4, X4STEP_EV_CONTROLLER, 0, how, 0, 0);
+	x4step_ev_push_locked(x4, X4STEP_EV_CONTROLLER, 0, how, 0, 0);
 }
 
-void x4_events_gone_locked(struct x4_port *x4)
+void x4step_events_gone_locked(struct x4_port *x4)
 {
-	x4_ev_push_locked(x4, X4STEP_EV_PORT_GONE, 0, 0, 0, 0);
+	x4step_ev_push_locked(x4, X4STEP_EV_PORT_GONE, 0, 0, 0, 0);
 	x4->ev_closed = true;
 }
 
@@ -121,19 +121,19 @@ void x4_events_gone_locked(struct x4_port *x4)
  * `c`: the engine fired an event of channel c; `kind`: the moves that
  * start now are of this X4STEP_KIND_*.
  */
-void x4_events_update_locked(struct x4_port *x4, int c, u32 kind)
+void x4step_events_update_locked(struct x4_port *x4, int c, u32 kind)
 {
 	lockdep_assert_held(&x4->slock);
 	x4_track_update(&x4->ev, &x4->eng, c, kind);
 }
 
 /* What the engine may have changed by firing an event of channel c. */
-void x4_events_fired_locked(struct x4_port *x4, int c)
+void x4step_events_fired_locked(struct x4_port *x4, int c)
 {
 	x4_track_fired(&x4->ev, &x4->eng, c);
 }
 
-void x4_events_open(struct x4_port *x4, struct x4_file *xf)
+void x4step_events_open(struct x4_port *x4, struct x4_file *xf)
 {
 	unsigned long flags;
 
@@ -148,8 +148,8 @@ void x4_events_open(struct x4_port *x4, struct x4_file *xf)
  * if there is none and the port is gone. A reader that fell behind
  * resumes at the oldest event kept.
  */
-static int x4_ev_take(struct x4_port *x4, struct x4_file *xf,
-		      struct x4step_event *ev)
+static int x4step_ev_take(struct x4_port *x4, struct x4_file *xf,
+			  struct x4step_event *ev)
 {
 	unsigned long flags;
 	u64 oldest;
@@ -168,7 +168,7 @@ static int x4_ev_take(struct x4_port *x4, struct x4_file *xf,
 }
 
 /* Whether xf has an event to read, or the port is gone. */
-static bool x4_ev_ready(struct x4_port *x4, struct x4_file *xf, bool *gone)
+static bool x4step_ev_ready(struct x4_port *x4, struct x4_file *xf, bool *gone)
 {
 	unsigned long flags;
 	bool ready;
@@ -185,23 +185,23 @@ static bool x4_ev_ready(struct x4_port *x4, struct x4_file *xf, bool *gone)
  * is gone and PORT_GONE is in the ring (one snapshot: a poller sees
  * POLLPRI for PORT_GONE whenever it sees the hang-up).
  */
-__poll_t x4_events_poll(struct x4_port *x4, struct x4_file *xf)
+__poll_t x4step_events_poll(struct x4_port *x4, struct x4_file *xf)
 {
 	bool gone;
-	__poll_t events = x4_ev_ready(x4, xf, &gone) ? EPOLLPRI : 0;
+	__poll_t events = x4step_ev_ready(x4, xf, &gone) ? EPOLLPRI : 0;
 
 	return gone ? events | EPOLLERR | EPOLLHUP : events;
 }
 
-static bool x4_ev_wakeup(struct x4_port *x4, struct x4_file *xf)
+static bool x4step_ev_wakeup(struct x4_port *x4, struct x4_file *xf)
 {
 	bool gone;
 
-	return x4_ev_ready(x4, xf, &gone) || gone;
+	return x4step_ev_ready(x4, xf, &gone) || gone;
 }
 
 /* Event `seq` reached xf's reader (under slock: poll reads ev_next). */
-static void x4_ev_consumed(struct x4_port *x4, struct x4_file *xf, u64 seq)
+static void x4step_ev_consumed(struct x4_port *x4, struct x4_file *xf, u64 seq)
 {
 	unsigned long flags;
 
@@ -211,21 +211,21 @@ static void x4_ev_consumed(struct x4_port *x4, struct x4_file *xf, u64 seq)
 }
 
 /* Copy the events there are into buf: bytes copied, or 0, or -errno. */
-static ssize_t x4_ev_copy(struct x4_port *x4, struct x4_file *xf,
-			  char __user *buf, size_t count)
+static ssize_t x4step_ev_copy(struct x4_port *x4, struct x4_file *xf,
+			      char __user *buf, size_t count)
 {
 	struct x4step_event ev;
 	size_t done = 0;
 	int ret;
 
 	while (count - done >= sizeof(ev)) {
-		ret = x4_ev_take(x4, xf, &ev);
+		ret = x4step_ev_take(x4, xf, &ev);
 		if (ret <= 0)
 			return done ? done : ret;
 		if (copy_to_user(buf + done, &ev, sizeof(ev)))
 			return done ? done : -EFAULT;
 		/* Only what reached the reader counts as read. */
-		x4_ev_consumed(x4, xf, ev.seq);
+		x4step_ev_consumed(x4, xf, ev.seq);
 		done += sizeof(ev);
 	}
 	return done;
@@ -238,8 +238,8 @@ static ssize_t x4_ev_copy(struct x4_port *x4, struct x4_file *xf,
  * the port is gone and every event, PORT_GONE the last, has been read.
  * The file's read lock is not held while waiting.
  */
-ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
-		       struct file *file, char __user *buf, size_t count)
+ssize_t x4step_events_read(struct x4_port *x4, struct x4_file *xf,
+			   struct file *file, char __user *buf, size_t count)
 {
 	bool nonblock = file->f_flags & O_NONBLOCK;
 	ssize_t ret;
@@ -253,14 +253,14 @@ ssize_t x4_events_read(struct x4_port *x4, struct x4_file *xf,
 		} else if (mutex_lock_interruptible(&xf->read_lock)) {
 			return -ERESTARTSYS;
 		}
-		ret = x4_ev_copy(x4, xf, buf, count);
+		ret = x4step_ev_copy(x4, xf, buf, count);
 		mutex_unlock(&xf->read_lock);
 		if (ret)
 			return ret;
 		if (nonblock)
 			return -EAGAIN;
 		ret = wait_event_interruptible(x4->wait,
-					       x4_ev_wakeup(x4, xf));
+					       x4step_ev_wakeup(x4, xf));
 		if (ret)
 			return ret;
 	}

@@ -5,9 +5,8 @@
  * input event's own context, with no round trip through user space.
  *
  * Codes are the PC/AT scan code set 1 of the X4Step manual: make code c
- * (1..127) for a press, break code c + 128 for the release. Linux key
- * codes 1..88 are set-1 make codes already; extended keys are translated
- * to the code the MF2 keyboard sends after its E0 prefix.
+ * (1..127) for a press, break code c + 128 for the release; the Linux key
+ * codes are translated by engine/x4_keys.h, as for the simulated keys.
  *
  * With X4STEP_CFG_KEYS_SWALLOW, a brake key pressed while a move runs is
  * swallowed, and so are that key's auto-repeats and its release, even once
@@ -26,7 +25,9 @@
 #include <linux/input.h>
 #include <linux/slab.h>
 
-#include "x4step_dev.h"
+#include "x4_keys.h"
+#include "x4step_keys.h"
+#include "x4step_registry.h"
 
 #define X4_KEY_ESC 1
 
@@ -37,61 +38,13 @@ struct x4_key_handle {
 	DECLARE_BITMAP(swallowed, KEY_CNT);
 };
 
-static u8 x4_set1_code(unsigned int key)
-{
-	switch (key) {
-	case 1 ... 88:
-		return key;
-	case KEY_KPENTER:
-		return 28;
-	case KEY_RIGHTCTRL:
-		return 29;
-	case KEY_KPSLASH:
-		return 53;
-	case KEY_SYSRQ:
-		return 55;
-	case KEY_RIGHTALT:
-		return 56;
-	case KEY_PAUSE:
-		return 69;
-	case KEY_HOME:
-		return 71;
-	case KEY_UP:
-		return 72;
-	case KEY_PAGEUP:
-		return 73;
-	case KEY_LEFT:
-		return 75;
-	case KEY_RIGHT:
-		return 77;
-	case KEY_END:
-		return 79;
-	case KEY_DOWN:
-		return 80;
-	case KEY_PAGEDOWN:
-		return 81;
-	case KEY_INSERT:
-		return 82;
-	case KEY_DELETE:
-		return 83;
-	case KEY_LEFTMETA:
-		return 91;
-	case KEY_RIGHTMETA:
-		return 92;
-	case KEY_COMPOSE:
-		return 93;
-	default:
-		return 0;
-	}
-}
-
 /*
  * Runs under the input device's event lock with interrupts off, which also
  * serialises the handle's bitmap: only the engine's raw spinlock is taken.
  * Returns true to swallow the event.
  */
-static bool x4_key_filter(struct input_handle *handle, unsigned int type,
-			  unsigned int code, int value)
+static bool x4step_key_filter(struct input_handle *handle, unsigned int type,
+			      unsigned int code, int value)
 {
 	struct x4_key_handle *kh =
 		container_of(handle, struct x4_key_handle, handle);
@@ -100,25 +53,25 @@ static bool x4_key_filter(struct input_handle *handle, unsigned int type,
 
 	if (type != EV_KEY)
 		return false;
-	make = x4_set1_code(code); /* 0 for any code >= 128 */
+	make = x4_key_code(code); /* 0 for any code >= 128 */
 	if (!make)
 		return false;
 	if (value == 2) /* auto-repeat is no new press: it goes with the press */
 		return test_bit(code, kh->swallowed);
 	if (value) {
-		swallow = x4_brake_key_all(make);
+		swallow = x4step_registry_brake_key(make);
 		/* Assigned either way: a grab may have taken the last release. */
 		__assign_bit(code, kh->swallowed, swallow);
 		return swallow;
 	}
 	/* A release brakes on its own code but is swallowed with its press. */
-	x4_brake_key_all(make + 128);
+	x4step_registry_brake_key(make + 128);
 	return __test_and_clear_bit(code, kh->swallowed);
 }
 
-static int x4_key_connect(struct input_handler *handler,
-			  struct input_dev *dev,
-			  const struct input_device_id *id)
+static int x4step_key_connect(struct input_handler *handler,
+			      struct input_dev *dev,
+			      const struct input_device_id *id)
 {
 	struct x4_key_handle *kh;
 	struct input_handle *handle;
@@ -147,7 +100,7 @@ err_free:
 	return ret;
 }
 
-static void x4_key_disconnect(struct input_handle *handle)
+static void x4step_key_disconnect(struct input_handle *handle)
 {
 	input_close_device(handle);
 	input_unregister_handle(handle);
@@ -164,19 +117,19 @@ static const struct input_device_id x4_key_ids[] = {
 };
 
 static struct input_handler x4_key_handler = {
-	.filter = x4_key_filter,
-	.connect = x4_key_connect,
-	.disconnect = x4_key_disconnect,
+	.filter = x4step_key_filter,
+	.connect = x4step_key_connect,
+	.disconnect = x4step_key_disconnect,
 	.name = KBUILD_MODNAME,
 	.id_table = x4_key_ids,
 };
 
-int x4_keys_init(void)
+int x4step_keys_init(void)
 {
 	return input_register_handler(&x4_key_handler);
 }
 
-void x4_keys_exit(void)
+void x4step_keys_exit(void)
 {
 	input_unregister_handler(&x4_key_handler);
 }

@@ -18,12 +18,14 @@
 #include <linux/slab.h>
 #include <linux/uaccess.h>
 
-#include "x4step_dev.h"
+#include "x4_req.h"
+#include "x4step_path.h"
+#include "x4step_motion.h"
 
 #define X4_PATH_CHUNK 8 /* records copied at a time: on the stack */
 
 /* A new queue of `depth` slots, the old one freed; lock held. */
-static int x4_path_resize(struct x4_port *x4, u32 depth)
+static int x4step_path_resize(struct x4_port *x4, u32 depth)
 {
 	struct x4_path_slot *slots, *old = x4->path_slots;
 	unsigned long flags;
@@ -51,7 +53,7 @@ static int x4_path_resize(struct x4_port *x4, u32 depth)
  * The pass a write() left over, X4_PATH_PLAN_WORK entries a jiffy under
  * the mutex; then the running segment follows the raised plan.
  */
-static void x4_path_plan_work(struct work_struct *work)
+static void x4step_path_plan_work(struct work_struct *work)
 {
 	struct x4_port *x4 = container_of(to_delayed_work(work),
 					  struct x4_port, path_plan_work);
@@ -73,41 +75,41 @@ static void x4_path_plan_work(struct work_struct *work)
 	mutex_unlock(&x4->lock);
 }
 
-void x4_path_init(struct x4_port *x4)
+void x4step_path_init(struct x4_port *x4)
 {
 	mutex_init(&x4->path_write_lock);
-	INIT_DELAYED_WORK(&x4->path_plan_work, x4_path_plan_work);
+	INIT_DELAYED_WORK(&x4->path_plan_work, x4step_path_plan_work);
 }
 
 /* The port is gone (x4->gone): no planning from now on. */
-void x4_path_stop(struct x4_port *x4)
+void x4step_path_stop(struct x4_port *x4)
 {
 	cancel_delayed_work_sync(&x4->path_plan_work);
 }
 
-void x4_path_free(struct x4_port *x4)
+void x4step_path_free(struct x4_port *x4)
 {
 	kvfree(x4->path_slots);
 }
 
 /*
  * Start an idle path; a running one follows its new plan without a new
- * event. Only a start is a start (x4_port_run() arms the timer, clears
+ * event. Only a start is a start (x4step_motion_run() arms the timer, clears
  * the last brake code): a kick of a running path leaves the timer as it
  * is, the gap it keeps after a capped callback too.
  */
-static int x4_kick(struct x4_engine *e, const void *arg, u64 now_ns)
+static int x4step_kick(struct x4_engine *e, const void *arg, u64 now_ns)
 {
 	return x4_path_kick(e, now_ns) ? X4_OK : X4_ERR_IS_ACTIVE;
 }
 
-static int x4_resume(struct x4_engine *e, const void *arg, u64 now_ns)
+static int x4step_resume(struct x4_engine *e, const void *arg, u64 now_ns)
 {
 	return x4_path_resume(e, now_ns);
 }
 
 /* Check one record and queue it (room known); lock held. */
-static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
+static int x4step_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 {
 	struct x4_segment seg;
 	unsigned long flags;
@@ -126,14 +128,14 @@ static int x4_path_queue(struct x4_port *x4, const struct x4step_segment *r)
 }
 
 /* A flush the controller has not acknowledged (X4STEP_PATH_CLEAR). */
-static bool x4_path_flushed(struct x4_port *x4)
+static bool x4step_path_flushed(struct x4_port *x4)
 {
 	return READ_ONCE(x4->eng.path.flushes) != x4->path_flushes_seen;
 }
 
-static bool x4_path_has_room(struct x4_port *x4)
+static bool x4step_path_has_room(struct x4_port *x4)
 {
-	return x4_path_room(&x4->eng) || x4_path_flushed(x4) ||
+	return x4_path_room(&x4->eng) || x4step_path_flushed(x4) ||
 	       READ_ONCE(x4->gone);
 }
 
@@ -141,22 +143,22 @@ static bool x4_path_has_room(struct x4_port *x4)
  * After a chunk: start the path, unless it was flushed meanwhile; then
  * what this write() queued after the flush goes too, and it ends.
  */
-static int x4_path_go(struct x4_port *x4)
+static int x4step_path_go(struct x4_port *x4)
 {
 	unsigned long flags;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (x4_path_flushed(x4))
+	if (x4step_path_flushed(x4))
 		x4_path_hold(&x4->eng, true);
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	if (x4_path_flushed(x4))
+	if (x4step_path_flushed(x4))
 		return -ECANCELED;
-	x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
+	x4step_motion_run(x4, x4step_kick, NULL, X4STEP_KIND_PATH);
 	return 0;
 }
 
-ssize_t x4_path_write(struct x4_port *x4, struct file *file,
-		      const char __user *buf, size_t count)
+ssize_t x4step_path_write(struct x4_port *x4, struct file *file,
+			  const char __user *buf, size_t count)
 {
 	struct x4step_segment rec[X4_PATH_CHUNK];
 	size_t done = 0, n, i;
@@ -178,7 +180,7 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 	if (x4->gone)
 		ret = -ENODEV;
 	else if (!x4->path_slots)
-		ret = x4_path_resize(x4, X4STEP_PATH_DEPTH_MIN);
+		ret = x4step_path_resize(x4, X4STEP_PATH_DEPTH_MIN);
 	while (!ret && done < count) {
 		if (done) { /* between chunks: the controller's ioctls */
 			mutex_unlock(&x4->lock);
@@ -188,7 +190,7 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 			if (x4->gone || signal_pending(current))
 				break;
 		}
-		if (x4_path_flushed(x4)) {
+		if (x4step_path_flushed(x4)) {
 			ret = -ECANCELED;
 			break;
 		}
@@ -203,8 +205,8 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 			}
 			WRITE_ONCE(x4->path_room_wanted, true);
 			mutex_unlock(&x4->lock);
-			ret = wait_event_interruptible(x4->wait,
-						       x4_path_has_room(x4));
+			ret = wait_event_interruptible(
+				x4->wait, x4step_path_has_room(x4));
 			if (!ret && mutex_lock_interruptible(&x4->lock))
 				ret = -ERESTARTSYS;
 			if (ret)
@@ -218,11 +220,11 @@ ssize_t x4_path_write(struct x4_port *x4, struct file *file,
 			break;
 		}
 		for (i = 0; i < n && !ret; i++) {
-			ret = x4_path_queue(x4, &rec[i]);
+			ret = x4step_path_queue(x4, &rec[i]);
 			if (!ret)
 				done += sizeof(rec[0]);
 		}
-		if (x4_path_go(x4)) { /* what it queued is flushed too */
+		if (x4step_path_go(x4)) { /* what it queued is flushed too */
 			ret = -ECANCELED;
 			done = 0;
 		}
@@ -237,57 +239,23 @@ out_unlocked:
 }
 
 /* POLLOUT for the controller while the queue has room. */
-__poll_t x4_path_poll(struct x4_port *x4, struct file *file)
+__poll_t x4step_path_poll(struct x4_port *x4, struct file *file)
 {
 	if (READ_ONCE(x4->controller) != file)
 		return 0;
 	if (!READ_ONCE(x4->path_slots))
 		return EPOLLOUT | EPOLLWRNORM;
 	WRITE_ONCE(x4->path_room_wanted, true);
-	smp_mb(); /* pairs with x4_path_room_locked(): one of us sees the other */
-	return x4_path_room(&x4->eng) ? EPOLLOUT | EPOLLWRNORM : 0;
-}
-
-/* The timer freed slots a writer waits for: wake it (slock held). */
-void x4_path_room_locked(struct x4_port *x4)
-{
-	if (!x4_path_active(&x4->eng))
-		return;
-	/*
-	 * The timer advanced head, then reads wanted; a writer sets wanted,
-	 * then reads head (wait_event()'s set_current_state(), or the barrier
-	 * in x4_path_poll()): with this barrier one of them sees the other.
-	 */
+	/* Pairs with x4step_port_room_locked(): one of us sees the other. */
 	smp_mb();
-	if (READ_ONCE(x4->path_room_wanted) && x4_path_room(&x4->eng)) {
-		WRITE_ONCE(x4->path_room_wanted, false);
-		irq_work_queue(&x4->wake_work);
-	}
-}
-
-/* Whether a brake by `source` aborts the path: there is one (slock held). */
-bool x4_path_brake_aborts_locked(struct x4_port *x4, u32 source)
-{
-	lockdep_assert_held(&x4->slock);
-	return x4_req_brake_aborts_path(source, READ_ONCE(x4->path_cfg_flags)) &&
-	       x4_path_active(&x4->eng);
-}
-
-/*
- * Brake a path: hold it, and flush it too for `source`, held or running
- * (slock held). True: it aborted the path.
- */
-bool x4_path_brake_locked(struct x4_port *x4, u32 source)
-{
-	return x4_path_brake_aborts_locked(x4, source) &&
-	       !x4_track_path_abort(&x4->ev, &x4->eng);
+	return x4_path_room(&x4->eng) ? EPOLLOUT | EPOLLWRNORM : 0;
 }
 
 /*
  * HOLD and ABORT: the raw lock only, as ESTOP and the brake keys, so that
  * a write() or another ioctl holding the mutex does not delay them.
  */
-static int x4_path_hold_ctl(struct x4_port *x4, u32 cmd)
+static int x4step_path_hold_ctl(struct x4_port *x4, u32 cmd)
 {
 	unsigned long flags;
 	int ret;
@@ -305,7 +273,8 @@ static int x4_path_hold_ctl(struct x4_port *x4, u32 cmd)
 }
 
 /* The other commands; lock held. */
-static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
+static int x4step_path_ctl_cmd(struct x4_port *x4,
+			       const struct x4step_path_ctl *c)
 {
 	struct x4_engine *e = &x4->eng;
 	unsigned long flags;
@@ -317,8 +286,8 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 		x4->path_flushes_seen = READ_ONCE(e->path.flushes);
 		return 0;
 	case X4STEP_PATH_RESUME:
-		return x4_req_errno(x4_port_run(x4, x4_resume, NULL,
-					    X4STEP_KIND_PATH));
+		return x4_req_errno(x4step_motion_run(x4, x4step_resume, NULL,
+						  X4STEP_KIND_PATH));
 	case X4STEP_PATH_OVERRIDE:
 		raw_spin_lock_irqsave(&x4->slock, flags);
 		ret = x4_path_set_override(e, c->value);
@@ -326,7 +295,7 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 		if (ret)
 			return x4_req_errno(ret);
 		x4_path_replan(e); /* the writer's half: no raw lock */
-		x4_port_run(x4, x4_kick, NULL, X4STEP_KIND_PATH);
+		x4step_motion_run(x4, x4step_kick, NULL, X4STEP_KIND_PATH);
 		return 0;
 	default:
 		return -EINVAL;
@@ -334,7 +303,7 @@ static int x4_path_ctl(struct x4_port *x4, const struct x4step_path_ctl *c)
 }
 
 /* X4STEP_PATH_CTL of the controller; takes the locks it needs. */
-int x4_path_ctl_ioctl(struct x4_port *x4, void __user *uarg)
+int x4step_path_ctl_ioctl(struct x4_port *x4, void __user *uarg)
 {
 	struct x4step_path_ctl c;
 	int ret;
@@ -344,41 +313,41 @@ int x4_path_ctl_ioctl(struct x4_port *x4, void __user *uarg)
 	if (x4_req_bad_path_ctl(&c))
 		return -EINVAL;
 	if (c.cmd == X4STEP_PATH_HOLD || c.cmd == X4STEP_PATH_ABORT)
-		return x4_path_hold_ctl(x4, c.cmd);
+		return x4step_path_hold_ctl(x4, c.cmd);
 	mutex_lock(&x4->lock);
-	ret = x4->gone ? -ENODEV : x4_path_ctl(x4, &c);
+	ret = x4->gone ? -ENODEV : x4step_path_ctl_cmd(x4, &c);
 	mutex_unlock(&x4->lock);
 	return ret;
 }
 
-static int x4_path_set_config(struct x4_port *x4,
-			      const struct x4step_path_config *c)
+static int x4step_path_set_config(struct x4_port *x4,
+				  const struct x4step_path_config *c)
 {
 	int ret = 0;
 
 	if (x4_req_bad_path_config(c))
 		return -EINVAL;
 	if (c->depth)
-		ret = x4_path_resize(x4, c->depth);
+		ret = x4step_path_resize(x4, c->depth);
 	if (!ret)
 		WRITE_ONCE(x4->path_cfg_flags, c->flags);
 	return ret;
 }
 
 /* X4STEP_SET_PATH_CONFIG of the controller; lock held. */
-int x4_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg)
+int x4step_path_ioctl(struct x4_port *x4, unsigned int cmd, void __user *uarg)
 {
 	struct x4step_path_config cfg;
 
 	lockdep_assert_held(&x4->lock);
 	if (copy_from_user(&cfg, uarg, sizeof(cfg)))
 		return -EFAULT;
-	return x4_path_set_config(x4, &cfg);
+	return x4step_path_set_config(x4, &cfg);
 }
 
 /* The path's reading ioctls, on any descriptor. */
-int x4_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
-		       void __user *uarg)
+int x4step_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
+			   void __user *uarg)
 {
 	struct x4step_path_config cfg;
 	struct x4step_path_status st;

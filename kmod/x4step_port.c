@@ -24,7 +24,9 @@
 #include <linux/parport.h>
 
 #include "x4step_compat.h"
-#include "x4step_dev.h"
+#include "x4_req.h"
+#include "x4step_events.h"
+#include "x4step_port.h"
 
 /* Pins 1, 14 and 17 (C0, C1, C3) are inverted by the port hardware. */
 #define X4_CTL_HW_INVERT 0x0b
@@ -66,7 +68,7 @@
 #define X4_TICK_GAP_NS 5000
 
 /* Wakes pollers when moves end (from the hard-irq timer). */
-static void x4_wake(struct irq_work *work)
+static void x4step_wake(struct irq_work *work)
 {
 	struct x4_port *x4 = container_of(work, struct x4_port, wake_work);
 
@@ -74,7 +76,7 @@ static void x4_wake(struct irq_work *work)
 }
 
 /* The data bits that user wiring inverts: set once, not per event. */
-void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert)
+void x4step_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert)
 {
 	u8 bits = 0;
 	int i;
@@ -95,7 +97,7 @@ void x4_port_set_invert(struct x4_port *x4, u8 clock_invert, u8 dir_invert)
  * Put the engine's pin levels on the port, writing only the registers
  * that change (port I/O is slow, and this runs in hard irq).
  */
-void x4_port_write_locked(struct x4_port *x4)
+void x4step_port_write_locked(struct x4_port *x4)
 {
 	struct parport *port = x4->port;
 	u8 data = x4->eng.data;
@@ -135,7 +137,7 @@ void x4_port_write_locked(struct x4_port *x4)
  * that was no clock edge, or one of a kind not measured yet, counts from
  * its end: later, never earlier.
  */
-static u32 x4_write_base(const struct x4_port *x4)
+static u32 x4step_write_base(const struct x4_port *x4)
 {
 	u32 w;
 
@@ -145,9 +147,9 @@ static u32 x4_write_base(const struct x4_port *x4)
 	return w == U32_MAX ? 0 : w;
 }
 
-static void x4_port_written_locked(struct x4_port *x4)
+static void x4step_port_written_locked(struct x4_port *x4)
 {
-	x4_engine_written(&x4->eng, ktime_get_ns() - x4_write_base(x4) -
+	x4_engine_written(&x4->eng, ktime_get_ns() - x4step_write_base(x4) -
 			  ktime_to_ns(x4->epoch));
 }
 
@@ -155,7 +157,7 @@ static void x4_port_written_locked(struct x4_port *x4)
  * Fire and write what is due by engine time `until` (more writes of one
  * instant in phase mode, a stop's rest patterns).
  */
-static void x4_port_drain_locked(struct x4_port *x4, u64 until)
+void x4step_port_drain_locked(struct x4_port *x4, u64 until)
 {
 	int c;
 
@@ -163,14 +165,14 @@ static void x4_port_drain_locked(struct x4_port *x4, u64 until)
 	while (x4_engine_busy(&x4->eng) && x4_engine_due(&x4->eng) <= until) {
 		c = x4->eng.cur - x4->eng.ch;
 		x4_engine_fire(&x4->eng, until);
-		x4_port_write_locked(x4);
-		x4_port_written_locked(x4);
-		x4_events_fired_locked(x4, c);
+		x4step_port_write_locked(x4);
+		x4step_port_written_locked(x4);
+		x4step_events_fired_locked(x4, c);
 	}
 }
 
 /* Put the port in the engine's rest state (all of it, in phase mode). */
-void x4_port_write_rest_locked(struct x4_port *x4)
+void x4step_port_write_rest_locked(struct x4_port *x4)
 {
 	u8 bytes[X4_SMC_AXES];
 	int i, n = x4_phase_rest_writes(&x4->eng, bytes);
@@ -178,12 +180,12 @@ void x4_port_write_rest_locked(struct x4_port *x4)
 	lockdep_assert_held(&x4->slock);
 	for (i = 0; i < n; i++) {
 		x4->eng.data = bytes[i];
-		x4_port_write_locked(x4);
+		x4step_port_write_locked(x4);
 	}
 }
 
 /* The port is going away: no register access from now on. */
-void x4_port_gone(struct x4_port *x4)
+void x4step_port_gone(struct x4_port *x4)
 {
 	unsigned long flags;
 
@@ -197,7 +199,7 @@ void x4_port_gone(struct x4_port *x4)
  * ours: otherwise lp or ppdev may own it, and the last levels read are
  * returned (x4->claimed says which).
  */
-u32 x4_port_inputs_locked(struct x4_port *x4)
+u32 x4step_port_inputs_locked(struct x4_port *x4)
 {
 	u8 status;
 
@@ -213,7 +215,7 @@ u32 x4_port_inputs_locked(struct x4_port *x4)
 }
 
 /* Count how late an event is written, `late` ns after it was due. */
-static void x4_account_lateness(struct x4_port *x4, s64 late)
+static void x4step_account_lateness(struct x4_port *x4, s64 late)
 {
 	struct x4step_timing *t = &x4->timing;
 	u64 bucket;
@@ -237,7 +239,7 @@ static void x4_account_lateness(struct x4_port *x4, s64 late)
  * a phase step's further writes: each is counted, and each step that a
  * limit or REF watches has the switches looked at first.
  */
-static void x4_fire_locked(struct x4_port *x4, ktime_t now)
+static void x4step_fire_locked(struct x4_port *x4, ktime_t now)
 {
 	struct x4_engine *e = &x4->eng;
 	s64 t = ktime_to_ns(ktime_sub(now, x4->epoch));
@@ -245,12 +247,12 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
 
 	lockdep_assert_held(&x4->slock);
 	if (x4->claimed && x4_engine_rise_watched(e))
-		x4_switch_sense(e, x4_port_inputs_locked(x4));
-	x4_account_lateness(x4, t - (s64)x4_engine_due(e));
+		x4_switch_sense(e, x4step_port_inputs_locked(x4));
+	x4step_account_lateness(x4, t - (s64)x4_engine_due(e));
 	x4_engine_fire(e, t);
-	x4_port_write_locked(x4);
-	x4_port_written_locked(x4);
-	x4_events_fired_locked(x4, c);
+	x4step_port_write_locked(x4);
+	x4step_port_written_locked(x4);
+	x4step_events_fired_locked(x4, c);
 }
 
 /*
@@ -258,7 +260,7 @@ static void x4_fire_locked(struct x4_port *x4, ktime_t now)
  * X4_EARLY_NS to spare (a rise's slack is its step before's: at the end
  * of a ramp the step is a little shorter).
  */
-static bool x4_tight_locked(struct x4_port *x4)
+static bool x4step_tight_locked(struct x4_port *x4)
 {
 	return x4_engine_slack(&x4->eng) < (u64)x4->late_est_ns + X4_EARLY_NS;
 }
@@ -272,7 +274,7 @@ MODULE_PARM_DESC(ontime_spin, "arm the timer early and wait with interrupts off 
  * (Re)arm the timer for the engine's next event, not before `earliest`;
  * early for an edge without slack.
  */
-static void x4_arm_locked(struct x4_port *x4, ktime_t earliest)
+void x4step_port_arm_locked(struct x4_port *x4, ktime_t earliest)
 {
 	ktime_t due = ktime_add_ns(x4->epoch, x4_engine_due(&x4->eng));
 	u64 early = 0;
@@ -282,9 +284,9 @@ static void x4_arm_locked(struct x4_port *x4, ktime_t earliest)
 		return;
 	/*
 	 * Beyond X4_SPIN_MAX_NS of lateness the wait cannot place the edge
-	 * (x4_wait_next()): arming early would only cost a callback.
+	 * (x4step_wait_next()): arming early would only cost a callback.
 	 */
-	if (READ_ONCE(ontime_spin) && x4_tight_locked(x4)) {
+	if (READ_ONCE(ontime_spin) && x4step_tight_locked(x4)) {
 		early = (u64)x4->late_est_ns + X4_EARLY_NS;
 		if (early > X4_SPIN_MAX_NS)
 			early = 0;
@@ -296,7 +298,7 @@ static void x4_arm_locked(struct x4_port *x4, ktime_t earliest)
 }
 
 /* The timer fired at `now`: how late it usually is. */
-static void x4_note_lateness_locked(struct x4_port *x4, ktime_t now)
+static void x4step_note_lateness_locked(struct x4_port *x4, ktime_t now)
 {
 	s64 late = ktime_to_ns(ktime_sub(now, x4->armed));
 	u32 est = x4->late_est_ns;
@@ -316,8 +318,8 @@ static void x4_note_lateness_locked(struct x4_port *x4, ktime_t now)
  * fall of a configured pulse shorter than the timer's jitter, or an edge
  * the timer was armed early for, or one as tight due within the bound.
  */
-static bool x4_wait_next(struct x4_port *x4, const struct x4_chan *fired,
-			 ktime_t due, ktime_t now)
+static bool x4step_wait_next(struct x4_port *x4, const struct x4_chan *fired,
+			     ktime_t due, ktime_t now)
 {
 	s64 ahead = ktime_to_ns(ktime_sub(due, now));
 
@@ -325,15 +327,15 @@ static bool x4_wait_next(struct x4_port *x4, const struct x4_chan *fired,
 	    ahead <= X4_SPIN_NS)
 		return true;
 	return ahead <= X4_SPIN_MAX_NS && READ_ONCE(ontime_spin) &&
-	       (x4->armed_early || x4_tight_locked(x4));
+	       (x4->armed_early || x4step_tight_locked(x4));
 }
 
 /*
  * Fire the pending event before its time `due`: the engine works the edge
- * out as if on time, then the wait (x4_wait_next() bounds it) ends at
+ * out as if on time, then the wait (x4step_wait_next() bounds it) ends at
  * `due` and the write follows at once. Counted in spins and spin_ns.
  */
-static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
+static void x4step_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 {
 	struct x4_engine *e = &x4->eng;
 	int c = e->cur - e->ch;
@@ -344,7 +346,7 @@ static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 
 	lockdep_assert_held(&x4->slock);
 	if (x4->claimed && x4_engine_rise_watched(e))
-		x4_switch_sense(e, x4_port_inputs_locked(x4));
+		x4_switch_sense(e, x4step_port_inputs_locked(x4));
 	x4_engine_fire(e, ktime_to_ns(ktime_sub(due, x4->epoch)));
 	start = ktime_get();
 	for (now = start; ktime_before(now, due); now = ktime_get()) {
@@ -352,7 +354,7 @@ static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 			break;
 		cpu_relax();
 	}
-	x4_port_write_locked(x4);
+	x4step_port_write_locked(x4);
 	done = ktime_get();
 	if (unlikely(!reads)) {
 		/* Each such wait would cost this again: no more of them. */
@@ -373,19 +375,40 @@ static void x4_fire_on_time_locked(struct x4_port *x4, ktime_t due)
 		if (w < x4->write_ns[k])
 			x4->write_ns[k] = w;
 	}
-	x4_engine_written(e, ktime_to_ns(ktime_sub(done, x4->epoch)) - x4_write_base(x4));
-	x4_account_lateness(x4, ktime_to_ns(ktime_sub(now, due)));
+	x4_engine_written(e, ktime_to_ns(ktime_sub(done, x4->epoch)) -
+			  x4step_write_base(x4));
+	x4step_account_lateness(x4, ktime_to_ns(ktime_sub(now, due)));
 	x4->timing.spins++;
 	x4->timing.spin_ns += ktime_to_ns(ktime_sub(now, start));
-	x4_events_fired_locked(x4, c);
+	x4step_events_fired_locked(x4, c);
 }
 
 /* Wake pollers when moves ended since the last look. */
-static void x4_note_ends_locked(struct x4_port *x4)
+void x4step_port_note_ends_locked(struct x4_port *x4)
 {
 	lockdep_assert_held(&x4->slock);
 	if (x4->moves_ended != x4->eng.ends) {
 		x4->moves_ended = x4->eng.ends;
+		irq_work_queue(&x4->wake_work);
+	}
+}
+
+/*
+ * The timer freed slots of the path's queue that its writer waits for
+ * (x4step_path_write(), x4step_path_poll()): wake it.
+ */
+void x4step_port_room_locked(struct x4_port *x4)
+{
+	if (!x4_path_active(&x4->eng))
+		return;
+	/*
+	 * The timer advanced head, then reads wanted; a writer sets wanted,
+	 * then reads head (wait_event()'s set_current_state(), or the barrier
+	 * in x4step_path_poll()): with this barrier one of them sees the other.
+	 */
+	smp_mb();
+	if (READ_ONCE(x4->path_room_wanted) && x4_path_room(&x4->eng)) {
+		WRITE_ONCE(x4->path_room_wanted, false);
 		irq_work_queue(&x4->wake_work);
 	}
 }
@@ -396,7 +419,7 @@ static void x4_note_ends_locked(struct x4_port *x4)
  * arm the timer) while this callback waits for the lock on another CPU;
  * then the timer is queued again and this callback leaves it alone.
  */
-static enum hrtimer_restart x4_tick(struct hrtimer *timer)
+static enum hrtimer_restart x4step_tick(struct hrtimer *timer)
 {
 	struct x4_port *x4 = container_of(timer, struct x4_port, timer);
 	struct x4_engine *e = &x4->eng;
@@ -409,18 +432,18 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	if (!x4_engine_busy(e) || hrtimer_is_queued(timer))
 		goto out;
 	now = ktime_get();
-	x4_note_lateness_locked(x4, now);
+	x4step_note_lateness_locked(x4, now);
 	end = ktime_add_ns(now, X4_TICK_NS);
 	for (;;) {
 		/* The armed event may have been stopped: fire what is due. */
 		due = ktime_add_ns(x4->epoch, x4_engine_due(e));
 		if (ktime_after(due, now)) {
 			if (n >= X4_TICK_EVENTS || ktime_after(now, end) ||
-			    !x4_wait_next(x4, fired, due, now))
+			    !x4step_wait_next(x4, fired, due, now))
 				break;
 			x4->armed_early = false;
 			fired = e->cur;
-			x4_fire_on_time_locked(x4, due);
+			x4step_fire_on_time_locked(x4, due);
 			n++;
 			if (!x4_engine_busy(e))
 				break;
@@ -433,7 +456,7 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 			break;
 		}
 		fired = e->cur;
-		x4_fire_locked(x4, now);
+		x4step_fire_locked(x4, now);
 		n++;
 		if (!x4_engine_busy(e))
 			break;
@@ -445,9 +468,9 @@ static enum hrtimer_restart x4_tick(struct hrtimer *timer)
 	x4->timing.shifted_ns += e->shifted_ns;
 	e->shifts = 0;
 	e->shifted_ns = 0;
-	x4_arm_locked(x4, earliest);
-	x4_note_ends_locked(x4);
-	x4_path_room_locked(x4);
+	x4step_port_arm_locked(x4, earliest);
+	x4step_port_note_ends_locked(x4);
+	x4step_port_room_locked(x4);
 out:
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	return HRTIMER_NORESTART;
@@ -470,7 +493,7 @@ static unsigned int write_budget = X4_WRITE_BUDGET;
 module_param(write_budget, uint, 0444);
 MODULE_PARM_DESC(write_budget, "port writes per second all moves of a port may need together (default 200000, 0: no limit)");
 
-void x4_port_init(struct x4_port *x4)
+void x4step_port_init(struct x4_port *x4)
 {
 	struct x4_timing t = { pulse_ns, space_ns, dir_setup_ns, dir_hold_ns };
 
@@ -483,8 +506,8 @@ void x4_port_init(struct x4_port *x4)
 	x4->write_ns[X4_WRITE_FALL] = U32_MAX;
 	x4->write_ns[X4_WRITE_RISE] = U32_MAX;
 	init_waitqueue_head(&x4->wait);
-	init_irq_work(&x4->wake_work, x4_wake);
-	x4_hrtimer_setup(&x4->timer, x4_tick, CLOCK_MONOTONIC,
+	init_irq_work(&x4->wake_work, x4step_wake);
+	x4_hrtimer_setup(&x4->timer, x4step_tick, CLOCK_MONOTONIC,
 			 HRTIMER_MODE_ABS_HARD);
 	x4->epoch = ktime_get();
 }
@@ -493,15 +516,15 @@ void x4_port_init(struct x4_port *x4)
  * The controller claimed the port: drive it from the idle state the last
  * controller left (step counters stay readable, as after any stop).
  */
-void x4_port_claimed(struct x4_port *x4)
+void x4step_port_claimed(struct x4_port *x4)
 {
 	unsigned long flags;
 
 	raw_spin_lock_irqsave(&x4->slock, flags);
 	x4->claimed = true;
 	x4->written_valid = false; /* the claim restored some other state */
-	x4_port_write_rest_locked(x4);
-	x4_port_inputs_locked(x4); /* for status reads after the release */
+	x4step_port_write_rest_locked(x4);
+	x4step_port_inputs_locked(x4); /* for status reads after the release */
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 }
 
@@ -509,147 +532,25 @@ void x4_port_claimed(struct x4_port *x4)
  * Stop whatever runs, at once, and forget the loaded move; all outputs
  * low. Then the registers are no longer ours.
  */
-void x4_port_quiesce(struct x4_port *x4)
+void x4step_port_quiesce(struct x4_port *x4)
 {
 	unsigned long flags;
 
 	lockdep_assert_held(&x4->lock);
 	raw_spin_lock_irqsave(&x4->slock, flags);
-	x4_events_stop_locked(x4, x4->eng.busy);
+	x4step_events_stop_locked(x4, x4->eng.busy);
 	x4_engine_stop(&x4->eng);
-	x4_port_drain_locked(x4, U64_MAX);
-	x4_events_update_locked(x4, -1, 0);
+	x4step_port_drain_locked(x4, U64_MAX);
+	x4step_events_update_locked(x4, -1, 0);
 	x4->eng.loaded = false;
 	x4->eng.ctl = 0;
-	x4_port_write_rest_locked(x4);
-	x4_port_inputs_locked(x4); /* the last levels while the port is ours */
+	x4step_port_write_rest_locked(x4);
+	/* The last levels while the port is ours. */
+	x4step_port_inputs_locked(x4);
 	x4->claimed = false;
 	x4->moves_ended = x4->eng.ends;
 	raw_spin_unlock_irqrestore(&x4->slock, flags);
 	hrtimer_cancel(&x4->timer);
 	irq_work_sync(&x4->wake_work);
 	wake_up_all(&x4->wait);
-}
-
-/*
- * Start moves: `start` is an engine call that starts them at the engine
- * time it is given. The inputs are sampled first, so that a move toward
- * an active limit makes no step. Returns an X4Step result.
- */
-int x4_port_run(struct x4_port *x4, x4_starter start, const void *arg,
-		u32 kind)
-{
-	unsigned long flags;
-	int ret;
-
-	raw_spin_lock_irqsave(&x4->slock, flags);
-	if (x4->claimed)
-		x4_switch_sense(&x4->eng, x4_port_inputs_locked(x4));
-	ret = start(&x4->eng, arg,
-		    ktime_get_ns() - ktime_to_ns(x4->epoch));
-	if (ret == X4_OK) {
-		x4->last_brake_code = 0;
-		x4_arm_locked(x4, 0);
-		x4_events_update_locked(x4, -1, kind);
-	}
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return ret;
-}
-
-static int x4_start_planned_goto(struct x4_engine *e, const void *arg,
-				 u64 now_ns)
-{
-	return x4_engine_start_goto(e, arg, now_ns);
-}
-
-/*
- * A goto (X4STEP_GOTO): planned, with the divisions and square roots of up
- * to four axes, on a copy of the engine outside the raw lock, so that
- * interrupts stay off only for the start. Caller holds the mutex, which
- * keeps the copy and the plan.
- */
-int x4_port_goto(struct x4_port *x4, u8 axes, const s32 *target,
-		 bool relative)
-{
-	unsigned long flags;
-	int ret;
-
-	lockdep_assert_held(&x4->lock);
-	raw_spin_lock_irqsave(&x4->slock, flags);
-	x4->plan_eng = x4->eng;
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	ret = x4_engine_plan_goto(&x4->plan_eng, axes, target, relative,
-				  &x4->plan_goto);
-	if (ret)
-		return ret;
-	return x4_port_run(x4, x4_start_planned_goto, &x4->plan_goto,
-			   X4STEP_KIND_GOTO);
-}
-
-/*
- * After the engine braked or stopped moves: a stop's writes go out at
- * once, and pollers and readers learn of the moves that ended.
- */
-void x4_port_halted_locked(struct x4_port *x4)
-{
-	lockdep_assert_held(&x4->slock);
-	x4_port_write_locked(x4);
-	x4_port_drain_locked(x4, 0); /* a stop's rest patterns, due at 0 */
-	x4_note_ends_locked(x4);
-	x4_events_update_locked(x4, -1, 0);
-}
-
-/*
- * Brake the moves of the axes in `axes` (and their partners) along their
- * ramps, asked for by `source` (X4STEP_SRC_*; a key: its `code`). An
- * X4Step result: X4_ERR_NOT_ACTIVE if none of them moves and no path was
- * aborted (a held one is, by the sources that abort paths).
- */
-int x4_port_brake_locked(struct x4_port *x4, u8 axes, u32 source, u32 code)
-{
-	u8 chans = x4_events_chans_locked(x4, axes);
-	bool aborted;
-	int ret;
-
-	lockdep_assert_held(&x4->slock);
-	aborted = x4_path_brake_locked(x4, source);
-	ret = x4_engine_halt(&x4->eng, axes, false);
-	if (ret == X4_OK) {
-		x4->brake_time_ns = ktime_get_ns();
-		x4_events_brake_locked(x4, chans, source, code);
-	}
-	x4_port_halted_locked(x4);
-	return aborted ? X4_OK : ret;
-}
-
-/* Stop the moves of the axes in `axes` (and their partners) at once. */
-int x4_port_stop_locked(struct x4_port *x4, u8 axes)
-{
-	int ret;
-
-	lockdep_assert_held(&x4->slock);
-	x4_events_stop_locked(x4, x4_events_chans_locked(x4, axes));
-	ret = x4_engine_halt(&x4->eng, axes, true);
-	x4_port_halted_locked(x4);
-	irq_work_queue(&x4->wake_work); /* a path writer: its queue is gone */
-	return ret;
-}
-
-/* A key event: brake if it is ESC or one of the brake codes. */
-bool x4_port_brake_key(struct x4_port *x4, u32 code)
-{
-	unsigned long flags;
-	bool hit = code == 1;
-	u32 i;
-
-	raw_spin_lock_irqsave(&x4->slock, flags);
-	for (i = 0; i < x4->n_brake_codes && !hit; i++)
-		hit = x4->brake_codes[i] == code;
-	/* A key brakes moves, and aborts a held path if keys abort paths. */
-	hit = hit && (x4_engine_busy(&x4->eng) ||
-		      x4_path_brake_aborts_locked(x4, X4STEP_SRC_KEY));
-	if (hit && x4_port_brake_locked(x4, 0x0f, X4STEP_SRC_KEY, code) == X4_OK)
-		x4->last_brake_code = code;
-	raw_spin_unlock_irqrestore(&x4->slock, flags);
-	return hit;
 }

@@ -225,7 +225,7 @@ int x4_engine_start_goto(struct x4_engine *e, const struct x4_goto *g,
 	return X4_OK;
 }
 
-#ifndef __KERNEL__ /* the module plans on a copy: x4_port_goto() */
+#ifndef __KERNEL__ /* the module plans on a copy: x4step_motion_goto() */
 int x4_engine_goto(struct x4_engine *e, u8 axes, const s32 *target,
 		   bool relative, u64 now_ns)
 {

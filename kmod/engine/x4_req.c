@@ -10,6 +10,46 @@
 #include <string.h>
 #endif
 
+enum x4_req_access x4_req_access(unsigned int cmd)
+{
+	switch (cmd) {
+	case X4STEP_GET_INFO:
+	case X4STEP_GET_STATUS:
+	case X4STEP_GET_CONFIG:
+	case X4STEP_GET_TIMING:
+	case X4STEP_GET_TIMING_V2:
+	case X4STEP_GET_STEP_TIMING:
+	case X4STEP_GET_PROFILE:
+	case X4STEP_GET_SWITCHES:
+	case X4STEP_GET_AXES:
+	case X4STEP_GET_PATH:
+	case X4STEP_GET_PATH_CONFIG:
+	case X4STEP_ESTOP: /* the emergency halt, whoever controls the port */
+		return X4_REQ_ANY;
+	case X4STEP_LOAD:
+	case X4STEP_START:
+	case X4STEP_BRAKE:
+	case X4STEP_STOP:
+	case X4STEP_MOVE_ENDLESS:
+	case X4STEP_GOTO:
+	case X4STEP_HOME:
+	case X4STEP_HALT:
+	case X4STEP_SET_POSITION:
+	case X4STEP_SET_PROFILE:
+	case X4STEP_SET_SWITCHES:
+	case X4STEP_SET_OUTPUT:
+	case X4STEP_SET_OUTPUTS:
+	case X4STEP_SET_BRAKE_CODES:
+	case X4STEP_SET_CONFIG:
+	case X4STEP_SET_STEP_TIMING:
+	case X4STEP_SET_PATH_CONFIG:
+	case X4STEP_PATH_CTL:
+		return X4_REQ_CONTROLLER;
+	default:
+		return X4_REQ_UNKNOWN;
+	}
+}
+
 int x4_req_errno(int result)
 {
 	switch (result) {

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: GPL-2.0 OR LGPL-2.1-or-later */
 /*
- * x4step engine: the module's request structs (linux/x4step.h) as the
- * engine takes them. What the char device's glue decides beyond copying
- * them in and out: which fields make a request invalid, the engine's
+ * x4step engine: the module's request structs (linux/x4step.h) as the engine
+ * takes them. What the char device's glue decides beyond copying them in and
+ * out: who may make a request, which fields make it invalid, the engine's
  * arguments made from a request, the X4Step results as errnos, the path's
  * reports. The module (kmod/x4step_*.c) and libx4step's simulated port
  * (lib/sim) both call these, so they answer alike.
@@ -13,6 +13,15 @@
 #include <linux/x4step.h>
 
 #include "x4_engine.h"
+
+/* Who may make a request (x4_req_access()). */
+enum x4_req_access {
+	X4_REQ_UNKNOWN, /* no such request: ENOTTY */
+	X4_REQ_ANY, /* any descriptor: the reading requests and ESTOP */
+	X4_REQ_CONTROLLER, /* the controller's descriptor only, else EBADF */
+};
+/* Who may make request `cmd`. */
+enum x4_req_access x4_req_access(unsigned int cmd);
 
 /* An X4Step result as the module's errno: 0 or negative. */
 int x4_req_errno(int result);

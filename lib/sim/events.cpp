@@ -12,7 +12,7 @@
 
 namespace x4step::sim {
 
-// x4_ev_push_locked().
+// x4step_ev_push_locked().
 void port::ev_push_locked(unsigned type, unsigned axes, unsigned how, unsigned value, unsigned flags) {
   x4step_event &ev = events_[ev_seq_ & (events_.size() - 1)];
   std::uint64_t now = steady_ns_locked();
@@ -34,7 +34,7 @@ void port::track_push(x4_track *t, u32 type, u32 axes, u32 how, u32 value, u32 f
   static_cast<tracker *>(t)->self->ev_push_locked(type, axes, how, value, flags);
 }
 
-// x4_events_read() on an O_NONBLOCK descriptor: whole events, as many as
+// x4step_events_read() on an O_NONBLOCK descriptor: whole events, as many as
 // fit and are there; EAGAIN if none.
 ssize_t port::read(file &f, void *buf, size_t n) {
   const lock l(m_);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
-// libx4step: the simulated port's requests, as the module's x4_ioctl()
-// (kmod/x4step_main.c) takes them: the same checks of the request
+// libx4step: the simulated port's requests, as the module's x4step_ioctl()
+// (kmod/x4step_ioctl.c, x4step_move.c) takes them: the same checks of the request
 // structs, the same engine calls, the same errnos. The argument is in
 // this process: copy_from_user is a memcpy (EFAULT for a null pointer).
 // What the module decides beyond copying (which requests are invalid, the
@@ -8,6 +8,7 @@
 #include <linux/x4step.h>
 
 #include <cerrno>
+#include <climits>
 #include <cstring>
 
 #include "port.hpp"
@@ -28,7 +29,7 @@ int out(void *arg, const T &v) {
   return 0;
 }
 
-// A request that starts moves writes an X4Step result back (x4_ioctl_run()).
+// A request that starts moves writes an X4Step result back (x4step_ioctl_run()).
 template <typename T>
 int run_result(void *arg, int ret) {
   static_cast<T *>(arg)->result = x4_req_result(ret);
@@ -78,8 +79,8 @@ int port::axes_locked(void *arg) {
   return out(arg, ua);
 }
 
-int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
-  // Reading commands, and the emergency halt, work on any descriptor.
+// The reading requests, and the emergency halt: any descriptor.
+int port::any_ioctl_locked(unsigned long cmd, void *arg) {
   switch (cmd) {
     case X4STEP_GET_INFO: {
       x4step_info info{};
@@ -135,24 +136,18 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
     case X4STEP_GET_PATH:
     case X4STEP_GET_PATH_CONFIG:
       return path_read_locked(cmd, arg);
-    case X4STEP_SET_PATH_CONFIG:
-    case X4STEP_PATH_CTL:
-    case X4STEP_SET_PROFILE:
-    case X4STEP_GOTO:
-    case X4STEP_HOME:
-    case X4STEP_HALT:
-    case X4STEP_SET_POSITION:
-    case X4STEP_SET_SWITCHES:
-    case X4STEP_LOAD:
-    case X4STEP_START:
-    case X4STEP_BRAKE:
-    case X4STEP_STOP:
-    case X4STEP_MOVE_ENDLESS:
-    case X4STEP_SET_OUTPUT:
-    case X4STEP_SET_OUTPUTS:
-    case X4STEP_SET_BRAKE_CODES:
-    case X4STEP_SET_CONFIG:
-    case X4STEP_SET_STEP_TIMING:
+    default:
+      return -ENOTTY;
+  }
+}
+
+int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
+  // Who may make it: x4_req_access(), as for the module's x4step_ioctl()
+  // (whose request number is an unsigned int).
+  switch (cmd > UINT_MAX ? X4_REQ_UNKNOWN : x4_req_access(static_cast<unsigned>(cmd))) {
+    case X4_REQ_ANY:
+      return any_ioctl_locked(cmd, arg);
+    case X4_REQ_CONTROLLER:
       break;
     default:
       return -ENOTTY;
@@ -283,13 +278,15 @@ int port::ioctl_locked(file &f, unsigned long cmd, void *arg) {
       return path_config_locked(in<x4step_path_config>(arg));
     case X4STEP_PATH_CTL:
       return path_ctl_locked(in<x4step_path_ctl>(arg));
-    default: {  // X4STEP_SET_STEP_TIMING
+    case X4STEP_SET_STEP_TIMING: {
       const auto ut = in<x4step_step_timing>(arg);
       if (x4_req_bad_step_timing(&ut)) return -EINVAL;
       x4_timing t;
       x4_req_step_timing(&ut, &t);
       return x4_req_errno(x4_engine_configure(&eng_, &t, eng_.mode));
     }
+    default:
+      return -ENOTTY;
   }
 }
 

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "terminal.hpp"
+#include "x4_keys.h"
 #include "x4step.hpp"
 
 namespace x4step::sim {
@@ -17,18 +18,6 @@ namespace {
 
 [[noreturn]] void refuse(const std::string &what) { throw error(make_error_code(errc::lpt_not_found), what); }
 
-// The module's default key map (kmod/x4step_keys.c): Linux key codes
-// 1..88 are set-1 make codes; the extended keys get the code that follows
-// the MF2 keyboard's E0 prefix.
-struct named_key {
-  const char *name;
-  unsigned code;
-};
-constexpr named_key named_keys[] = {
-    {"esc", 1},   {"backspace", 14}, {"tab", 15},  {"enter", 28},  {"space", 57},
-    {"home", 71}, {"up", 72},        {"pgup", 73}, {"left", 75},   {"right", 77},
-    {"end", 79},  {"down", 80},      {"pgdn", 81}, {"insert", 82}, {"delete", 83},
-};
 // One character of the main keyboard (US layout) and its key's make code.
 constexpr const char *rows[] = {"1234567890-=", "qwertyuiop[]", "asdfghjkl;'`", "\\zxcvbnm,./"};
 constexpr unsigned row_start[] = {2, 16, 30, 43};
@@ -36,8 +25,9 @@ constexpr unsigned row_start[] = {2, 16, 30, 43};
 }  // namespace
 
 unsigned key_code(const std::string &name) {
-  for (const named_key &k : named_keys)
-    if (name == k.name) return k.code;
+  // The named keys of the module's key map (engine/x4_keys.h).
+  for (const x4_key &k : x4_keys)
+    if (k.name && name == k.name) return k.code;
   if (name.size() != 1) return 0;
   const char c = static_cast<char>(std::tolower(static_cast<unsigned char>(name[0])));
   for (int r = 0; r < 4; r++)

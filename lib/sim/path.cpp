@@ -18,7 +18,7 @@ namespace {
 
 constexpr std::uint32_t path_chunk = 8;  // the module's X4_PATH_CHUNK
 
-// x4_kick(): only a path that begins is a start (the timer, the last
+// x4step_kick(): only a path that begins is a start (the timer, the last
 // brake code); a running one follows its plan without a new event.
 int kick(x4_engine *e, const void *, std::uint64_t now) {
   return x4_path_kick(e, now) ? X4_OK : X4_ERR_IS_ACTIVE;
@@ -28,7 +28,7 @@ int resume(x4_engine *e, const void *, std::uint64_t now) { return x4_path_resum
 
 }  // namespace
 
-// x4_path_resize(): a new queue of `depth` slots, the old one freed.
+// x4step_path_resize(): a new queue of `depth` slots, the old one freed.
 int port::path_resize_locked(std::uint32_t depth) {
   if (eng_.path.depth == depth) return 0;
   std::vector<x4_path_slot> slots(depth);
@@ -38,7 +38,7 @@ int port::path_resize_locked(std::uint32_t depth) {
   return 0;
 }
 
-// x4_path_go(): start the path, unless it was flushed meanwhile; then
+// x4step_path_go(): start the path, unless it was flushed meanwhile; then
 // what this write() queued after the flush goes too, and it ends.
 int port::path_go_locked() {
   if (path_flushed_locked()) {
@@ -49,18 +49,18 @@ int port::path_go_locked() {
   return 0;
 }
 
-// x4_path_brake_aborts_locked(): whether a brake by `source` aborts the path.
+// x4step_motion_path_aborts_locked(): whether a brake by `source` aborts the path.
 bool port::path_brake_aborts_locked(unsigned source) const {
   return x4_req_brake_aborts_path(source, path_cfg_flags_) && x4_path_active(&eng_);
 }
 
-// x4_path_brake_locked(): hold a path, and flush it too for `source`;
+// x4step_motion_path_brake_locked(): hold a path, and flush it too for `source`;
 // true: it aborted the path.
 bool port::path_brake_locked(unsigned source) {
   return path_brake_aborts_locked(source) && !x4_track_path_abort(&track_, &eng_);
 }
 
-// x4_path_write() on an O_NONBLOCK descriptor: one write() at a time, the
+// x4step_path_write() on an O_NONBLOCK descriptor: one write() at a time, the
 // port's lock let go between chunks.
 ssize_t port::write(file &f, const void *buf, size_t n) {
   const std::lock_guard<std::mutex> one(write_m_);
@@ -105,7 +105,7 @@ ssize_t port::write(file &f, const void *buf, size_t n) {
       done = 0;
     }
   }
-  // x4_path_plan_work(): the module goes on with the pass the pushes'
+  // x4step_path_plan_work(): the module goes on with the pass the pushes'
   // budget left, a bounded part a jiffy; here it comes through at once.
   if (x4_path_plan(&eng_, 0)) {
     x4_path_plan(&eng_, UINT32_MAX);
@@ -116,7 +116,7 @@ ssize_t port::write(file &f, const void *buf, size_t n) {
   return fail(-ret);
 }
 
-// x4_path_ctl().
+// x4step_path_ctl_cmd().
 int port::path_ctl_locked(const x4step_path_ctl &c) {
   if (x4_req_bad_path_ctl(&c)) return -EINVAL;
   switch (c.cmd) {
@@ -144,7 +144,7 @@ int port::path_ctl_locked(const x4step_path_ctl &c) {
   }
 }
 
-// x4_path_set_config().
+// x4step_path_set_config().
 int port::path_config_locked(const x4step_path_config &c) {
   if (x4_req_bad_path_config(&c)) return -EINVAL;
   const int ret = c.depth ? path_resize_locked(c.depth) : 0;
@@ -152,7 +152,7 @@ int port::path_config_locked(const x4step_path_config &c) {
   return ret;
 }
 
-// x4_path_ioctl_read(): GET_PATH_CONFIG and GET_PATH, on any descriptor.
+// x4step_path_ioctl_read(): GET_PATH_CONFIG and GET_PATH, on any descriptor.
 int port::path_read_locked(unsigned long cmd, void *arg) {
   if (cmd == X4STEP_GET_PATH_CONFIG) {
     x4step_path_config cfg;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: LGPL-2.1-or-later
 // libx4step: the simulated port (port.hpp): its life, its clock, and the
-// engine on its pins, as kmod/x4step_port.c and x4step_main.c do it. The
-// functions named *_locked here mirror the module's of the same name.
+// engine on its pins, as kmod/x4step_port.c, x4step_motion.c and
+// x4step_main.c do it. The functions named *_locked here mirror the
+// module's of the same name.
 #include "port.hpp"
 
 #include <linux/x4step.h>
@@ -38,7 +39,7 @@ port::port(int number, options o)
   if (!opt_.vcd.empty()) vcd_ = std::make_unique<vcd_writer>(opt_.vcd);
   track_.push = track_push;
   track_.self = this;
-  // x4_port_init() with the module's default parameters.
+  // x4step_port_init() with the module's default parameters.
   const x4_timing t{0, 0, X4_DIR_SETUP_NS, 0};
   x4_engine_init(&eng_);
   x4_engine_configure(&eng_, &t, X4_MODE_CLOCK_DIR);
@@ -116,7 +117,7 @@ unsigned port::inputs_locked() {
   return inputs_read_;
 }
 
-// x4_port_write_locked(): the pins, if they change, at engine time t.
+// x4step_port_write_locked(): the pins, if they change, at engine time t.
 void port::write_locked(std::uint64_t t) {
   if (!claimed_) return;
   std::uint8_t data = eng_.data;
@@ -151,7 +152,7 @@ void port::set_invert_locked(std::uint8_t clock_invert, std::uint8_t dir_invert)
   data_invert_ = bits;
 }
 
-// x4_fire_locked(): the pending event at engine time t, and its write.
+// x4step_fire_locked(): the pending event at engine time t, and its write.
 void port::fire_locked(std::uint64_t t) {
   const int c = static_cast<int>(eng_.cur - eng_.ch);
   if (claimed_ && x4_engine_rise_watched(&eng_)) x4_switch_sense(&eng_, static_cast<u8>(inputs_locked()));
@@ -161,7 +162,7 @@ void port::fire_locked(std::uint64_t t) {
   x4_track_fired(&track_, &eng_, c);
 }
 
-// x4_port_drain_locked().
+// x4step_port_drain_locked().
 void port::drain_locked(std::uint64_t until) {
   while (x4_engine_busy(&eng_) && x4_engine_due(&eng_) <= until) {
     const int c = static_cast<int>(eng_.cur - eng_.ch);
@@ -190,7 +191,7 @@ void port::note_ends_locked() {
   }
 }
 
-// What a poll of f reports now (x4_poll(), x4_path_poll()).
+// What a poll of f reports now (x4step_poll(), x4step_path_poll()).
 short port::revents_locked(const file &f) const {
   short r = 0;
   if (f.ev_next < ev_seq_) r |= POLLPRI;
@@ -253,7 +254,7 @@ void port::let_time_pass() {
   advance_locked(vnow_ + poll_quantum_ns);
 }
 
-// Real time: the hrtimer's job (x4_tick()), by a thread: fire what is
+// Real time: the hrtimer's job (x4step_tick()), by a thread: fire what is
 // due; and the scripted keys at their times.
 void port::timer_thread() {
   lock l(m_);
@@ -320,7 +321,7 @@ int port::poll(file &f, short events, int timeout_ms, short *revents) {
 
 // ---- descriptors ------------------------------------------------------------
 
-// x4_open().
+// x4step_open().
 void port::open(file &f, bool controller) {
   f.efd = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
   if (f.efd < 0) throw error(std::error_code(errno, std::system_category()), "eventfd");
@@ -346,7 +347,7 @@ void port::open(file &f, bool controller) {
   changed_locked();
 }
 
-// x4_release(): a controller's moves brake; the port is let go when they
+// x4step_release(): a controller's moves brake; the port is let go when they
 // stand (at once in virtual time: the brake runs to its end now).
 void port::close(file &f) {
   const lock l(m_);
@@ -374,7 +375,7 @@ void port::close(file &f) {
   changed_locked();
 }
 
-// x4_port_claimed().
+// x4step_port_claimed().
 void port::claimed_locked() {
   claimed_ = true;
   written_valid_ = false;
@@ -382,7 +383,7 @@ void port::claimed_locked() {
   inputs_locked();
 }
 
-// x4_port_quiesce(): stop at once, forget the loaded move, outputs low.
+// x4step_port_quiesce(): stop at once, forget the loaded move, outputs low.
 void port::quiesce_locked() {
   x4_track_stop(&track_, eng_.busy);
   x4_engine_stop(&eng_);
@@ -397,7 +398,7 @@ void port::quiesce_locked() {
   changed_locked();
 }
 
-// x4_let_go().
+// x4step_let_go().
 void port::let_go_locked() {
   releasing_ = false;
   quiesce_locked();
@@ -407,7 +408,7 @@ void port::let_go_locked() {
 
 // ---- moves ------------------------------------------------------------------
 
-// x4_port_run().
+// x4step_motion_run().
 int port::run_locked(starter start, const void *arg, unsigned kind) {
   if (claimed_) x4_switch_sense(&eng_, static_cast<u8>(inputs_locked()));
   const int ret = start(&eng_, arg, now_locked());
@@ -420,7 +421,7 @@ int port::run_locked(starter start, const void *arg, unsigned kind) {
   return ret;
 }
 
-// x4_port_goto(): planned on a copy of the engine, as the module does.
+// x4step_motion_goto(): planned on a copy of the engine, as the module does.
 int port::goto_locked(std::uint8_t axes, const std::int32_t *target, bool relative) {
   plan_eng_ = eng_;
   const int ret = x4_engine_plan_goto(&plan_eng_, axes, target, relative, &plan_goto_);
@@ -432,7 +433,7 @@ int port::goto_locked(std::uint8_t axes, const std::int32_t *target, bool relati
       &plan_goto_, X4STEP_KIND_GOTO);
 }
 
-// x4_port_halted_locked().
+// x4step_motion_halted_locked().
 void port::halted_locked() {
   write_locked(now_locked());
   drain_locked(0);
@@ -441,7 +442,7 @@ void port::halted_locked() {
   changed_locked();
 }
 
-// x4_port_brake_locked().
+// x4step_motion_brake_locked().
 int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
   const std::uint8_t chans = x4_track_chans(&eng_, axes);
   const bool aborted = path_brake_locked(source);
@@ -454,7 +455,7 @@ int port::brake_locked(std::uint8_t axes, unsigned source, unsigned code) {
   return aborted ? X4_OK : ret;
 }
 
-// x4_port_stop_locked().
+// x4step_motion_stop_locked().
 int port::stop_locked(std::uint8_t axes) {
   x4_track_stop(&track_, x4_track_chans(&eng_, axes));
   const int ret = x4_engine_halt(&eng_, axes, true);
@@ -490,7 +491,7 @@ void port::keys_due_locked(std::uint64_t t_ns) {
     key_locked(opt_.keys[next_key_++].code);
 }
 
-// x4_port_brake_key().
+// x4step_motion_brake_key().
 bool port::key_locked(unsigned code) {
   bool hit = code == 1;
   for (std::uint32_t i = 0; i < n_brake_codes_ && !hit; i++) hit = brake_codes_[i] == code;

@@ -3,7 +3,8 @@
 // the host tests run) behind the module's request interface, with a clock
 // of its own instead of the hrtimer and a record of the pins instead of
 // the port registers. What the module's glue does around the engine
-// (kmod/x4step_main.c, x4step_port.c, x4step_events.c, x4step_path.c) is
+// (kmod/x4step_main.c, x4step_ioctl.c, x4step_move.c, x4step_motion.c,
+// x4step_port.c, x4step_events.c, x4step_path.c) is
 // done here in the same order with the same engine calls; its decisions
 // (kmod/engine/x4_req.c, x4_track.c) are the very code the module runs:
 // the checks, errnos, events and pin writes are the module's. Internal to
@@ -135,8 +136,9 @@ class port {
   void let_go_locked();
   void set_invert_locked(std::uint8_t clock_invert, std::uint8_t dir_invert);
 
-  // ioctl.cpp: the module's x4_ioctl() and its helpers.
+  // ioctl.cpp: the module's x4step_ioctl() and its helpers.
   int ioctl_locked(file &f, unsigned long cmd, void *arg);
+  int any_ioctl_locked(unsigned long cmd, void *arg);
   int status_locked(void *arg);
   int axes_locked(void *arg);
 

@@ -8,15 +8,12 @@
 #include <cerrno>
 #include <cstring>
 
+#include "vcd_pins.hpp"
 #include "x4step.hpp"
 
 namespace x4step::sim {
 
-const vcd_pin vcd_pins[12] = {
-    {1, "pin01_signal1"}, {2, "pin02_dir1"},     {3, "pin03_clk1"},   {4, "pin04_dir2"},
-    {5, "pin05_clk2"},    {6, "pin06_dir3"},     {7, "pin07_clk3"},   {8, "pin08_dir4"},
-    {9, "pin09_clk4"},    {14, "pin14_signal2"}, {16, "pin16_boost"}, {17, "pin17_aktiv"},
-};
+static_assert(vcd_n_pins == 12, "pins 1..9, 14, 16, 17: level() and the VCD ids");
 
 namespace {
 

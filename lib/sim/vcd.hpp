@@ -35,13 +35,6 @@ class vcd_writer {
   std::uint64_t last_t_ = 0;
 };
 
-/// The pins in VCD order: connector number and x4trace's name.
-struct vcd_pin {
-  int number;
-  const char *name;
-};
-extern const vcd_pin vcd_pins[12];
-
 }  // namespace x4step::sim
 
 #endif  // X4STEP_SIM_VCD_HPP

@@ -226,7 +226,7 @@ TEST(Lateness, EdgesWithoutSlackFiredOnTimeKeepThePlan) {
     std::vector<x4_event> ev;
     int on_time = 0;
     while (x4_engine_busy(&eng.e)) {
-      const bool tight = x4_engine_slack(&eng.e) < 600 + 300;  // x4_tight_locked()
+      const bool tight = x4_engine_slack(&eng.e) < 600 + 300;  // x4step_tight_locked()
       const uint64_t now = x4_engine_due(&eng.e) + (tight ? 0 : 600);
       on_time += tight;
       x4_engine_fire(&eng.e, now);

@@ -505,7 +505,7 @@ double Stream(Path &p, size_t n, bool bounded, uint64_t *most, const char *what)
   *most = 0;
   while (next < n || x4_engine_busy(&p.e)) {
     const uint64_t t = r.events.empty() ? kStart : r.events.back().t_ns;
-    if (bounded && t >= work_at) {  // x4_path_plan_work()
+    if (bounded && t >= work_at) {  // x4step_path_plan_work()
       x4_path_plan(&p.e, X4_PATH_PLAN_WORK);
       if (p.e.path.state != X4_PATH_IDLE) x4_path_kick(&p.e, t);
       work_at = t + 4000000;
@@ -1341,7 +1341,7 @@ TEST(PathHoldAtTheEnd, AbortInTheFinalBrakeFlushes) {
 
 // Scenario B: the queue ran dry, a segment came in the settle window after
 // the last step, then the controller went away (the glue's hold with
-// abort, x4_path_brake_locked()): the path never moves again. A mere hold
+// abort, x4step_motion_path_brake_locked()): the path never moves again. A mere hold
 // there stands HELD with the segment queued.
 class PathSettle : public ::testing::TestWithParam<int> {};
 

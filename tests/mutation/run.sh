@@ -30,7 +30,7 @@ list=${1:-$top/tests/mutation/mutations.txt}
 build=${BUILD:-$top/build}
 case $build in /*) ;; *) build=$top/$build ;; esac
 work=$build/mutation
-tests="req_test track_test lateness_test path_test positioning_test engine_test" # fastest first
+tests="req_access_test req_test track_test lateness_test path_test positioning_test engine_test" # fastest first
 start=$(date +%s)
 
 if [ -d "$top/kmod/engine" ]; then

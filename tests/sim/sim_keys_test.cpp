@@ -15,6 +15,7 @@
 #include "sim/port.hpp"
 #include "sim/terminal.hpp"
 #include "sim_env.hpp"
+#include "x4_keys.h"
 #include "x4step.hpp"
 #include "x4step_path.hpp"
 
@@ -188,6 +189,28 @@ TEST_F(SimKeys, BadScriptsSayWhatToFix) {
     }
   }
   EXPECT_FALSE(x4step::sim::port::find(0));  // nothing simulated
+}
+
+// The module's input handler codes Linux keys with x4_key_code()
+// (engine/x4_keys.h); each named key gets the code its Linux key does.
+TEST(SimKeyMap, ModuleCodesLinuxKeys) {
+  EXPECT_EQ(x4_key_code(0), 0u);
+  EXPECT_EQ(x4_key_code(KEY_ESC), 1u);
+  EXPECT_EQ(x4_key_code(KEY_A), 30u);
+  EXPECT_EQ(x4_key_code(KEY_F12), 88u);  // the last of the plain codes
+  EXPECT_EQ(x4_key_code(KEY_KPENTER), 28u);
+  EXPECT_EQ(x4_key_code(KEY_RIGHTCTRL), 29u);
+  EXPECT_EQ(x4_key_code(KEY_HOME), 71u);
+  EXPECT_EQ(x4_key_code(KEY_PAGEDOWN), 81u);
+  EXPECT_EQ(x4_key_code(KEY_DELETE), 83u);
+  EXPECT_EQ(x4_key_code(KEY_COMPOSE), 93u);
+  EXPECT_EQ(x4_key_code(KEY_F13), 0u);  // no set-1 code
+  EXPECT_EQ(x4_key_code(KEY_MUTE), 0u);
+  for (const x4_key &k : x4_keys) {
+    if (k.name) {
+      EXPECT_EQ(x4step::sim::key_code(k.name), x4_key_code(k.key)) << k.name;
+    }
+  }
 }
 
 TEST(SimKeyMap, NamesAndCodesAreTheModulesDefaultMap) {

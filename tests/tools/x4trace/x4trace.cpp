@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "../../../lib/sim/vcd_pins.hpp"
 #include "../../../tools/json_string.hpp"  // x4ctl's too
 
 namespace {
@@ -188,17 +189,9 @@ Trace read_trace(const std::string &path) {
 
 // ---------------------------------------------------------------- the connector
 
-// Output pins in connector order.
-struct Pin {
-  int number;
-  const char *name;
-};
-const Pin kPins[] = {
-    {1, "pin01_signal1"}, {2, "pin02_dir1"},     {3, "pin03_clk1"},   {4, "pin04_dir2"},
-    {5, "pin05_clk2"},    {6, "pin06_dir3"},     {7, "pin07_clk3"},   {8, "pin08_dir4"},
-    {9, "pin09_clk4"},    {14, "pin14_signal2"}, {16, "pin16_boost"}, {17, "pin17_aktiv"},
-};
-constexpr int kNumPins = sizeof(kPins) / sizeof(kPins[0]);
+// Output pins in connector order, with the simulated port's VCD names.
+constexpr const auto &kPins = x4step::sim::vcd_pins;
+constexpr int kNumPins = x4step::sim::vcd_n_pins;
 constexpr int kAxes = 4;
 int clk_pin(int axis) { return 3 + 2 * axis; }  // axis 0..3 = "axis 1..4"
 int dir_pin(int axis) { return 2 + 2 * axis; }
