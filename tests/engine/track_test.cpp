@@ -10,12 +10,16 @@
 #include <cstring>
 #include <vector>
 
+#include "engine_ref.h"  // x4test::Move()
+
 extern "C" {
 #include "x4_req.h"
 #include "x4_track.h"
 }
 
 namespace {
+
+using x4test::Move;
 
 constexpr uint64_t kStart = 1000;
 
@@ -98,17 +102,6 @@ struct Rig {
     return out;
   }
 };
-
-x4_move Move(int32_t s1, int32_t s2, int32_t s3, int32_t s4, int32_t freq, int32_t ramp) {
-  x4_move m{};
-  m.steps[0] = s1;
-  m.steps[1] = s2;
-  m.steps[2] = s3;
-  m.steps[3] = s4;
-  m.freq_hz = freq;
-  m.ramp_ms = ramp;
-  return m;
-}
 
 Ev Started(uint32_t axes, uint32_t kind) { return {X4STEP_EV_MOVE_STARTED, axes, kind, 0, 0}; }
 Ev Ended(uint32_t axes, uint32_t how) { return {X4STEP_EV_MOVE_ENDED, axes, how, 0, 0}; }

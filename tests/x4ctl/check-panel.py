@@ -18,16 +18,7 @@ import tempfile
 import termios
 import time
 
-X4CTL = sys.argv[1]
-HERE = os.path.dirname(os.path.abspath(__file__))
-MACHINE = os.path.join(HERE, "test-mill.ini")
-failed = False
-
-
-def check(name, ok, detail=""):
-    global failed
-    print(("PASS " if ok else "FAIL ") + name + ("" if ok else "\n" + detail))
-    failed |= not ok
+from pycheck import HERE, MACHINE, X4CTL, check, exit_status
 
 
 class Panel:
@@ -354,4 +345,4 @@ check("Ctrl-C at rest: exit 0", p.status == 0 and "panel: at X0 Y0 Z0" in out, o
 r = subprocess.run([X4CTL, "--sim", "panel", "--machine", MACHINE], stdin=subprocess.DEVNULL,
                    capture_output=True, text=True, timeout=30)
 check("without a terminal: exit 1, said", r.returncode == 1 and "needs a terminal" in r.stderr, r.stderr)
-sys.exit(1 if failed else 0)
+sys.exit(exit_status())

@@ -23,16 +23,7 @@ import tempfile
 import termios
 import time
 
-X4CTL = sys.argv[1]
-HERE = os.path.dirname(os.path.abspath(__file__))
-MACHINE = os.path.join(HERE, "test-mill.ini")
-failed = False
-
-
-def check(name, ok, detail=""):
-    global failed
-    print(("PASS " if ok else "FAIL ") + name + ("" if ok else "\n" + detail))
-    failed |= not ok
+from pycheck import HERE, MACHINE, X4CTL, check, exit_status
 
 
 tmp = tempfile.mkdtemp()
@@ -186,4 +177,4 @@ res = recs[-1] if recs else {}
 check("--json: the result last, with units, elapsed and estimated seconds on the same clock",
       res.get("result") == "done" and res.get("units") == "mm" and res.get("estimated") == recs[0].get("seconds")
       and res.get("elapsed", 0) >= el[-1] and res["elapsed"] >= res["estimated"], json.dumps(res))
-sys.exit(1 if failed else 0)
+sys.exit(exit_status())
