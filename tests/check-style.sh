@@ -47,7 +47,7 @@ for hdr in $(ls -d /usr/src/linux-headers-*-amd64 | sort -V); do
 	grep -v -e '^Skipping BTF' -e '^  ' "$out/build-$kver.log" | grep -q . && st=1
 	grep -v '^Skipping BTF' "$out/build-$kver.log"
 	result $st "module builds with W=1, sparse-clean on $kver"
-	"$top/tests/check-glue-layers.sh" "$src/kmod"
+	"$top/tests/check-layers.sh" glue "$src/kmod"
 	result $? "kernel glue: each file calls only the files below it ($kver)"
 done
 
