@@ -234,16 +234,22 @@ imported import_stepconf(std::istream &ini_in, const std::string &ini_name, std:
   if (auto k = ini.peek("KINS", "KINEMATICS"); k && k->find("trivkins") == std::string::npos)
     r.not_carried.push_back("[KINS] KINEMATICS = " + *k +
                             ": x4step's kinematics are trivial (joint n is the n-th letter of COORDINATES)");
+  // LinuxCNC's joint of each letter kept is its place in COORDINATES (a
+  // gantry's X Y Y Z: Z is joint 3); x4step's joint n is the n-th kept.
   std::string letters, dropped;
+  std::vector<size_t> source_joint;
+  size_t place = 0;
   for (char c : coords) {
     if (c == ' ' || c == '\t') continue;
     if (std::string("XYZABC").find(c) == std::string::npos || letters.find(c) != std::string::npos ||
-        letters.size() == 4)
+        letters.size() == 4) {
       dropped += c;
-    else
+    } else {
       letters += c;
+      source_joint.push_back(place);
+    }
+    place++;
   }
-  // A letter dropped ends the joints' numbering: joint n is only the n-th letter up to there.
   const size_t joints = letters.size();
   if (!dropped.empty())
     r.not_carried.push_back("[TRAJ] COORDINATES = " + coords + ": axes " + dropped +
@@ -289,10 +295,11 @@ imported import_stepconf(std::istream &ini_in, const std::string &ini_name, std:
   std::vector<limit_inputs> limits(joints);
   for (size_t n = 0; n < joints; n++) {
     const std::string axis = std::string("AXIS_") + letters[n], joint = "JOINT_" + std::to_string(n);
+    const std::string from = std::to_string(source_joint[n]);  // LinuxCNC's joint number
     // LinuxCNC 2.7's files have [AXIS_<n>] for both.
-    const std::string old_axis = "AXIS_" + std::to_string(n);
+    const std::string old_axis = "AXIS_" + from;
     const std::string axis_sec = ini.has_section(axis) ? axis : old_axis;
-    const std::string joint_sec = ini.has_section(joint) ? joint : old_axis;
+    const std::string joint_sec = ini.has_section("JOINT_" + from) ? "JOINT_" + from : old_axis;
     o << "\n[" << axis << "]\n";
     for (const char *k : {"MIN_LIMIT", "MAX_LIMIT", "MAX_VELOCITY", "MAX_ACCELERATION"}) {
       const std::optional<std::string> v = ini.take(axis_sec, k);
@@ -311,15 +318,15 @@ imported import_stepconf(std::istream &ini_in, const std::string &ini_name, std:
     bool normally_closed = false;
     std::string home_sig;
     if (hal) {
-      home_sig = hal->signal_of("joint." + std::to_string(n) + ".home-sw-in");
-      if (home_sig.empty()) home_sig = hal->signal_of("axis." + std::to_string(n) + ".home-sw-in");
+      home_sig = hal->signal_of("joint." + from + ".home-sw-in");
+      if (home_sig.empty()) home_sig = hal->signal_of("axis." + from + ".home-sw-in");
       for (const port_pin &p : hal->port_pins(home_sig))
         if (!p.out && input_of_pin(p.pin)) {
           input = input_of_pin(p.pin);
           normally_closed = p.inverted;
         }
       for (const char *end : {"neg", "pos"}) {
-        const std::string sig = hal->signal_of("joint." + std::to_string(n) + "." + end + "-lim-sw-in");
+        const std::string sig = hal->signal_of("joint." + from + "." + end + "-lim-sw-in");
         for (const port_pin &p : hal->port_pins(sig))
           if (!p.out && input_of_pin(p.pin))
             (end[0] == 'n' ? limits[n].minus : limits[n].plus) = input_of_pin(p.pin);
@@ -356,12 +363,12 @@ imported import_stepconf(std::istream &ini_in, const std::string &ini_name, std:
                                 home_sig + " on pin-NN-in-not): the port's setting, 'x4ctl limits --nc " +
                                 std::to_string(input) + "'");
     } else if (search != 0) {
-      r.not_carried.push_back("[" + joint_sec + "] homing: " +
-                              std::string(!hal     ? "no HAL file to find the home switch's input in"
-                                          : !input ? "no parport input for joint." + std::to_string(n) +
-                                                         ".home-sw-in in " + hal_name
-                                                   : "HOME_LATCH_VEL missing or 0") +
-                              " (x4step homes on a switch, at HOME_SEARCH_VEL then HOME_LATCH_VEL)");
+      r.not_carried.push_back(
+          "[" + joint_sec + "] homing: " +
+          std::string(!hal     ? "no HAL file to find the home switch's input in"
+                      : !input ? "no parport input for joint." + from + ".home-sw-in in " + hal_name
+                               : "HOME_LATCH_VEL missing or 0") +
+          " (x4step homes on a switch, at HOME_SEARCH_VEL then HOME_LATCH_VEL)");
     }
   }
 

@@ -151,6 +151,23 @@ run machine import -o "$dir/router.ini" "$here/stepconf/router.ini"
 [ $? -eq 2 ] && grep -q "router.ini exists: remove it or name another" "$dir/err"
 check "import -o an existing file: refused, exit 2" $?
 
+# A gantry (X Y Y Z: LinuxCNC's joint 3 is Z): Z's settings come from
+# [JOINT_3], not from the second Y's [JOINT_2].
+python3 - "$here/stepconf/router.ini" "$here/stepconf/router.hal" "$dir" <<'EOF'
+import re, sys
+ini, hal, out = sys.argv[1:]
+t = open(ini).read().replace("COORDINATES =  X Y Z", "COORDINATES =  X Y Y Z")
+y2 = re.search(r"\[JOINT_1\]\n(?:[^[].*\n|\n)*", t).group(0)
+t = t.replace("[JOINT_2]", "[JOINT_3]").replace("[AXIS_Z]", y2.replace("[JOINT_1]", "[JOINT_2]").replace("SCALE = -320.0", "SCALE = -321.0") + "[AXIS_Z]")
+open(out + "/gantry.ini", "w").write(t)
+open(out + "/gantry.hal", "w").write(open(hal).read().replace("joint.2.", "joint.3."))
+EOF
+run machine import -o "$dir/gantry-x4.ini" "$dir/gantry.ini" "$dir/gantry.hal"
+[ $? -eq 0 ] && [ "$(key "$dir/gantry-x4.ini" TRAJ COORDINATES)" = XYZ ] &&
+	[ "$(key "$dir/gantry-x4.ini" JOINT_2 SCALE)" = 400.0 ] && [ "$(key "$dir/gantry-x4.ini" JOINT_1 SCALE)" = -320.0 ] &&
+	grep -q "not carried: \[TRAJ\] COORDINATES = X Y Y Z: axes Y " "$dir/out"
+check "import of a gantry (X Y Y Z): Z is LinuxCNC's joint 3, the second Y is not carried" $?
+
 # Without the HAL file: no home switch inputs, so no homing, said so.
 mkdir "$dir/nohal" && cp "$here/stepconf/router.ini" "$dir/nohal/"
 run machine import -o "$dir/nohal.ini" "$dir/nohal/router.ini"
