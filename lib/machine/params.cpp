@@ -9,11 +9,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <charconv>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 namespace x4step::machine {
@@ -21,6 +19,9 @@ namespace x4step::machine {
 namespace {
 
 constexpr int g28_base = 5161, g30_base = 5181, g92_on = 5210, g92_base = 5211, system_param = 5220;
+// LinuxCNC's groups have 9 axes (X Y Z A B C U V W) and it refuses a file
+// that lacks one of them; the highest number it keeps is 5602.
+constexpr int group_axes = 9, max_parameter = 5602;
 int g5x_base(size_t system) { return 5221 + 20 * static_cast<int>(system); }
 
 double get(const parameters &p, int n) {
@@ -84,6 +85,12 @@ gcode::coordinate_state coordinates_of(const parameters &p) {
 }
 
 void set_coordinates(parameters &p, const gcode::coordinate_state &c) {
+  // U V W, which x4step does not have: as they are, or 0, so that
+  // LinuxCNC finds every parameter it needs.
+  for (int i = int(gcode::n_axes); i < group_axes; i++) {
+    for (int base : {g28_base, g30_base, g92_base}) p.emplace(base + i, 0);
+    for (size_t s = 0; s < c.g5x.size(); s++) p.emplace(g5x_base(s) + i, 0);
+  }
   bool g92 = false;
   for (size_t a = 0; a < gcode::n_axes; a++) {
     const int i = static_cast<int>(a);
@@ -110,12 +117,15 @@ void apply_changes(gcode::coordinate_state &into, const gcode::coordinate_state 
   if (after.system != before.system) into.system = after.system;
 }
 
+// Numbers are written and read without the C locale's help: a program
+// that set LC_NUMERIC to a decimal comma still writes LinuxCNC's points.
 std::string format_parameters(const parameters &p) {
   std::string text;
-  char line[64];
+  char buf[64];
   for (const auto &[n, v] : p) {
-    std::snprintf(line, sizeof line, "%d\t%.6f\n", n, v == 0 ? 0.0 : v);  // no "-0.000000"
-    text += line;
+    const double value = std::fabs(v) < 5e-7 ? 0.0 : v;  // no "-0.000000"
+    const auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, 6);
+    text += std::to_string(n) + "\t" + std::string(buf, r.ptr) + "\n";
   }
   return text;
 }
@@ -125,38 +135,56 @@ parameters parse_parameters(const std::string &text, const std::string &name) {
   std::istringstream in(text);
   std::string l;
   for (int n = 1; std::getline(in, l); n++) {
-    if (l.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const char *s = l.c_str();
-    char *end = nullptr;
-    errno = 0;
-    const long number = std::strtol(s, &end, 10);
-    const char *v = end;
+    const auto blank = [&](size_t i) { return l.find_first_not_of(" \t\r", i); };
+    if (blank(0) == std::string::npos) continue;
+    const char *s = l.c_str() + blank(0), *end = l.c_str() + l.size();
+    int number = 0;
     double value = 0;
-    if (end != s && !errno && (*v == ' ' || *v == '\t')) value = std::strtod(v, &end);
-    if (end == v || end == s || errno || number < 1 || !std::isfinite(value))
-      throw parameter_error(name + ":" + std::to_string(n) + ": '" + l +
+    auto r = std::from_chars(s, end, number);
+    const char *v = r.ptr;
+    bool ok = r.ec == std::errc() && v != end && (*v == ' ' || *v == '\t');
+    if (ok) {
+      v = l.c_str() + blank(size_t(v - l.c_str()));
+      if (*v == '+') v++;  // from_chars takes no plus sign
+      r = std::from_chars(v, end, value);
+      ok = r.ec == std::errc() && blank(size_t(r.ptr - l.c_str())) == std::string::npos;
+    }
+    const std::string at = name + ":" + std::to_string(n) + ": ";
+    if (!ok || !std::isfinite(value))
+      throw parameter_error(at + "'" + l +
                             "' is no parameter line: each line is NUMBER VALUE (5221 0.000000)");
-    p[static_cast<int>(number)] = value;
+    if (number < 1 || number > max_parameter)
+      throw parameter_error(at + "parameter " + std::to_string(number) + " is outside 1.." +
+                            std::to_string(max_parameter));
+    if (!p.emplace(number, value).second)
+      throw parameter_error(at + "parameter " + std::to_string(number) + " is given twice");
   }
   return p;
 }
 
 parameters parameter_file::read_all() const {
-  std::ifstream f(path_, std::ios::binary);
-  if (!f) {
+  const fd_guard f(::open(path_.c_str(), O_RDONLY | O_CLOEXEC));
+  if (f.get() < 0) {
     if (errno == ENOENT) return {};
     throw parameter_error(sys_error("cannot read the parameter file", path_));
   }
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) throw parameter_error(sys_error("cannot read the parameter file", path_));
-  return parse_parameters(text.str(), path_);
+  std::string text;
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(f.get(), buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw parameter_error(sys_error("cannot read the parameter file", path_));  // EISDIR too
+    if (n == 0) break;
+    text.append(buf, size_t(n));
+  }
+  return parse_parameters(text, path_);
 }
 
 gcode::coordinate_state parameter_file::update(
     const std::function<void(gcode::coordinate_state &)> &change) const {
   const std::string lock_path = path_ + ".lock";
-  const fd_guard lock(::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644));
+  // Read-only: flock() needs no more, and another user's lock file opens.
+  const fd_guard lock(::open(lock_path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666));
   if (lock.get() < 0) throw parameter_error(sys_error("cannot create the lock file", lock_path));
   while (::flock(lock.get(), LOCK_EX) < 0)
     if (errno != EINTR) throw parameter_error(sys_error("cannot lock", lock_path));
@@ -172,10 +200,15 @@ gcode::coordinate_state parameter_file::update(
   if (out.get() < 0) throw parameter_error(sys_error("cannot write in " + directory_of(path_), path_));
   try {
     write_all(out.get(), format_parameters(p), tmp);
-    if (::fchmod(out.get(), 0644) < 0 || ::fsync(out.get()) < 0)
+    struct stat old {};
+    const mode_t mode = ::stat(path_.c_str(), &old) == 0 ? old.st_mode & 07777 : 0644;  // the old file's
+    if (::fchmod(out.get(), mode) < 0 || ::fsync(out.get()) < 0)
       throw parameter_error(sys_error("cannot write", tmp));
     if (::close(out.release()) < 0) throw parameter_error(sys_error("cannot write", tmp));
     if (::rename(tmp.c_str(), path_.c_str()) < 0) throw parameter_error(sys_error("cannot replace", path_));
+    // The rename itself outlives a power cut once the directory is synced.
+    const fd_guard dir(::open(directory_of(path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
+    if (dir.get() >= 0) ::fsync(dir.get());
   } catch (...) {
     ::unlink(tmp.c_str());
     throw;

@@ -25,10 +25,16 @@
  * file:line.
  *
  * Writes are atomic and safe with several writers: an update takes an
- * exclusive flock() on "FILE.lock" (beside it), reads the file, changes
- * it, writes "FILE.XXXXXX" in the same directory, fsyncs it and renames
- * it over FILE. A reader (no lock) sees the old file or the new one,
- * never half of one; two updates never lose each other's change.
+ * exclusive flock() on "FILE.lock" (beside it, opened read-only so that
+ * another user's lock file serves too), reads the file, changes it,
+ * writes "FILE.XXXXXX" in the same directory with the old file's mode,
+ * fsyncs it, renames it over FILE and fsyncs the directory. A reader (no
+ * lock) sees the old file or the new one, never half of one; two updates
+ * never lose each other's change. Numbers are read and written in the C
+ * format whatever the program's locale; a line with anything after its
+ * value, a number outside 1..5602 or one given twice is refused. Every
+ * group is written with LinuxCNC's nine axes (U V W as found, else 0), as
+ * LinuxCNC refuses a file that lacks one.
  */
 #ifndef X4STEP_PARAMS_HPP
 #define X4STEP_PARAMS_HPP
