@@ -266,9 +266,13 @@ f = p.wait(lambda f: "state: idle" in f, 30)
 x2 = axis(f, "X")[1] if axis(f, "X") else 0
 check("Left pressed once: X jogs back a little (the repeat delay) and stops",
       "state: idle" in f and -5 <= x2 < x and "braked" not in f, f)
-# Another key while it is held brakes it, as in every jog.
+# Another key while it is held brakes it, as in every jog: the key repeats
+# until then (a jog that let go by itself would say nothing).
 p.send("\x1b[C")
-p.wait(lambda f: "state: jog X+" in f)
+while "state: jog X+" not in p.frame():
+    p.send("\x1b[C")
+    if p.read(0.04) is None:
+        break
 p.send("x")
 f = p.wait(lambda f: "state: idle" in f, 30)
 check("another key while held: braked (ESC), said", "jog X+ (while held): braked (ESC)" in f, f)

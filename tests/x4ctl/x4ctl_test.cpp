@@ -18,6 +18,7 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
+#include "held_key.hpp"
 #include "json.hpp"
 #include "lang.hpp"
 #include "motion.hpp"
@@ -2275,6 +2276,26 @@ TEST(Term, HaltRequestsCarryTheirAxes) {
 }
 
 // ---- keys from a terminal ------------------------------------------------------------------
+
+// The panel's jog while held: the key counts as held until no repeat has
+// come for the terminal's repeat delay (first) or a repeat's gap (then).
+TEST(HeldKey, LetGoAfterTheRepeatDelayOrAGapInTheRepeats) {
+  using ms = std::chrono::milliseconds;
+  const held_key::time_point t0{};
+  held_key once(t0);  // one press: waits for the first repeat as long as a terminal delays it
+  EXPECT_FALSE(once.let_go(t0 + ms(650)));
+  EXPECT_FALSE(once.let_go(t0 + ms(700)));
+  EXPECT_TRUE(once.let_go(t0 + ms(701)));
+  held_key held(t0);  // repeats from 500 ms, every 40 ms, until 1500 ms
+  for (int t = 500; t <= 1500; t += 40) {
+    EXPECT_FALSE(held.let_go(t0 + ms(t))) << t;
+    held.repeat(t0 + ms(t));
+  }
+  EXPECT_FALSE(held.let_go(t0 + ms(1500 + 100)));
+  EXPECT_TRUE(held.let_go(t0 + ms(1500 + 101)));  // 0.1 s after the last repeat, not 0.7 s
+  held.repeat(t0 + ms(1650));                     // a repeat once let go changes nothing
+  EXPECT_TRUE(held.let_go(t0 + ms(1651)));
+}
 
 TEST(Term, DecodeKeys) {
   EXPECT_EQ(decode_key("", false).k, key::none);

@@ -21,6 +21,7 @@
 #include <utility>
 
 #include "commands.hpp"
+#include "held_key.hpp"
 #include "operate.hpp"
 #include "show.hpp"
 #include "term.hpp"
@@ -44,17 +45,12 @@ class full_screen {
 constexpr double feed_steps[] = {1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000, 20000, 50000};
 constexpr int jog_steps = 4;  // while held, then 3 increments
 
-// A held key repeats after the terminal's repeat delay (250 ms on the Linux
-// console, 500-660 ms in X terminals), then 25-33 times a second: the jog
-// waits that long for the first repeat, then brakes when repeats stop.
-constexpr milliseconds first_repeat{700}, repeat_gap{100};
-
 // The console of a jog while its key is held: that key's repeats keep it
 // going, their end or any other key brakes it (as any_key_brakes does).
 class while_held : public console {
  public:
   while_held(std_console &inner, key held, char ch, std::function<void()> each_read)
-      : inner_(inner), held_(held), ch_(ch), each_read_(std::move(each_read)), last_(steady::now()) {}
+      : inner_(inner), held_(held), ch_(ch), each_read_(std::move(each_read)), key_(steady::now()) {}
   std::ostream &out() override { return inner_.out(); }
   bool live() const override { return false; }
   bool has_keyboard() const override { return inner_.has_keyboard(); }
@@ -64,17 +60,13 @@ class while_held : public console {
   key read_key(milliseconds timeout) override {
     if (each_read_) each_read_();
     const key k = inner_.read_key(timeout);
-    const steady::time_point t = steady::now();
     if (k == held_ && inner_.last_char() == ch_) {
-      if (!let_go_) {  // a repeat that comes while it brakes starts no new jog
-        repeated_ = true;
-        last_ = t;
-      }
+      key_.repeat(steady::now());  // a repeat that comes while it brakes starts no new jog
       return key::none;
     }
     switch (k) {
       case key::none:
-        if (!let_go_ && t - last_ > (repeated_ ? repeat_gap : first_repeat)) {
+        if (!let_go_ && key_.let_go(steady::now())) {
           let_go_ = true;
           return key::esc;
         }
@@ -99,8 +91,8 @@ class while_held : public console {
   key held_;
   char ch_;
   std::function<void()> each_read_;
-  steady::time_point last_;  // of the press or its latest repeat
-  bool repeated_ = false, let_go_ = false, other_ = false, interrupted_ = false;
+  held_key key_;
+  bool let_go_ = false, other_ = false, interrupted_ = false;
 };
 
 // A move ended by letting go of its key was not braked by anyone: no message.
