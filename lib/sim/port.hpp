@@ -125,6 +125,17 @@ class port {
   // state.cpp: X4STEP_SIM_STATE, what a module would keep between programs.
   void load_state_locked();
   void save_state_locked();
+  // An axis as X4STEP_SIM_STATE keeps it (state.cpp).
+  struct kept_axis {
+    long long coordinate = 0, machine = 0;
+    int synced = 0;
+    bool operator==(const kept_axis &o) const {
+      return coordinate == o.coordinate && machine == o.machine && synced == o.synced;
+    }
+  };
+  // This port's axes as read from the file: only what changed since is
+  // written back, so that a reader's close keeps another program's moves.
+  std::array<kept_axis, 4> kept_{};
 
   int run_locked(starter start, const void *arg, unsigned kind);
   int goto_locked(std::uint8_t axes, const std::int32_t *target, bool relative);

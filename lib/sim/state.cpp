@@ -9,11 +9,15 @@
 //
 // read when the port is made (lines of other ports are kept), written
 // when the last descriptor of the port closes, atomically (temporary file
-// and rename, under a flock()ed FILE.lock).
+// and rename, under a flock()ed FILE.lock): only the axes this port changed
+// since it read them, so that a monitor that closes after another
+// program's moves does not put back what it read.
 #include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -63,10 +67,10 @@ std::vector<axis_line> read_lines(const std::string &path) {
 class lock_file {
  public:
   explicit lock_file(const std::string &path)
-      : fd_(::open((path + ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
-    if (fd_ >= 0)
-      while (::flock(fd_, LOCK_EX) < 0 && errno == EINTR) {
-      }
+      : fd_(::open((path + ".lock").c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666)) {
+    if (fd_ < 0) refuse("X4STEP_SIM_STATE=" + path + ": cannot open its lock file: " + std::strerror(errno));
+    while (::flock(fd_, LOCK_EX) < 0)
+      if (errno != EINTR) refuse("X4STEP_SIM_STATE=" + path + ": cannot lock: " + std::strerror(errno));
   }
   ~lock_file() {
     if (fd_ >= 0) ::close(fd_);
@@ -90,6 +94,7 @@ void port::load_state_locked() {
   for (const axis_line &a : read_lines(opt_.state)) {
     if (a.port != number_) continue;
     const size_t i = size_t(a.axis - 1);
+    kept_[i] = {a.coordinate, a.machine, a.synced};
     coord[i] = static_cast<s32>(a.coordinate);
     pos[i] = a.machine;
     if (a.synced) synced |= static_cast<u8>(1u << i);
@@ -105,19 +110,31 @@ void port::load_state_locked() {
 void port::save_state_locked() {
   if (opt_.state.empty()) return;
   try {
-    const lock_file l(opt_.state);
-    std::ostringstream text;
-    text << "# x4step simulated port state (X4STEP_SIM_STATE); remove the file to start afresh\n";
-    for (const axis_line &a : read_lines(opt_.state))
-      if (a.port != number_)
-        text << "sim:" << a.port << " axis " << a.axis << " coordinate " << a.coordinate << " synced "
-             << a.synced << " machine " << a.machine << "\n";
+    std::array<kept_axis, 4> now{};
     for (int i = 0; i < X4_AXES; i++) {
       x4_axis_state st{};
       x4_status_axis(&eng_, i, &st);
-      text << "sim:" << number_ << " axis " << i + 1 << " coordinate " << st.position << " synced "
-           << ((st.state & X4_AX_SYNC) ? 1 : 0) << " machine " << machine_.positions()[size_t(i)] << "\n";
+      now[size_t(i)] = {st.position, machine_.positions()[size_t(i)], (st.state & X4_AX_SYNC) ? 1 : 0};
     }
+    if (now == kept_) return;  // nothing of this port's changed
+    const lock_file l(opt_.state);
+    std::vector<axis_line> lines = read_lines(opt_.state);
+    for (int i = 0; i < X4_AXES; i++) {
+      if (now[size_t(i)] == kept_[size_t(i)]) continue;  // the file's, whoever wrote it
+      const kept_axis &k = now[size_t(i)];
+      const axis_line mine{number_, i + 1, k.coordinate, k.machine, k.synced};
+      auto it = std::find_if(lines.begin(), lines.end(),
+                             [&](const axis_line &a) { return a.port == number_ && a.axis == i + 1; });
+      if (it == lines.end())
+        lines.push_back(mine);
+      else
+        *it = mine;
+    }
+    std::ostringstream text;
+    text << "# x4step simulated port state (X4STEP_SIM_STATE); remove the file to start afresh\n";
+    for (const axis_line &a : lines)
+      text << "sim:" << a.port << " axis " << a.axis << " coordinate " << a.coordinate << " synced "
+           << a.synced << " machine " << a.machine << "\n";
     const std::string tmp = opt_.state + ".tmp" + std::to_string(::getpid());
     {
       std::ofstream f(tmp);

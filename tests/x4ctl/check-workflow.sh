@@ -104,4 +104,17 @@ sim_run "$dir/a.vcd" jog Z+ --machine "$dir/nfh.ini" --distance 1
 [ $? -eq 2 ] && grep -q 'Z 10 is beyond the soft limit \[AXIS_Z\] MAX_LIMIT 0: nothing moved' "$dir/out" &&
 	[ "$(steps "$dir/a.vcd")" = "0 0 0 0" ]
 check "... and one further out refused" $?
+# A program that only read the port (a monitor) and closes after another
+# program's move does not put back the state it read.
+X4STEP_SIM_STATE=$dir/watch.state timeout -s INT 30 "$x4ctl" --sim in --watch >"$dir/watch.out" 2>&1 &
+watcher=$!
+for _ in $(seq 300); do # until it runs (it read the state as its port was made)
+	[ -s "$dir/watch.out" ] && break
+	sleep 0.1
+done
+X4STEP_SIM_STATE=$dir/watch.state "$x4ctl" --sim move 500 >/dev/null 2>&1
+kill -INT "$watcher"
+wait "$watcher"
+grep -q '^sim:0 axis 1 coordinate 500 synced 0 machine 500$' "$dir/watch.state"
+check "a monitor that closes after another program's move keeps that move in X4STEP_SIM_STATE" $?
 exit $failed
