@@ -75,10 +75,11 @@ extern "C" {
  *         program using /dev/parportN) has claimed it. The holder's name
  *         is in /proc/sys/dev/parport/parport(lpt-1)/devices/active; the
  *         C++ API's exception says it; or the user may not open it:
- *         not in group lp, errno EACCES.) With X4ErrLPTNotFound, one
- *         line on stderr ("libx4step: X4Init(LPT1): ...") says what to
- *         fix: load the module, join group lp, free the port, or the
- *         simulator setting it refused.
+ *         not in group lp, errno EACCES.) The first X4ErrLPTNotFound
+ *         of a program writes one line on stderr ("libx4step:
+ *         X4Init(LPT1): ...") that says what to fix: load the module,
+ *         join group lp, free the port, or the simulator setting it
+ *         refused.
  */
 int X4Init(int lpt);
 

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <climits>
@@ -122,7 +123,10 @@ void dos_state(x4step::controller &c) {
 // it refused) goes to stderr, once, without the code's general "is x4step
 // loaded" where the error says more.
 void tell_init_failure(int lpt, const x4step::error &e) noexcept {
-  if (e.code() != x4step::errc::lpt_not_found) return;
+  // Once per program: one that tries LPT1..4 in turn, or again and
+  // again, gets the reason once, not a line per call.
+  static std::atomic<bool> told{false};
+  if (e.code() != x4step::errc::lpt_not_found || told.exchange(true)) return;
   try {
     std::string text = e.what();
     const std::string general = ": " + e.code().message();

@@ -300,8 +300,9 @@ capi() { # capi NAME PATTERN: X4Init of the C API program fails, saying PATTERN 
 	st=$?
 	sed 's/^/    | /' "$dir/out"
 	[ $st -eq 1 ] && grep -qF -- "libx4step: X4Init(LPT1): $2" "$dir/out" && ! grep -q 'is x4step loaded' "$dir/out" &&
+		[ "$(grep -c '^libx4step: ' "$dir/out")" = 1 ] &&
 		[ ! -e "$vcd" ]
-	check "C API, $1: X4Init fails, stderr says what to fix" $?
+	check "C API, $1: X4Init fails, stderr says what to fix (once for two calls)" $?
 }
 X4STEP_SIM=2 capi "X4STEP_SIM=2" "X4STEP_SIM=2: use 1"
 X4STEP_SIM=1 X4STEP_SIM_TIME=fast capi "X4STEP_SIM_TIME=fast" "X4STEP_SIM_TIME=fast: use virtual"

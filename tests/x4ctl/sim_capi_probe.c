@@ -7,6 +7,8 @@
 
 int main(void) {
   if (X4Init(LPT1) != X4NoErr) {
+    /* A second try: the library said what to fix once already. */
+    X4Init(LPT1);
     fprintf(stderr, "sim_capi_probe: X4Init(LPT1) failed\n");
     return 1;
   }
