@@ -150,6 +150,10 @@ check "import INI HAL: the same file on stdout, the report on stderr" $?
 run machine import -o "$dir/router.ini" "$here/stepconf/router.ini"
 [ $? -eq 2 ] && grep -q "router.ini exists: remove it or name another" "$dir/err"
 check "import -o an existing file: refused, exit 2" $?
+ln -s "$dir/elsewhere.ini" "$dir/link.ini"
+run machine import -o "$dir/link.ini" "$here/stepconf/router.ini"
+[ $? -eq 2 ] && grep -q "link.ini exists: remove it or name another" "$dir/err" && [ ! -e "$dir/elsewhere.ini" ]
+check "import -o a dangling symbolic link: refused, nothing written where it points" $?
 
 # A gantry (X Y Y Z: LinuxCNC's joint 3 is Z): Z's settings come from
 # [JOINT_3], not from the second Y's [JOINT_2].

@@ -1,8 +1,12 @@
 // SPDX-License-Identifier: GPL-2.0
 // x4ctl machine: check a machine file, or make one of a LinuxCNC StepConf
 // configuration (lib/machine/stepconf.hpp). Touches no port.
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -108,11 +112,21 @@ int run_import(const config &c) {
 
   const std::string out_name = c.output.empty() ? "(standard output)" : c.output;
   if (!c.output.empty()) {
-    if (exists(c.output)) throw usage_error("machine: " + c.output + " exists: remove it or name another");
-    std::ofstream out(c.output);
-    out << r.text;
-    out.flush();
-    if (!out) throw failure("cannot write " + c.output);
+    // O_EXCL: never over a file (or through a link) that is there, even
+    // one made since the program started.
+    const int fd = ::open(c.output.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0 && errno == EEXIST)
+      throw usage_error("machine: " + c.output + " exists: remove it or name another");
+    if (fd < 0) throw failure("cannot write " + c.output + ": " + std::strerror(errno), errno);
+    bool written = true;
+    for (size_t done = 0; written && done < r.text.size();) {
+      const ssize_t n = ::write(fd, r.text.data() + done, r.text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      written = n > 0;
+      if (written) done += size_t(n);
+    }
+    if (::close(fd) < 0 || !written)
+      throw failure("cannot write " + c.output + ": " + std::strerror(errno), errno);
   } else {
     std::cout << r.text << std::flush;
   }
