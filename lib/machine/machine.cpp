@@ -769,8 +769,8 @@ machine read(std::istream &in, const std::string &name) {
       const std::string near = nearest(s, section_names());
       f.add(line, 1, "[" + s + "]",
             "unknown section" + (near.empty() ? "" : ": did you mean [" + near + "]?") +
-                (near.empty() ? ": a machine file has EMC, EMCIO, X4STEP, TRAJ, AXIS_<letter> and JOINT_<n> "
-                                "(and LinuxCNC's own sections, which x4step ignores)"
+                (near.empty() ? ": a machine file has EMC, EMCIO, RS274NGC, X4STEP, TRAJ, AXIS_<letter> and "
+                                "JOINT_<n> (and LinuxCNC's own sections, which x4step ignores)"
                               : ""));
       continue;
     }
