@@ -393,8 +393,22 @@ f = p.wait(lambda f: "part.ngc: done in" in f and "state: idle" in f)
 check("r runs it to its end: done, with the machine time and the estimate, at the program's end",
       re.search(r"part\.ngc: done in 0:0[0-9], estimated 0:0[0-9], at X13 Y6 Z-1 \(mm\)", f)
       and axis(f, "X") == (10, 13) and axis(f, "Y") == (5, 6) and axis(f, "Z") == (0, -1), f)
+# A program's G10 goes to the parameter file, and the screen shows it.
+setz = os.path.join(tmp, "setz.ngc")
+with open(setz, "w") as f:
+    f.write("G10 L20 P1 Z5\nM2\n")
+p.send("o")
+p.wait(lambda f: "program file (" in f)
+p.send(setz + "\r")
+p.wait(lambda f: "setz.ngc: OK" in f)
+p.send("r")
+f = p.wait(lambda f: "setz.ngc: done in" in f and "state: idle" in f)
+check("a program's G10 L20 P1 Z5: the work Z shown is 5 at machine Z-1 when it ends",
+      "nothing moves" not in f and axis(f, "Z") == (5, -1) and axis(f, "X") == (10, 13), f)
 p.send("q")
 p.finish()
+var = open(os.path.join(tmp, "prog.var")).read()
+check("and the parameter file keeps it (G54 Z at -6)", "5223\t-6.000000\n" in var, var)
 steps = vcd_steps(vcd)
 check("the motors stand where the program ends: X -199 + 1600, Y 599 - 1000, Z 499 steps",
       p.status == 0 and steps[:3] == [1401, -401, 499], repr(steps))

@@ -408,6 +408,8 @@ void panel::cycle_start() {
     throw;
   }
   state_ = "idle";
+  // What a program that ran to its end changed (G10 L2/L20, G92) is shown.
+  offset_ = load_coordinates(mc_, "panel").work_offset();
   if (r.interrupted) quit_ = true;
   message_ = name + ": " + r.end_line;
 }
