@@ -340,6 +340,158 @@ check("the next panel shows work 0 at machine X3 Y1 Z-1",
 p.send("q")
 p.finish()
 
+# --- a program: o opens and checks it, r runs it (issue 30 item 9) ---------------------
+# With the parameter file: home (X3 Y1 Z-1), z sets work zero there, then the
+# programs run in work coordinates. The pins count from where homing left
+# them: X -199, Y 599 (SCALE -200), Z 499 (see the first session).
+prog_machine = os.path.join(tmp, "prog.ini")
+with open(MACHINE) as src, open(prog_machine, "w") as dst:
+    dst.write(src.read() + "[RS274NGC]\nPARAMETER_FILE = prog.var\n")
+good = os.path.join(tmp, "part.ngc")
+with open(good, "w") as f:
+    f.write("G21 G90 G54\nG0 X5 Y2\nG1 Z-2 F300\nG1 X10 Y5 F600\nG0 Z0\nM2\n")
+bad = os.path.join(tmp, "bad.ngc")
+with open(bad, "w") as f:
+    f.write("G21 G90\nG0 X5\nG1 X6 Y2 Q7 F100\nM2\n")
+# A long one for the keys that must come mid-run (real time): X 0 -> 80 at 10 mm/s.
+long_prog = os.path.join(tmp, "long.ngc")
+with open(long_prog, "w") as f:
+    f.write("G21 G90\nG1 X80 F600\nG1 Y3\nM2\n")
+state = {"X4STEP_SIM_TIME": "virtual", "X4STEP_SIM_STATE": os.path.join(tmp, "prog.state")}
+vcd = os.path.join(tmp, "prog.vcd")
+p = Panel(vcd, state, command=("panel", "--machine", prog_machine))
+f = p.wait(lambda f: "state: idle" in f)
+keylines = [l for l in f.splitlines() if l.startswith("o: ")]
+check("the keys say o opens a program and r starts it, within 80 columns",
+      keylines and "r: cycle start" in keylines[0] and "program: none (o opens one)" in f and
+      max(len(l) for l in f.splitlines()) <= 80, f)
+p.send("o")
+p.wait(lambda f: "program file (" in f)
+p.send(good + "\r")
+f = p.wait(lambda f: "part.ngc:" in f and "state: idle" in f)
+check("o before homing: refused by the homed-first rule, nothing loaded",
+      "not homed" in f and "nothing moved" in f and "program: none" in f, f)
+p.send("h")
+p.wait(lambda f: "state: idle" in f and "home: done" in f)
+p.send("z")
+p.wait(lambda f: "work zero set" in f)
+p.send("o")
+p.wait(lambda f: "program file (" in f)
+p.send(bad + "\r")
+f = p.wait(lambda f: "bad.ngc:" in f and "state: idle" in f)
+check("o a bad program: refused with its FILE:LINE:COLUMN, nothing loaded",
+      re.search(re.escape(bad) + r":3:[0-9]+: ", f) and "program: none" in f, f)
+p.send("r")
+f = p.wait(lambda f: "r: no program" in f)
+check("r without a program: said, nothing moves",
+      "r: no program: o opens one" in f and axis(f, "X") == (0, 3), f)
+p.send("o")
+p.wait(lambda f: "program file (" in f)
+p.send(good + "\r")
+f = p.wait(lambda f: "part.ngc: OK" in f)
+check("o part.ngc: checked from where the machine stands, in work coordinates: lines, time, extents",
+      re.search(r"part\.ngc: OK: 6 lines, about 0:0[0-9]; work mm: X0\.\.10 Y0\.\.5 Z-2\.\.0; r runs it", f)
+      and "program: part.ngc, 6 lines, about 0:0" in f, f)
+p.send("r")
+f = p.wait(lambda f: "part.ngc: done in" in f and "state: idle" in f)
+check("r runs it to its end: done, with the machine time and the estimate, at the program's end",
+      re.search(r"part\.ngc: done in 0:0[0-9], estimated 0:0[0-9], at X13 Y6 Z-1 \(mm\)", f)
+      and axis(f, "X") == (10, 13) and axis(f, "Y") == (5, 6) and axis(f, "Z") == (0, -1), f)
+# A program's G10 goes to the parameter file, and the screen shows it.
+setz = os.path.join(tmp, "setz.ngc")
+with open(setz, "w") as f:
+    f.write("G10 L20 P1 Z5\nM2\n")
+p.send("o")
+p.wait(lambda f: "program file (" in f)
+p.send(setz + "\r")
+p.wait(lambda f: "setz.ngc: OK" in f)
+p.send("r")
+f = p.wait(lambda f: "setz.ngc: done in" in f and "state: idle" in f)
+check("a program's G10 L20 P1 Z5: the work Z shown is 5 at machine Z-1 when it ends",
+      "nothing moves" not in f and axis(f, "Z") == (5, -1) and axis(f, "X") == (10, 13), f)
+p.send("q")
+p.finish()
+var = open(os.path.join(tmp, "prog.var")).read()
+check("and the parameter file keeps it (G54 Z at -6)", "5223\t-6.000000\n" in var, var)
+steps = vcd_steps(vcd)
+check("the motors stand where the program ends: X -199 + 1600, Y 599 - 1000, Z 499 steps",
+      p.status == 0 and steps[:3] == [1401, -401, 499], repr(steps))
+
+# Real time from here: keys that must come mid-run. Each run starts from
+# the simulated state that session left (homed, at X13 Y6 Z-1) and its
+# work zero; the pins count from there.
+with open(os.path.join(tmp, "prog.state"), "rb") as src:
+    prog_state = src.read()
+state = {"X4STEP_SIM_STATE": os.path.join(tmp, "run.state")}
+
+
+def start_long(vcd):
+    with open(os.path.join(tmp, "run.state"), "wb") as dst:
+        dst.write(prog_state)
+    p = Panel(vcd, state, command=("panel", "--machine", prog_machine))
+    p.wait(lambda f: "state: idle" in f)
+    p.send("o")
+    p.wait(lambda f: "program file (" in f)
+    p.send(long_prog + "\r")
+    p.wait(lambda f: "long.ngc: OK" in f)
+    p.send("r")
+    return p
+
+
+def x_at(f):
+    return axis(f, "X")[1] if axis(f, "X") else 0
+
+
+# Hold mid-run, then resume: it ends where it would have.
+vcd = os.path.join(tmp, "hold.vcd")
+p = start_long(vcd)
+f = p.wait(lambda f: "state: running" in f and x_at(f) > 14)
+check("while it runs the screen shows the state, line, percent, time left and positions",
+      re.search(r"state: running [0-9.]+% \| line 2 \|.* left", f) and 14 < x_at(f) < 83, f)
+p.send(" ")
+f = p.wait(lambda f: "state: held" in f)
+x_held = x_at(f)
+p.run_for(1)
+f = p.frame()
+check("space holds it: held, X stays (%s)" % x_held, "state: held" in f and x_at(f) == x_held, f)
+p.send(" ")
+f = p.wait(lambda f: "long.ngc: done in" in f and "state: idle" in f, 60)
+check("space resumes it: done at the program's end X83 Y4",
+      "at X83 Y4 Z-1 (mm)" in f and axis(f, "X") == (80, 83) and axis(f, "Y") == (3, 4), f)
+p.send("q")
+p.finish()
+check("and the motors went there: X 70 * 160, Y -2 * -200 steps",
+      p.status == 0 and vcd_steps(vcd)[:2] == [70 * 160, 400], repr(vcd_steps(vcd)))
+
+# ESC aborts: hold along the path, then flush; the machine short of the end.
+vcd = os.path.join(tmp, "abort.vcd")
+p = start_long(vcd)
+p.wait(lambda f: "state: running" in f and x_at(f) > 14)
+p.send("\x1b")
+f = p.wait(lambda f: "long.ngc: aborted" in f and "state: idle" in f, 60)
+x = x_at(f)
+check("ESC aborts it: aborted, state idle, X short of the end",
+      re.search(r"long\.ngc: aborted at [0-9.]+% after [0-9:]+, estimated [0-9:]+, at X", f)
+      and 14 < x < 83 and axis(f, "Y") == (5, 6), f)
+p.run_for(1)
+check("and nothing moves after it", x_at(p.frame()) == x, p.frame())
+p.send("q")
+out = p.finish()
+check("the motor stands where the panel says (%s steps)" % vcd_steps(vcd)[:1],
+      p.status == 0 and vcd_steps(vcd)[0] == round((x - 13) * 160), repr(vcd_steps(vcd)))
+
+# SIGINT during a run: aborted along the path, the panel ends, nothing left running.
+vcd = os.path.join(tmp, "runint.vcd")
+p = start_long(vcd)
+p.wait(lambda f: "state: running" in f and x_at(f) > 14)
+os.kill(p.pid, signal.SIGINT)
+out = p.finish()
+m = re.search(r"panel: at X(-?[0-9.]+) ", out)
+check("SIGINT while a program runs: aborted short of the end, the panel ends (exit 0), terminal back",
+      p.status == 0 and p.canonical() and m and 14 < float(m.group(1)) < 83, out[-300:])
+check("and the motor stands where the panel says (%s steps)" % vcd_steps(vcd)[:1],
+      m and vcd_steps(vcd)[0] == round((float(m.group(1)) - 13) * 160), repr(vcd_steps(vcd)))
+
 # --- Ctrl-C typed at rest quits; no terminal: refused -----------------------------------
 p = Panel(os.path.join(tmp, "ctrlc.vcd"), {"X4STEP_SIM_TIME": "virtual"})
 p.wait(lambda f: "state: idle" in f)

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -29,28 +30,6 @@
 namespace x4ctl {
 
 namespace {
-
-// A program: a file's text or mdi's blocks, in memory: read once, so what
-// was checked is what runs even if the file changes meanwhile (a few MB
-// for a large CAM file).
-struct program {
-  std::string name;  // what errors give: the file, or "mdi"
-  std::string text;
-  bool is_file;
-  std::string command() const { return is_file ? "gcode" : "mdi"; }
-
-  // Before an error: a file's names the command; mdi's names itself ("mdi:2:7: ...").
-  std::string prefix() const { return is_file ? "gcode: " : ""; }
-
-  static program from_file(const std::string &file) {
-    std::ifstream f(file, std::ios::binary);
-    if (!f) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
-    std::ostringstream text;
-    text << f.rdbuf();
-    if (f.bad()) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
-    return {file, text.str(), true};
-  }
-};
 
 // Plans the whole program into out; a refused line is a usage error.
 m::plan_summary plan(const m::machine &mc, const program &p, const g::pose &start, m::planner_output &out,
@@ -86,7 +65,7 @@ struct counter : m::planner_output {
 };
 
 void print_summary(const m::machine &mc, const config &c, const program &p, const m::plan_summary &s,
-                   const counter &n) {
+                   long pauses) {
   if (c.json) {
     // Extents as [min, max] per axis: work and machine coordinates.
     auto extents_of = [&](const g::pose &lo, const g::pose &hi) {
@@ -107,7 +86,7 @@ void print_summary(const m::machine &mc, const config &c, const program &p, cons
                      .add("segments", s.segments)
                      .add("length", s.length)
                      .add("seconds", s.seconds)
-                     .add("pauses", n.pauses)
+                     .add("pauses", pauses)
                      .raw("extents", extents_of(s.work_min, s.work_max))
                      .raw("machine_extents", extents_of(s.min, s.max))
                      .str()
@@ -117,7 +96,7 @@ void print_summary(const m::machine &mc, const config &c, const program &p, cons
   std::cout << p.name << ": OK: " << s.lines << " lines, " << s.segments << " segments, " << number(s.length)
             << " " << units_name(mc) << " along the path, about " << clock_text(s.seconds)
             << " at the top speeds (ramps not counted)";
-  if (n.pauses) std::cout << ", " << n.pauses << " pauses for the operator";
+  if (pauses) std::cout << ", " << pauses << " pauses for the operator";
   std::cout << "\n";
   if (!s.moved) return;
   auto extents = [&](const g::pose &lo, const g::pose &hi) {
@@ -223,16 +202,16 @@ class runner : public m::planner_output {
 // gcode and mdi: check, plan from where the machine stands, run.
 int run_program(const config &c, const program &prog) {
   const m::machine mc = load_machine(c, prog.command());
-  // The offsets the parameter file keeps; what the program changes goes back once it ran.
-  const g::coordinate_state coords = load_coordinates(mc, prog.command());
   counter n;
   toolpath_plot plot;
   // A plot that cannot be written fails before anything moves.
   if (!c.svg.empty() && !std::ofstream(c.svg))
     throw failure("--svg " + c.svg + ": cannot write: " + std::strerror(errno), errno);
   if (c.check) {
+    // The offsets the parameter file keeps.
+    const g::coordinate_state coords = load_coordinates(mc, prog.command());
     if (!c.svg.empty()) n.plot = &plot;
-    print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n, coords), n);
+    print_summary(mc, c, prog, plan(mc, prog, g::pose{}, n, coords), n.pauses);
     n.plot = nullptr;
     if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name + " (planned, as from machine zero)");
     return 0;
@@ -240,95 +219,144 @@ int run_program(const config &c, const program &prog) {
   check_text(mc, prog);
   controller_port port(open_controller(machine_device(c, mc)));
   x4step::controller &ctl = port.controller();
-  // Planned from where the machine stands.
-  const x4step::axes_status at_start = ctl.get_axes();
-  const g::pose start = pose_of(mc, at_start);
-  // (A simulated port without a machine, X4STEP_SIM_MACHINE, has no switches to home on.)
-  const bool can_home = !is_sim_device(ctl.path()) || x4step::sim_machine_switches();
-  const std::vector<size_t> unhomed =
-      can_home ? unhomed_axes(mc, at_start, machine_axes_of(mc)) : std::vector<size_t>{};
-  m::plan_summary total;
-  try {
-    total = plan(mc, prog, start, n, coords);
-  } catch (const usage_error &e) {
-    // A soft limit means little while the machine does not know where it stands.
-    if (unhomed.empty()) throw;
-    throw usage_error(std::string(e.what()) + "; but " + unhomed_text(c, mc, unhomed));
-  }
-  // Homed first: an axis with a home switch that the program moves.
-  std::vector<size_t> moved;
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a] && total.moved &&
-        (steps_of(*mc.axes[a], total.min[a]) != steps_of(*mc.axes[a], start[a]) ||
-         steps_of(*mc.axes[a], total.max[a]) != steps_of(*mc.axes[a], start[a])))
-      moved.push_back(a);
-  if (const std::vector<size_t> u = can_home ? unhomed_axes(mc, at_start, moved) : std::vector<size_t>{};
-      !u.empty())
-    throw failure((prog.is_file ? prog.name + ": " : "") + unhomed_text(c, mc, u) + "; nothing moved");
+  const program_check k = check_at_machine(c, mc, ctl, prog);
   const bool keyboard = ::isatty(STDIN_FILENO);
-  if (n.pauses && !keyboard && !c.no_pause)
-    throw usage_error(prog.prefix() + prog.name + ": " + std::to_string(n.pauses) +
+  if (k.pauses && !keyboard && !c.no_pause)
+    throw usage_error(prog.prefix() + prog.name + ": " + std::to_string(k.pauses) +
                       " pauses for the operator (M0, M1, M6): run it from a terminal");
   // Only a program found good changes the port's settings.
   prepare_port(port, mc);
   // The summary first, as text or as the first JSON record (mdi's blocks
   // are on its command line: no summary in text).
-  if (c.json || prog.is_file) print_summary(mc, c, prog, total, n);
+  if (c.json || prog.is_file) print_summary(mc, c, prog, k.total, k.pauses);
+  const run_result r =
+      run_checked(c, mc, ctl, prog, k, prog.command(), keyboard, c.svg.empty() ? nullptr : &plot, nullptr);
+  if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name);
+  std::cout << (c.json ? r.end_json : r.end_line) << "\n";
+  return r.aborted ? 1 : 0;
+}
 
-  progress_meter meter(mc, ctl, total, prog.command(), keyboard, c.override_percent, start);
-  bool aborted = false;
-  g::coordinate_state coords_after = coords;
-  std::array<long, x4step::axes> end{};
+}  // namespace
+
+program program::from_file(const std::string &file) {
+  std::ifstream f(file, std::ios::binary);
+  if (!f) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
+  std::ostringstream text;
+  text << f.rdbuf();
+  if (f.bad()) throw failure("cannot read " + file + ": " + std::strerror(errno), errno);
+  return {file, text.str(), true, ""};
+}
+
+program_check check_at_machine(const config &c, const m::machine &mc, x4step::controller &ctl,
+                               const program &prog) {
+  program_check k;
+  // The offsets the parameter file keeps; what the program changes goes back once it ran.
+  k.coords = load_coordinates(mc, prog.command());
+  // Planned from where the machine stands.
+  const x4step::axes_status at_start = ctl.get_axes();
+  k.start = pose_of(mc, at_start);
+  // (A simulated port without a machine, X4STEP_SIM_MACHINE, has no switches to home on.)
+  const bool can_home = !is_sim_device(ctl.path()) || x4step::sim_machine_switches();
+  const std::vector<size_t> unhomed =
+      can_home ? unhomed_axes(mc, at_start, machine_axes_of(mc)) : std::vector<size_t>{};
+  counter n;
+  try {
+    k.total = plan(mc, prog, k.start, n, k.coords);
+  } catch (const usage_error &e) {
+    // A soft limit means little while the machine does not know where it stands.
+    if (unhomed.empty()) throw;
+    throw usage_error(std::string(e.what()) + "; but " + unhomed_text(c, mc, unhomed));
+  }
+  k.pauses = n.pauses;
+  // Homed first: an axis with a home switch that the program moves.
+  std::vector<size_t> moved;
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a] && k.total.moved &&
+        (steps_of(*mc.axes[a], k.total.min[a]) != steps_of(*mc.axes[a], k.start[a]) ||
+         steps_of(*mc.axes[a], k.total.max[a]) != steps_of(*mc.axes[a], k.start[a])))
+      moved.push_back(a);
+  if (const std::vector<size_t> u = can_home ? unhomed_axes(mc, at_start, moved) : std::vector<size_t>{};
+      !u.empty())
+    throw failure((prog.is_file ? prog.name + ": " : "") + unhomed_text(c, mc, u) + "; nothing moved");
+  return k;
+}
+
+std::string check_line(const m::machine &mc, const program_check &k) {
+  const m::plan_summary &s = k.total;
+  std::string line = std::to_string(s.lines) + " lines, about " + clock_text(s.seconds);
+  if (k.pauses) line += ", " + std::to_string(k.pauses) + " pauses";
+  if (!s.moved) return line + ", nothing moves";
+  line += "; work " + units_name(mc) + ":";
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc.axes[a])
+      line += " " + std::string(1, axis_letters[a]) + number(s.work_min[a]) + ".." + number(s.work_max[a]);
+  return line;
+}
+
+run_result run_checked(const config &c, const m::machine &mc, x4step::controller &ctl, const program &prog,
+                       const program_check &k, const std::string &command, bool keyboard, toolpath_plot *plot,
+                       const run_view *view) {
+  progress_meter meter(mc, ctl, k.total, command, keyboard, c.override_percent, k.start);
+  run_result res;
+  g::coordinate_state coords_after = k.coords;
   {
-    path_stream ps(ctl, c.override_percent, c.json, keyboard,
-                   [&](const x4step::path_status &s, std::uint64_t done, bool json, size_t width) {
-                     return meter.record(s, done, json, width);
-                   });
-    runner r(mc, ctl, ps, meter, c.json, c.no_pause);
-    if (!c.svg.empty()) {
-      r.plot = &plot;
-      plot.start(start);
-      plot.done(start, 0);
+    path_stream::progress_fn progress = [&](const x4step::path_status &s, std::uint64_t done, bool json,
+                                            size_t width) { return meter.record(s, done, json, width); };
+    path_stream::view v;
+    if (view) {
+      v.keys = view->keys;
+      v.show = [&](const x4step::path_status &s, std::uint64_t done) { view->show(s, done, meter); };
+      v.say = view->say;
+    }
+    std::optional<path_stream> stream;
+    if (view)
+      stream.emplace(ctl, c.override_percent, v, progress);
+    else
+      stream.emplace(ctl, c.override_percent, c.json, keyboard, progress);
+    path_stream &ps = *stream;
+    runner r(mc, ctl, ps, meter, c.json && !view, c.no_pause);
+    if (plot) {
+      r.plot = plot;
+      plot->start(k.start);
+      plot->done(k.start, 0);
     }
     ps.on_poll([&] {
       r.show_due_messages();
-      if (r.plot) plot.done(pose_of(mc, ctl.get_axes()), ps.done());
+      if (plot) plot->done(pose_of(mc, ctl.get_axes()), ps.done());
     });
     try {
-      plan(mc, prog, start, r, coords, &coords_after);
+      plan(mc, prog, k.start, r, k.coords, &coords_after);
       ps.drain();
     } catch (const run_aborted &) {
       ps.drain();
     }
     r.outputs_off();
-    aborted = ps.aborted();
-    r.end_messages(aborted);
+    res.aborted = ps.aborted();
+    res.interrupted = ps.interrupted();
+    r.end_messages(res.aborted);
     ps.finish();
     meter.ended(ps.status(), ps.done());
     const x4step::axes_status a = ctl.get_axes();
-    for (x4step::axis ax : x4step::axis_set::all()) end[size_t(ax.index())] = a[ax].position;
-    plot.done(pose_of(mc, a), ps.done());
-    plot.completed(ps.done());
+    for (x4step::axis ax : x4step::axis_set::all()) res.end[size_t(ax.index())] = a[ax].position;
+    if (plot) {
+      plot->done(pose_of(mc, a), ps.done());
+      plot->completed(ps.done());
+    }
   }
-  if (!c.svg.empty()) plot.write(c.svg, units_name(mc), prog.name);
   // A program that ran to its end leaves its offsets (G10, G28.1, G92 ...) for the next command.
-  if (!aborted) save_coordinates(mc, coords, coords_after, prog.command());
+  if (!res.aborted) save_coordinates(mc, k.coords, coords_after, prog.command());
   std::ostringstream where;
   json_object pos;
   for (size_t a = 0; a < g::n_axes; a++) {
     if (!mc.axes[a]) continue;
-    const double v = double(end[size_t(mc.axes[a]->motor)]) / mc.axes[a]->scale;
+    const double v = double(res.end[size_t(mc.axes[a]->motor)]) / mc.axes[a]->scale;
     where << " " << axis_letters[a] << number(v);
     pos.add(std::string(1, axis_letters[a]), v);
   }
-  if (c.json)
-    std::cout << meter.end_json(aborted, pos) << "\n";
-  else
-    std::cout << meter.end_line(aborted, where.str()) << "\n";
-  return aborted ? 1 : 0;
+  res.end_line = meter.end_line(res.aborted, where.str());
+  res.end_json = meter.end_json(res.aborted, pos);
+  return res;
 }
-
-}  // namespace
 
 int cmd_gcode(const config &c) { return run_program(c, program::from_file(c.file)); }
 
@@ -337,7 +365,7 @@ int cmd_mdi(const config &c) {
   // (a block's own M2 ends it first).
   std::string text;
   for (const std::string &b : c.blocks) text += b + "\n";
-  return run_program(c, program{"mdi", text + "M2\n", false});
+  return run_program(c, program{"mdi", text + "M2\n", false, ""});
 }
 
 }  // namespace x4ctl

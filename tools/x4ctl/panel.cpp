@@ -4,7 +4,9 @@
 // move (jog, go to, home) is followed to its end with the screen redrawn at
 // every look and every key braking it, so that one thing moves at a time.
 // A terminal reports no key release, so a jog "while held" lasts as long as
-// the key's auto-repeat keeps coming.
+// the key's auto-repeat keeps coming. A program (o) is checked from where
+// the machine stands and run (r) as `x4ctl gcode` runs it (run_checked),
+// the screen redrawn at every status read of the path.
 #include "panel.hpp"
 
 #include <unistd.h>
@@ -21,8 +23,10 @@
 #include <utility>
 
 #include "commands.hpp"
+#include "gcode_cmd.hpp"
 #include "held_key.hpp"
 #include "operate.hpp"
+#include "run_display.hpp"
 #include "show.hpp"
 #include "term.hpp"
 
@@ -101,15 +105,14 @@ bool held_let_go(const while_held &keys) { return keys.let_go(); }
 
 class panel {
  public:
-  panel(const m::machine &mc, std::string file, std::string dev, port &p, std_console &con,
-        std::optional<double> feed)
-      : mc_(mc), file_(std::move(file)), dev_(std::move(dev)), p_(p), con_(con) {
+  panel(const config &c, const m::machine &mc, std::string dev, controller_port &p, std_console &con)
+      : c_(c), mc_(mc), file_(machine_path(c)), dev_(std::move(dev)), p_(p), ctl_(p.controller()), con_(con) {
     for (size_t a = 0; a < g::n_axes; a++)
       if (mc_.axes[a]) max_feed_ = std::max(max_feed_, mc_.axes[a]->max_velocity * 60);
     feed_ = feed_steps[0];
     for (double f : feed_steps)
       if (f <= max_feed_ / 4) feed_ = f;
-    if (feed) feed_ = std::min(*feed, max_feed_);  // no axis goes faster anyway
+    if (c.feed) feed_ = std::min(*c.feed, max_feed_);  // no axis goes faster anyway
     offset_ = load_coordinates(mc_, "panel").work_offset();
   }
 
@@ -126,15 +129,21 @@ class panel {
   void home();
   void set_zero();
   void change_feed(bool up);
+  void open_program();
+  void cycle_start();
   std::optional<std::string> prompt(const std::string &question);
   double increment(size_t a) const;  // the jog step of axis a, units; 0: continuous
   std::string step_text() const;
 
+  const config &c_;
   const m::machine &mc_;
   std::string file_, dev_;
   port &p_;
+  x4step::controller &ctl_;
   std_console &con_;
-  g::pose offset_{};  // work offset: work = machine - offset
+  std::optional<program> prog_;  // o: the program r runs
+  std::string prog_text_;        // its name and check, for the screen
+  g::pose offset_{};             // work offset: work = machine - offset
   double feed_ = 0, max_feed_ = 0;
   int step_ = 0;           // index of the jog step: 0 while held
   bool to_limit_ = false;  // the next jog runs to the soft limit
@@ -176,6 +185,7 @@ void panel::draw(bool now) {
   }
   line("");
   line("feed F" + number(feed_) + " " + units_name(mc_) + "/min   jog step: " + step_text());
+  line("program: " + (prog_ ? prog_text_ : "none (o opens one)"));
   line("state: " + state_);
   line(message_);
   line("");
@@ -183,6 +193,7 @@ void panel::draw(bool now) {
   line("i: jog step  c: next jog to the soft limit  +/-: feed  g: go to  h: home");
   line(std::string("z or 0: work zero here") + (mc_.parameter_file.empty() ? " (this session only)" : "") +
        "  space/ESC: stop  q: quit");
+  line("o: open program  r: cycle start; running: space hold/resume, ESC abort");
   o << "\x1b[J";
   con_.out() << o.str() << std::flush;
 }
@@ -339,6 +350,62 @@ void panel::set_zero() {
   message_ = "work zero set where the axes stand (kept in " + mc_.parameter_file + ")";
 }
 
+// The name of a file without its directory.
+std::string base_name(const std::string &path) { return path.substr(path.rfind('/') + 1); }
+
+// As `x4ctl gcode --check` from where the machine stands (its refusal
+// names FILE:LINE:COLUMN); the text is kept, so what was checked is what runs.
+void panel::open_program() {
+  const std::optional<std::string> file = prompt("program file (Enter: open and check, ESC: cancel): ");
+  message_.clear();
+  if (!file || file->empty()) return;
+  prog_.reset();
+  program p = program::from_file(*file);
+  p.by = "panel";
+  const program_check k = check_at_machine(c_, mc_, ctl_, p);
+  const std::string name = base_name(p.name);
+  prog_text_ = name + ", " + std::to_string(k.total.lines) + " lines, about " + clock_text(k.total.seconds);
+  prog_ = std::move(p);
+  message_ = name + ": OK: " + check_line(mc_, k) + "; r runs it";
+}
+
+// Checked again from where the machine stands now (a jog since o moves
+// the start), then run; the state line is the run's progress line.
+void panel::cycle_start() {
+  if (!prog_) {
+    message_ = "r: no program: o opens one";
+    return;
+  }
+  const program_check k = check_at_machine(c_, mc_, ctl_, *prog_);
+  const std::string name = base_name(prog_->name);
+  prog_text_ = name + ", " + std::to_string(k.total.lines) + " lines, about " + clock_text(k.total.seconds);
+  run_view v;
+  v.keys = &con_;
+  // "state: " takes 7 columns of 80.
+  v.show = [&](const x4step::path_status &s, std::uint64_t done, progress_meter &meter) {
+    if (steady::now() - drawn_ < milliseconds(50)) return;
+    state_ = meter.record(s, done, false, 72);
+    draw(true);
+  };
+  v.say = [&](const std::string &text) {
+    message_ = text;
+    draw(true);
+  };
+  message_ = name + ": running";
+  run_result r;
+  try {
+    r = run_checked(c_, mc_, ctl_, *prog_, k, "", true, nullptr, &v);
+  } catch (...) {
+    state_ = "idle";
+    throw;
+  }
+  state_ = "idle";
+  // What a program that ran to its end changed (G10 L2/L20, G92) is shown.
+  offset_ = load_coordinates(mc_, "panel").work_offset();
+  if (r.interrupted) quit_ = true;
+  message_ = name + ": " + r.end_line;
+}
+
 void panel::change_feed(bool up) {
   double f = feed_;
   for (double s : feed_steps)
@@ -402,6 +469,12 @@ void panel::run() {
             case 'h':
               home();
               break;
+            case 'o':
+              open_program();
+              break;
+            case 'r':
+              cycle_start();
+              break;
             default:
               message_ = "keys: see below ('x4ctl help panel')";
               break;
@@ -427,7 +500,7 @@ int cmd_panel(const config &c) {
   controller_port p(open_controller(dev));
   prepare_port(p, mc);
   std_console con(true);
-  panel pn(mc, machine_path(c), dev, p, con, c.feed);
+  panel pn(c, mc, dev, p, con);
   {
     full_screen screen(std::cout);
     pn.run();

@@ -24,13 +24,32 @@ path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, boo
       path_(ctl),
       json_(json),
       live_(!json && ::isatty(STDOUT_FILENO)),
-      con_(keyboard),
+      own_(keyboard),
+      con_(own_),
       progress_(std::move(progress)),
       override_(override_percent) {
   path_.set_override(override_);
   status_ = path_.status();
   base_ = status_.done;
   last_shown_ = (json_ ? ctl_.now() : steady::now()) - std::chrono::seconds(1);
+  con_.keys_on();
+}
+
+path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, const view &v,
+                         progress_fn progress)
+    : ctl_(ctl),
+      path_(ctl),
+      json_(false),
+      live_(false),
+      own_(false),
+      con_(v.keys ? *v.keys : own_),
+      view_(v),
+      progress_(std::move(progress)),
+      override_(override_percent) {
+  path_.set_override(override_);
+  status_ = path_.status();
+  base_ = status_.done;
+  last_shown_ = steady::now() - std::chrono::seconds(1);
   con_.keys_on();
 }
 
@@ -46,8 +65,10 @@ void path_stream::take(key k) {
         ctl_.stop();
         aborted_ = true;
         break;
-      case key::esc:
       case key::interrupt:
+        interrupted_ = true;
+        [[fallthrough]];
+      case key::esc:
       case key::brake_request:
         if (!aborted_) path_.abort();  // hold along the path, then flush
         aborted_ = true;
@@ -150,11 +171,17 @@ bool path_stream::wait_for_operator() {
     if (k == key::space) return true;
     if (k == key::esc || k == key::interrupt || k == key::brake_request || k == key::stop_request)
       aborted_ = true;
+    if (k == key::interrupt) interrupted_ = true;
+    if (view_.show) view_.show(status_, done());
   }
   return false;
 }
 
 void path_stream::show(bool now) {
+  if (view_.show) {  // the view has its own pace
+    view_.show(status_, done());
+    return;
+  }
   // JSON records every 200 ms of the port's clock (as many in virtual
   // time as in real time); a terminal's line 10 times a second.
   const auto t = json_ ? ctl_.now() : steady::now();
@@ -187,6 +214,10 @@ void path_stream::finish() {
 }
 
 void path_stream::say(const std::string &text) {
+  if (view_.say) {
+    view_.say(text);
+    return;
+  }
   if (drawn_) std::cout << "\r\033[K";
   std::cout << text << "\n" << std::flush;
   drawn_ = false;

@@ -27,6 +27,15 @@ class path_stream {
   /// by 10 %. Always: Ctrl-C, SIGTERM, `x4ctl brake` abort; `x4ctl stop` stops.
   path_stream(x4step::controller &ctl, unsigned override_percent, bool json, bool keyboard,
               progress_fn progress);
+  /// A stream inside a full-screen program (x4ctl panel): keys from keys
+  /// (the same keys as above), and instead of the live line, show is
+  /// called at every status read and say with each line of text.
+  struct view {
+    std_console *keys = nullptr;
+    std::function<void(const x4step::path_status &, std::uint64_t done)> show;
+    std::function<void(const std::string &)> say;
+  };
+  path_stream(x4step::controller &ctl, unsigned override_percent, const view &v, progress_fn progress);
   ~path_stream();
   path_stream(const path_stream &) = delete;
   path_stream &operator=(const path_stream &) = delete;
@@ -56,6 +65,8 @@ class path_stream {
   void on_poll(std::function<void()> f) { on_poll_ = std::move(f); }
 
   bool aborted() const noexcept { return aborted_; }
+  /// Ctrl-C (a key or SIGINT) aborted it: the program it runs in ends too.
+  bool interrupted() const noexcept { return interrupted_; }
   const x4step::path_status &status() const noexcept { return status_; }
   std::uint64_t done() const noexcept { return status_.done - base_; }
   unsigned override_percent() const noexcept { return override_; }
@@ -68,10 +79,13 @@ class path_stream {
   x4step::controller &ctl_;
   x4step::path path_;
   bool json_, live_;
-  std_console con_;
+  std_console own_;  // the keys of a stream without a view
+  std_console &con_;
+  view view_;
   progress_fn progress_;
   unsigned override_;
   bool aborted_ = false;
+  bool interrupted_ = false;
   bool drawn_ = false;        // a live line is on the screen
   std::uint64_t base_ = 0;    // the port's done count when the stream began
   std::uint64_t pushed_ = 0;  // segments queued by this stream

@@ -143,7 +143,7 @@ std::string progress_meter::record(const x4step::path_status &s, std::uint64_t d
   // figures; the state, percent and remaining time go last.
   enum { status_f, line_f, feed_f, override_f, elapsed_f, left_f, keys_f };
   const std::vector<std::vector<std::string>> fields = {
-      {command_ + ": " + status, status},
+      {(command_.empty() ? "" : command_ + ": ") + status, status},
       line.empty() ? std::vector<std::string>{} : std::vector<std::string>{"line " + line, "L" + line, ""},
       {f + " " + units_ + "/min", f, ""},
       // The override when it is not 100 %.
@@ -160,7 +160,7 @@ std::string progress_meter::record(const x4step::path_status &s, std::uint64_t d
 
 std::string progress_meter::end_line(bool aborted, const std::string &where) const {
   std::ostringstream o;
-  o << command_ << ": ";
+  if (!command_.empty()) o << command_ << ": ";
   if (aborted) {
     char pct[32];
     std::snprintf(pct, sizeof pct, "%.1f%%",

@@ -35,6 +35,7 @@ std::string fit_line(const std::vector<std::vector<std::string>> &fields, const 
 class progress_meter {
  public:
   /// keys: the keys work (a terminal on stdin): the line says which.
+  /// command begins the lines ("gcode: running ..."); "": nothing does.
   progress_meter(const m::machine &mc, x4step::controller &ctl, const m::plan_summary &total,
                  std::string command, bool keys, unsigned override_percent, const g::pose &start);
 
