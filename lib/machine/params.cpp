@@ -186,7 +186,9 @@ gcode::coordinate_state parameter_file::update(
   // Read-only: flock() needs no more, and another user's lock file opens.
   const fd_guard lock(::open(lock_path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666));
   if (lock.get() < 0) throw parameter_error(sys_error("cannot create the lock file", lock_path));
-  while (::flock(lock.get(), LOCK_EX) < 0)
+  // A kernel built without file locks (CONFIG_FILE_LOCKING off: ENOSYS)
+  // has nothing to wait for: the rename below still replaces the file whole.
+  while (::flock(lock.get(), LOCK_EX) < 0 && errno != ENOSYS)
     if (errno != EINTR) throw parameter_error(sys_error("cannot lock", lock_path));
   parameters p = read_all();
   const gcode::coordinate_state before = coordinates_of(p);

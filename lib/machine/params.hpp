@@ -34,7 +34,8 @@
  * format whatever the program's locale; a line with anything after its
  * value, a number outside 1..5602 or one given twice is refused. Every
  * group is written with LinuxCNC's nine axes (U V W as found, else 0), as
- * LinuxCNC refuses a file that lacks one.
+ * LinuxCNC refuses a file that lacks one. On a kernel without file locks
+ * (flock() ENOSYS) updates go unlocked; the rename still keeps them whole.
  */
 #ifndef X4STEP_PARAMS_HPP
 #define X4STEP_PARAMS_HPP

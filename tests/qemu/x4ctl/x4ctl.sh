@@ -795,7 +795,7 @@ if [ -r "$vmod" ]; then
 	check touch-off 0 '^touch-off: G54 Z 0.5: Z stands at work -0.5, machine 0 (mm)$' '' \
 		x4ctl touch-off -m "$tmp/hmill.ini" Z=-0.5
 	has touch-off-var "$tmp/hmill.var" '^5223	0.500000$'
-	check homed-first-runs 0 '^gcode: done, at X[-0-9.]* Y[-0-9.]* Z0.5 (mm)$' '' \
+	check homed-first-runs 0 '^gcode: done in [0-9:]*, estimated [0-9:]*, at X[-0-9.]* Y[-0-9.]* Z0.5 (mm)$' '' \
 		x4ctl gcode -m "$tmp/hmill.ini" "$tmp/z0.ngc"
 	same touch-off-edges "$(at 3)" "$((z + 50))"
 fi
