@@ -28,11 +28,7 @@ path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, boo
       con_(own_),
       progress_(std::move(progress)),
       override_(override_percent) {
-  path_.set_override(override_);
-  status_ = path_.status();
-  base_ = status_.done;
-  last_shown_ = (json_ ? ctl_.now() : steady::now()) - std::chrono::seconds(1);
-  con_.keys_on();
+  begin(json_ ? ctl_.now() : steady::now());
 }
 
 path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, const view &v,
@@ -46,10 +42,16 @@ path_stream::path_stream(x4step::controller &ctl, unsigned override_percent, con
       view_(v),
       progress_(std::move(progress)),
       override_(override_percent) {
+  begin(steady::now());
+}
+
+// Both constructors: the override, the done count to start from, the
+// progress due at once, the keys.
+void path_stream::begin(steady::time_point now) {
   path_.set_override(override_);
   status_ = path_.status();
   base_ = status_.done;
-  last_shown_ = steady::now() - std::chrono::seconds(1);
+  last_shown_ = now - std::chrono::seconds(1);
   con_.keys_on();
 }
 

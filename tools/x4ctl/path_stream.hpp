@@ -72,6 +72,7 @@ class path_stream {
   unsigned override_percent() const noexcept { return override_; }
 
  private:
+  void begin(std::chrono::steady_clock::time_point now);
   void serve(int poll_ms);
   void take(key k);
   void show(bool now);
