@@ -117,8 +117,9 @@ void CheckBrake(const std::string &what, const std::vector<uint64_t> &r, double 
   // interval d longer and the next d shorter. Under -icount the module's
   // timer is up to 2.4 us late (make bench: 'step timer lateness', max),
   // so 3 us; a ramp that sped up would shorten an interval of this test's
-  // (at least 330 us: cruises of 3 kHz at most) by far more. (It was 1 us: a clean-clone make check
-  // once failed the destructor's brake with one interval 1.x us short.)
+  // (at least 330 us: cruises of 3 kHz at most) by far more. (It was 1 us:
+  // a clean-clone make check once failed the destructor's brake with one
+  // interval 1.x us short.)
   size_t shorter = 0;
   for (size_t i = k + 2; i < r.size(); i++)
     if (r[i] - r[i - 1] + 3000 < r[i - 1] - r[i - 2]) shorter++;
