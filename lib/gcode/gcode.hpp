@@ -220,6 +220,29 @@ class interpreter {
   pose work_offset() const;
   units program_units() const noexcept;
 
+  /// The machine stands elsewhere than the program left it (a hold, an
+  /// abort, a jog between lines): the next move starts from `machine`
+  /// (machine coordinates and units).
+  void set_position(const pose &machine);
+  /// Another program changed the offsets (a parameter file written by
+  /// another tool between lines): they become `c`; the modes stay.
+  void set_coordinates(const coordinate_state &c);
+
+  /// The modes in force, as GRBL's $G reports them.
+  struct modes {
+    int motion = 800;  ///< G code x 10: 0 G0, 10 G1, 20, 30, 382 G38.2 ..., 800 G80
+    int system = 0;    ///< 0 G54 .. 8 G59.3
+    plane in = plane::xy;
+    units program = units::mm;
+    bool incremental = false;
+    feed_mode feed_in = feed_mode::units_per_minute;
+    spindle_dir spindle = spindle_dir::off;
+    bool mist = false, flood = false;
+    int tool = 0;
+    double feed = 0, speed = 0;  ///< as programmed (program units / min)
+  };
+  modes modal() const;
+
  private:
   struct impl;
   std::unique_ptr<impl> p_;

@@ -1324,6 +1324,22 @@ coordinate_state interpreter::coordinates() const {
 }
 units interpreter::program_units() const noexcept { return p_->prog_units; }
 
+void interpreter::set_position(const pose &machine) { p_->pos = p_->to_mm(machine); }
+
+void interpreter::set_coordinates(const coordinate_state &c) {
+  for (size_t i = 0; i < c.g5x.size(); ++i) p_->g5x[i] = p_->to_mm(c.g5x[i]);
+  p_->cs = c.system >= 0 && c.system < int(c.g5x.size()) ? c.system : 0;
+  p_->g28 = p_->to_mm(c.g28);
+  p_->g30 = p_->to_mm(c.g30);
+  p_->g92 = p_->to_mm(c.g92);
+}
+
+interpreter::modes interpreter::modal() const {
+  const impl &s = *p_;
+  return modes{s.motion, s.cs,   s.pl,   s.prog_units,    s.incremental, s.fmode,
+               s.sdir,   s.mist, s.flood, s.tool_loaded, s.feed,        s.speed};
+}
+
 std::map<int, tool> read_tool_table(const std::string &path, units in, units machine) {
   std::ifstream f(path);
   if (!f) throw error(path, 0, 0, "cannot open the tool table");

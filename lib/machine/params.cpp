@@ -3,10 +3,7 @@
 // replaced whole under a lock file.
 #include "params.hpp"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include "files.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -27,44 +24,6 @@ int g5x_base(size_t system) { return 5221 + 20 * static_cast<int>(system); }
 double get(const parameters &p, int n) {
   const auto it = p.find(n);
   return it == p.end() ? 0 : it->second;
-}
-
-std::string sys_error(const std::string &what, const std::string &path) {
-  return path + ": " + what + ": " + std::strerror(errno);
-}
-
-// An open descriptor, closed however the scope ends.
-class fd_guard {
- public:
-  explicit fd_guard(int fd) : fd_(fd) {}
-  ~fd_guard() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  fd_guard(const fd_guard &) = delete;
-  fd_guard &operator=(const fd_guard &) = delete;
-  int get() const noexcept { return fd_; }
-  int release() noexcept {
-    const int f = fd_;
-    fd_ = -1;
-    return f;
-  }
-
- private:
-  int fd_;
-};
-
-void write_all(int fd, const std::string &text, const std::string &path) {
-  for (size_t done = 0; done < text.size();) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw parameter_error(sys_error("cannot write", path));
-    done += size_t(n);
-  }
-}
-
-std::string directory_of(const std::string &path) {
-  const size_t slash = path.rfind('/');
-  return slash == std::string::npos ? "." : path.substr(0, slash + 1);
 }
 
 }  // namespace
@@ -163,59 +122,28 @@ parameters parse_parameters(const std::string &text, const std::string &name) {
 }
 
 parameters parameter_file::read_all() const {
-  const fd_guard f(::open(path_.c_str(), O_RDONLY | O_CLOEXEC));
-  if (f.get() < 0) {
-    if (errno == ENOENT) return {};
-    throw parameter_error(sys_error("cannot read the parameter file", path_));
+  try {
+    return parse_parameters(read_text(path_, true, "cannot read the parameter file"), path_);
+  } catch (const file_error &e) {
+    throw parameter_error(e.what());
   }
-  std::string text;
-  char buf[4096];
-  for (;;) {
-    const ssize_t n = ::read(f.get(), buf, sizeof buf);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw parameter_error(sys_error("cannot read the parameter file", path_));  // EISDIR too
-    if (n == 0) break;
-    text.append(buf, size_t(n));
-  }
-  return parse_parameters(text, path_);
 }
 
 gcode::coordinate_state parameter_file::update(
     const std::function<void(gcode::coordinate_state &)> &change) const {
-  const std::string lock_path = path_ + ".lock";
-  // Read-only: flock() needs no more, and another user's lock file opens.
-  const fd_guard lock(::open(lock_path.c_str(), O_RDONLY | O_CREAT | O_CLOEXEC, 0666));
-  if (lock.get() < 0) throw parameter_error(sys_error("cannot create the lock file", lock_path));
-  // A kernel built without file locks (CONFIG_FILE_LOCKING off: ENOSYS)
-  // has nothing to wait for: the rename below still replaces the file whole.
-  while (::flock(lock.get(), LOCK_EX) < 0 && errno != ENOSYS)
-    if (errno != EINTR) throw parameter_error(sys_error("cannot lock", lock_path));
-  parameters p = read_all();
-  const gcode::coordinate_state before = coordinates_of(p);
-  gcode::coordinate_state after = before;
-  change(after);
-  if (after == before) return after;
-  set_coordinates(p, after);
-  // A new file beside the old one, then renamed over it: atomic.
-  std::string tmp = path_ + ".XXXXXX";
-  fd_guard out(::mkostemp(&tmp[0], O_CLOEXEC));
-  if (out.get() < 0) throw parameter_error(sys_error("cannot write in " + directory_of(path_), path_));
   try {
-    write_all(out.get(), format_parameters(p), tmp);
-    struct stat old {};
-    const mode_t mode = ::stat(path_.c_str(), &old) == 0 ? old.st_mode & 07777 : 0644;  // the old file's
-    if (::fchmod(out.get(), mode) < 0 || ::fsync(out.get()) < 0)
-      throw parameter_error(sys_error("cannot write", tmp));
-    if (::close(out.release()) < 0) throw parameter_error(sys_error("cannot write", tmp));
-    if (::rename(tmp.c_str(), path_.c_str()) < 0) throw parameter_error(sys_error("cannot replace", path_));
-    // The rename itself outlives a power cut once the directory is synced.
-    const fd_guard dir(::open(directory_of(path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-    if (dir.get() >= 0) ::fsync(dir.get());
-  } catch (...) {
-    ::unlink(tmp.c_str());
-    throw;
+    const file_lock lock(path_);
+    parameters p = read_all();
+    const gcode::coordinate_state before = coordinates_of(p);
+    gcode::coordinate_state after = before;
+    change(after);
+    if (after == before) return after;
+    set_coordinates(p, after);
+    replace_file(path_, format_parameters(p));
+    return after;
+  } catch (const file_error &e) {
+    throw parameter_error(e.what());
   }
-  return after;
 }
 
 }  // namespace x4step::machine

@@ -34,6 +34,15 @@ planner::planner(const machine &m, planner_output &out, const gcode::pose &start
     if (m_.axes[a]) sum_.steps[size_t(m_.axes[a]->motor)] = std::lround(start[a] * m_.axes[a]->scale);
 }
 
+void planner::set_position(const gcode::pose &p) {
+  pos_ = p;
+  prev_dir_ = {};
+  prev_top_ = 0;
+  stop_next_ = true;
+  for (size_t a = 0; a < gcode::n_axes; a++)
+    if (m_.axes[a]) sum_.steps[size_t(m_.axes[a]->motor)] = std::lround(p[a] * m_.axes[a]->scale);
+}
+
 void planner::fail(const std::string &what) const { throw gcode::error(file_, line_, 1, what); }
 
 void planner::check_limits(const gcode::pose &p) const {

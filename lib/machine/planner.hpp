@@ -156,6 +156,10 @@ class planner : public gcode::sink {
   void source_line(const std::string &file, int line) override;
 
   const plan_summary &summary() const noexcept { return sum_; }
+  /// The machine stands at `p` (machine units), elsewhere than the last
+  /// segment ended (a hold, an abort, a jog): the next segment starts
+  /// there, from rest.
+  void set_position(const gcode::pose &p);
   /// Where the work offset in force comes from (the interpreter's
   /// work_offset()); without it work extents are machine extents.
   void work_offset_from(std::function<gcode::pose()> f) { work_offset_ = std::move(f); }
