@@ -212,13 +212,17 @@ void bridge::receive(std::string_view bytes) {
       continue;
     }
     if (c == '\n' || c == '\r') {
-      if (partial_.empty() && !partial_overflow_) continue;  // "\r\n": one line
+      // "\r\n" is one line; an empty one is a line too (GRBL: ok, for syncing).
+      const bool crlf = c == '\n' && last_cr_;
+      last_cr_ = c == '\r';
+      if (crlf) continue;
       pending_bytes_ += partial_.size() + 1;
       lines_.push_back(line_in{std::move(partial_), partial_overflow_});
       partial_.clear();
       partial_overflow_ = false;
       continue;
     }
+    last_cr_ = false;
     // A line too long is dropped to its end, then refused (error:11).
     if (partial_.size() >= max_line)
       partial_overflow_ = true;
@@ -395,6 +399,9 @@ void bridge::system_command(const std::string &line) {
   }
   if (rest.rfind("J=", 0) == 0) return jog_line(rest.substr(2));
   if (rest[0] == 'J') return reply(invalid_jog);
+  // A letter GRBL does not know (the numbers and N are settings and startup blocks below).
+  if (std::isalpha(static_cast<unsigned char>(rest[0])) && rest[0] != 'N' && !std::strchr("$GCXHSIR#", rest[0]))
+    return reply(invalid_statement);
   if (rest == "$") {
     if (s == run_state::cycle || s == run_state::hold) return reply(not_idle);
     port_facts f;

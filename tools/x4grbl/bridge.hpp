@@ -138,6 +138,7 @@ class bridge {
   // Receiving.
   std::string partial_;
   bool partial_overflow_ = false;
+  bool last_cr_ = false;
   std::deque<line_in> lines_;
   std::size_t pending_bytes_ = 0;
 

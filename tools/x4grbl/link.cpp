@@ -113,6 +113,14 @@ tcp_listener::tcp_listener(const std::string &address, const std::string &port) 
   if (!fd_) throw std::runtime_error("--tcp " + address + ":" + port + ": cannot listen: " + why);
 }
 
+int tcp_listener::port() const {
+  sockaddr_storage sa{};
+  socklen_t len = sizeof sa;
+  if (::getsockname(fd_.get(), reinterpret_cast<sockaddr *>(&sa), &len) < 0) return -1;
+  return ntohs(sa.ss_family == AF_INET6 ? reinterpret_cast<sockaddr_in6 *>(&sa)->sin6_port
+                                        : reinterpret_cast<sockaddr_in *>(&sa)->sin_port);
+}
+
 unique_fd tcp_listener::accept(std::string &peer) const {
   sockaddr_storage sa{};
   socklen_t len = sizeof sa;

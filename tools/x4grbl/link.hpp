@@ -65,6 +65,8 @@ class tcp_listener {
   /// std::runtime_error naming the address and why.
   tcp_listener(const std::string &address, const std::string &port);
   int fd() const noexcept { return fd_.get(); }
+  /// The port listened on (port 0 asks the kernel for a free one).
+  int port() const;
   /// A new connection (non-blocking, TCP_NODELAY), and its peer as text.
   unique_fd accept(std::string &peer) const;
 

@@ -123,7 +123,7 @@ int main(int argc, char **argv) {
   }
   if (pty) std::cerr << "x4grbl: GRBL on " << pty->link() << " (" << pty->slave() << ")\n";
   if (tcp) {
-    std::cerr << "x4grbl: GRBL on tcp " << o.tcp->first << ":" << o.tcp->second << "\n";
+    std::cerr << "x4grbl: GRBL on tcp " << o.tcp->first << ":" << tcp->port() << "\n";
     if (!is_loopback(o.tcp->first))
       std::cerr << "x4grbl: warning: listening on " << o.tcp->first
                 << ": whoever reaches this address can move the machine\n";
@@ -209,6 +209,11 @@ int main(int argc, char **argv) {
         break;
       }
     }
+    // The client first: one that just left makes room for the one knocking.
+    if (kind != client_kind::none) {
+      const bool gone = kind == client_kind::pty ? !pty->client_present() : false;
+      if (!read_client() || gone) drop_client();
+    }
     if (tcp && (fds[1].revents & POLLIN)) {
       std::string peer;
       x4grbl::unique_fd c = tcp->accept(peer);
@@ -224,10 +229,6 @@ int main(int argc, char **argv) {
         b->connect();
         log();
       }
-    }
-    if (kind != client_kind::none) {
-      const bool gone = kind == client_kind::pty ? !pty->client_present() : false;
-      if (!read_client() || gone) drop_client();
     }
     b->tick();
     flush();
