@@ -1192,7 +1192,12 @@ struct interpreter::impl : modal_state {
     pos = end;
   }
 
-  void end_program(bool m30) {
+  // M2/M30 (or the closing %): the last command of its line; the program
+  // ends once the line's commands before it are given on (ended_program()), so a
+  // probe on its line that fails leaves the program running (MDI).
+  void end_program(bool m30) { simple(event::end_ev, 0, 0, 0, m30); }
+
+  void ended_program() {
     // LinuxCNC's reset at M2/M30 (what a following program starts with).
     cs = 0;
     pl = plane::xy;
@@ -1202,12 +1207,13 @@ struct interpreter::impl : modal_state {
     il_set = false;
     sdir = spindle_dir::off;
     mist = flood = false;
-    simple(event::end_ev, 0, 0, 0, m30);
     ended = true;
   }
 
   void flush() {
     if (!out) {
+      for (const event &e : events)
+        if (e.k == event::end_ev) ended_program();
       events.clear();
       return;
     }
@@ -1266,6 +1272,7 @@ struct interpreter::impl : modal_state {
           out->warning(warnings[size_t(e.i)]);
           break;
         case event::end_ev:
+          ended_program();
           out->program_end(e.i != 0);
           break;
       }

@@ -395,6 +395,11 @@ TEST(Gcode, ProbeWithoutContactIsAnErrorAtItsLine) {
   EXPECT_EQ(in.position()[g::Z], -10);
   EXPECT_TRUE(in.execute_line("G91 G1 Z2", "mdi", 2));
   EXPECT_EQ(q.log.back(), "G1 0 0 -8");
+  // An M2 behind a failed probe never came: the program has not ended, and
+  // its modes (G91 here) are not reset.
+  EXPECT_THROW(in.execute_line("G38.2 Z-2 M2", "mdi", 3), g::error);
+  EXPECT_TRUE(in.execute_line("G1 Z1", "mdi", 4));
+  EXPECT_EQ(q.log.back(), "G1 0 0 -9");
 }
 
 TEST(Gcode, ProbeRefusals) {
