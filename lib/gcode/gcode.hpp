@@ -7,17 +7,15 @@
  * The subset CAM post-processors for GRBL and LinuxCNC emit, with the modal
  * rules of the NIST RS274/NGC interpreter (version 3) as LinuxCNC applies
  * them: G0 G1 G2 G3 (IJK and R, full circles, helices, P turns), G4, G10 L2
- * and L20, G17 G18 G19, G20 G21, G28 G28.1 G30 G30.1, G40, G43 H, G43.1,
- * G38.2 G38.3 G38.4 G38.5 (straight probe: the sink runs the move and
- * says where it stopped), G49, G53, G54..G59.3, G61 G61.1 G64 (P, Q),
- * G90 G91, G90.1 G91.1, G92 G92.1, G93 G94; the drilling cycles G73 G81
- * G82 G83 G85 G89 (XY
- * plane, G90 or G91, L repeats) with G98 G99 and G80, expanded into
- * traverses, feeds and dwells as LinuxCNC expands them; M0 M1 M2 M30 M3
- * M4 M5 M6 M7 M8 M9; F S T N; comments ( ) and ;, (MSG,...), (DEBUG,...),
- * block delete /, %. Anything else is refused with an error naming
- * file:line:column (and what to do instead where there is a way), never
- * skipped.
+ * and L20, G17 G18 G19, G20 G21, G28 G28.1 G30 G30.1, G38.2 G38.3 G38.4
+ * G38.5 (probing, below), G40, G43 H, G43.1, G49, G53, G54..G59.3, G61
+ * G61.1 G64 (P, Q), G90 G91, G90.1 G91.1, G92 G92.1, G93 G94; the drilling
+ * cycles G73 G81 G82 G83 G85 G89 (XY plane, G90 or G91, L repeats) with
+ * G98 G99 and G80, expanded into traverses, feeds and dwells as LinuxCNC
+ * expands them; M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9; F S T N; comments ( )
+ * and ;, (MSG,...), (DEBUG,...), block delete /, %. Anything else is
+ * refused with an error naming file:line:column (and what to do instead
+ * where there is a way), never skipped.
  *
  * Streaming: a program is read one line at a time; nothing is kept of a
  * line once it is executed. The interpreter knows nothing of motors or
@@ -30,8 +28,8 @@
  * sink runs the move (sink::straight_probe) and the program goes on from
  * where the machine stopped. G38.2 and G38.4 are errors when the input
  * did not change ("G38.2 move finished without making contact", as
- * LinuxCNC says it) or was already in the awaited state at the start (no
- * step made); G38.3 and G38.5 are not. LinuxCNC also stores the trip in
+ * LinuxCNC says it) or was already in the awaited state at the start (a
+ * trip equal to the move's start: no step made); G38.3 and G38.5 are not. LinuxCNC also stores the trip in
  * #5061..#5070: this interpreter has no # parameters; a caller takes the
  * trip from the sink's call (a GRBL bridge's [PRB:...]).
  *
