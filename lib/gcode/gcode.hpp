@@ -7,19 +7,31 @@
  * The subset CAM post-processors for GRBL and LinuxCNC emit, with the modal
  * rules of the NIST RS274/NGC interpreter (version 3) as LinuxCNC applies
  * them: G0 G1 G2 G3 (IJK and R, full circles, helices, P turns), G4, G10 L2
- * and L20, G17 G18 G19, G20 G21, G28 G28.1 G30 G30.1, G40, G43 H, G43.1,
- * G49, G53, G54..G59.3, G61 G61.1 G64 (P, Q), G90 G91, G90.1 G91.1,
- * G92 G92.1, G93 G94; the drilling cycles G73 G81 G82 G83 G85 G89 (XY
- * plane, G90 or G91, L repeats) with G98 G99 and G80, expanded into
- * traverses, feeds and dwells as LinuxCNC expands them; M0 M1 M2 M30 M3
- * M4 M5 M6 M7 M8 M9; F S T N; comments ( ) and ;, (MSG,...), (DEBUG,...),
- * block delete /, %. Anything else is refused with an error naming
- * file:line:column (and what to do instead where there is a way), never
- * skipped.
+ * and L20, G17 G18 G19, G20 G21, G28 G28.1 G30 G30.1, G38.2 G38.3 G38.4
+ * G38.5 (probing, below), G40, G43 H, G43.1, G49, G53, G54..G59.3, G61
+ * G61.1 G64 (P, Q), G90 G91, G90.1 G91.1, G92 G92.1, G93 G94; the drilling
+ * cycles G73 G81 G82 G83 G85 G89 (XY plane, G90 or G91, L repeats) with
+ * G98 G99 and G80, expanded into traverses, feeds and dwells as LinuxCNC
+ * expands them; M0 M1 M2 M30 M3 M4 M5 M6 M7 M8 M9; F S T N; comments ( )
+ * and ;, (MSG,...), (DEBUG,...), block delete /, %. Anything else is
+ * refused with an error naming file:line:column (and what to do instead
+ * where there is a way), never skipped.
  *
  * Streaming: a program is read one line at a time; nothing is kept of a
  * line once it is executed. The interpreter knows nothing of motors or
  * the kernel: it calls a sink (below), in the order of the program.
+ *
+ * Probing (G38.2..G38.5, modal group 1 like G1): accepted and refused as
+ * LinuxCNC's rs274 does: an axis word needed, a feed rate needed, G38.2
+ * and G38.4 refused when the move has length zero; refused in inverse
+ * time (G93, where LinuxCNC would probe at a feed left from before). The
+ * sink runs the move (sink::straight_probe) and the program goes on from
+ * where the machine stopped. G38.2 and G38.4 are errors when the input
+ * did not change ("G38.2 move finished without making contact", as
+ * LinuxCNC says it) or was already in the awaited state at the start (a
+ * trip equal to the move's start: no step made); G38.3 and G38.5 are not. LinuxCNC also stores the trip in
+ * #5061..#5070: this interpreter has no # parameters; a caller takes the
+ * trip from the sink's call (a GRBL bridge's [PRB:...]).
  *
  * Coordinates: every position given to the sink is in machine coordinates
  * (program position + G5x offset + G92 offset + tool length offset) in the
@@ -100,6 +112,22 @@ struct arc {
   feed_mode mode;
 };
 
+/// G38.2 (toward the workpiece, an error without contact), G38.3 (the
+/// same, no error), G38.4 (away from it: stop when contact breaks, an
+/// error if it does not), G38.5 (the same, no error).
+enum class probe_kind { toward_or_error, toward, away_or_error, away };
+
+/// Where a probe move stopped (machine coordinates, machine units).
+struct probe_outcome {
+  /// Where the machine stands after it: the interpreter goes on from here.
+  pose stop;
+  /// Whether the probe input changed (contact made, or broken for G38.4/5).
+  bool tripped = true;
+  /// Where it changed; where the move ended when it did not (LinuxCNC's
+  /// #5061..#5069 in machine coordinates).
+  pose trip{};
+};
+
 /// Where the canonical commands go. Every function has an empty default:
 /// a sink overrides what it needs. Calls come in the program's order.
 class sink {
@@ -107,6 +135,12 @@ class sink {
   virtual ~sink() = default;
   virtual void straight_traverse(const straight &) {}
   virtual void straight_feed(const straight &) {}
+  /// G38.2..G38.5: a feed (units per minute) to s.end that stops where
+  /// the probe input changes. Runs it to its end (it starts and ends at
+  /// rest) and returns where the machine stopped; the interpreter goes on
+  /// from there. This default (a sink that does not move: a check, a
+  /// preview) answers contact at the programmed end.
+  virtual probe_outcome straight_probe(const straight &s, probe_kind) { return {s.end, true, s.end}; }
   virtual void arc_feed(const arc &) {}
   virtual void dwell(double /*seconds*/) {}
   /// The program's length unit changed (G20/G21); positions stay in machine units.
@@ -212,6 +246,10 @@ class interpreter {
 
   /// The current position, machine coordinates, machine units.
   pose position() const;
+  /// The machine stands elsewhere than programmed (after a hold, an
+  /// abort or a probe): the next move starts from `machine` (machine
+  /// coordinates and units). Offsets and modes stay.
+  void set_position(const pose &machine);
   /// The offsets, the active system and the stored positions now
   /// (machine units): what a parameter file keeps.
   coordinate_state coordinates() const;

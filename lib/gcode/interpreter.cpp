@@ -84,6 +84,10 @@ int g_group(int code10) {
     case 10:
     case 20:
     case 30:
+    case 382:
+    case 383:
+    case 384:
+    case 385:
     case 730:
     case 800:
     case 810:
@@ -141,10 +145,6 @@ int g_group(int code10) {
     case 80:
     case 330:
     case 331:
-    case 382:
-    case 383:
-    case 384:
-    case 385:
     case 410:
     case 411:
     case 420:
@@ -260,6 +260,7 @@ struct event {
   enum kind {
     traverse,
     feed,
+    probe_ev,
     arc_feed,
     dwell,
     units_ev,
@@ -279,6 +280,8 @@ struct event {
   gcode::arc a;
   double d[3];
   int i;
+  pose from;  // probe_ev: where the move starts (output units)
+  int col;    // probe_ev: the column its errors name
 };
 
 inline bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
@@ -577,6 +580,8 @@ struct interpreter::impl : modal_state {
     }
     if (b.g[g_tool_length] == 431 && (motion_in_block || g0_axes) && axis)
       fail(b.g_col[g_tool_length], "G43.1 and a motion both use axis values: one of them per line");
+    if (is_probe(b.g[g_motion]) && !axis)
+      fail(b.g_col[g_motion], g_name(b.g[g_motion]) + " needs an axis word (where the probe move ends)");
     if (g0 == 920 && !axis) fail(b.g_col[g_nonmodal], "G92 needs at least one axis word");
     if (g0 == 100 && !axis) fail(b.g_col[g_nonmodal], "G10 needs at least one axis word");
     if (g0 == 530) {
@@ -623,6 +628,7 @@ struct interpreter::impl : modal_state {
   }
 
   static bool is_cycle(int m) { return m == 730 || (m >= 810 && m <= 890); }
+  static bool is_probe(int m) { return m >= 382 && m <= 385; }
 
   bool incremental_after() const { return b.g[g_distance] >= 0 ? b.g[g_distance] == 910 : incremental; }
 
@@ -1028,9 +1034,57 @@ struct interpreter::impl : modal_state {
         need_feed(b.g[g_motion] >= 0 ? b.g_col[g_motion] : b.first_col, motion == 20 ? "G2" : "G3");
         arc_move(end);
         break;
+      case 382:
+      case 383:
+      case 384:
+      case 385:
+        probe(end);
+        break;
       default:
         break;
     }
+  }
+
+  // G38.2..G38.5: LinuxCNC's convert_probe (interp_convert.cc). Cutter
+  // radius compensation, which it also refuses, is never on here.
+  void probe(const pose &end) {
+    const int col = b.g[g_motion] >= 0 ? b.g_col[g_motion] : b.first_col;
+    const std::string name = g_name(motion);
+    if (fmode == feed_mode::inverse_time)
+      fail(col, name + " in inverse time mode (G93): probing needs G94 and a feed rate (F)");
+    if (feed <= 0) fail(col, name + " with a feed rate of zero (no F given)");
+    const auto kind = probe_kind(motion - 382);
+    if ((kind == probe_kind::toward_or_error || kind == probe_kind::away_or_error) && end == pos)
+      fail(col, name +
+                    " ends where it starts: the probe move needs a length (LinuxCNC: \"start point too "
+                    "close to probe point\")");
+    event e{};
+    e.k = event::probe_ev;
+    e.s.end = to_out(end);
+    e.s.feed = out_feed();
+    e.s.mode = fmode;
+    e.i = int(kind);
+    e.from = to_out(pos);
+    e.col = col;
+    events.push_back(e);
+    pos = end;
+  }
+
+  // The sink ran a probe move: go on from where it stopped; G38.2 and
+  // G38.4 fail as LinuxCNC's motion controller fails them (control.c,
+  // command.c) when the input never changed or had already changed.
+  void probed(const event &e) {
+    const probe_outcome r = out->straight_probe(e.s, probe_kind(e.i));
+    pos = to_mm(r.stop);
+    const auto kind = probe_kind(e.i);
+    const bool away = kind == probe_kind::away_or_error;
+    if (kind != probe_kind::toward_or_error && !away) return;
+    if (!r.tripped)
+      fail(e.col, away ? "G38.4 move finished without breaking contact"
+                       : "G38.2 move finished without making contact");
+    if (r.trip == e.from)
+      fail(e.col, away ? "probe is already clear when starting the G38.4 move"
+                       : "probe is already tripped when starting the G38.2 move");
   }
 
   void need_feed(int col, const char *what) {
@@ -1138,7 +1192,12 @@ struct interpreter::impl : modal_state {
     pos = end;
   }
 
-  void end_program(bool m30) {
+  // M2/M30 (or the closing %): the last command of its line; the program
+  // ends once the line's commands before it are given on (ended_program()), so a
+  // probe on its line that fails leaves the program running (MDI).
+  void end_program(bool m30) { simple(event::end_ev, 0, 0, 0, m30); }
+
+  void ended_program() {
     // LinuxCNC's reset at M2/M30 (what a following program starts with).
     cs = 0;
     pl = plane::xy;
@@ -1148,12 +1207,13 @@ struct interpreter::impl : modal_state {
     il_set = false;
     sdir = spindle_dir::off;
     mist = flood = false;
-    simple(event::end_ev, 0, 0, 0, m30);
     ended = true;
   }
 
   void flush() {
     if (!out) {
+      for (const event &e : events)
+        if (e.k == event::end_ev) ended_program();
       events.clear();
       return;
     }
@@ -1165,6 +1225,9 @@ struct interpreter::impl : modal_state {
           break;
         case event::feed:
           out->straight_feed(e.s);
+          break;
+        case event::probe_ev:
+          probed(e);
           break;
         case event::arc_feed:
           out->arc_feed(e.a);
@@ -1209,6 +1272,7 @@ struct interpreter::impl : modal_state {
           out->warning(warnings[size_t(e.i)]);
           break;
         case event::end_ev:
+          ended_program();
           out->program_end(e.i != 0);
           break;
       }
@@ -1306,6 +1370,8 @@ bool interpreter::execute_line(std::string_view line, const std::string &name, i
 }
 
 pose interpreter::position() const { return p_->to_out(p_->pos); }
+
+void interpreter::set_position(const pose &machine) { p_->pos = p_->to_mm(machine); }
 
 pose interpreter::work_offset() const {
   pose o{};

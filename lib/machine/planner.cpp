@@ -59,7 +59,8 @@ void planner::check_limits(const gcode::pose &p) const {
 
 // One straight segment to end: feed_per_s (units/s) for feeds, seconds
 // for inverse time, neither for rapids.
-void planner::line_to(const gcode::pose &end, const speed &sp, bool checked) {
+bool planner::line_to(const gcode::pose &end, const speed &sp, bool checked, const gcode::probe_kind *probe,
+                      probe_result *result) {
   if (!checked) check_limits(end);
   std::array<long, x4step::axes> delta{};
   std::array<double, x4step::axes> d{};  // the executed move per motor, machine units
@@ -82,7 +83,7 @@ void planner::line_to(const gcode::pose &end, const speed &sp, bool checked) {
   }
   const gcode::pose start = pos_;
   pos_ = end;
-  if (!any) return;  // less than a step: the next point's rounding takes it up
+  if (!any) return false;  // less than a step: the next point's rounding takes it up
 
   // LinuxCNC's length: along X Y Z, or along A B C for a rotary-only move.
   const double len = std::sqrt(lin2 > 0 ? lin2 : rot2);
@@ -145,7 +146,10 @@ void planner::line_to(const gcode::pose &end, const speed &sp, bool checked) {
   info.speed = v;
   info.feed = asked;
   info.end = end;
-  out_.segment(s, info);
+  if (probe)
+    *result = out_.probe(s, info, *probe);
+  else
+    out_.segment(s, info);
 
   for (size_t mo = 0; mo < x4step::axes; mo++) sum_.steps[mo] += delta[mo];
   prev_dir_ = d;
@@ -167,6 +171,7 @@ void planner::line_to(const gcode::pose &end, const speed &sp, bool checked) {
     sum_.work_max[a] = std::max(sum_.work_max[a], end[a] - off[a]);
   }
   sum_.moved = true;
+  return true;
 }
 
 void planner::straight_traverse(const gcode::straight &s) { line_to(s.end, speed{true, 0, 0}); }
@@ -176,6 +181,51 @@ void planner::straight_feed(const gcode::straight &s) {
     line_to(s.end, speed{false, 0, s.feed > 0 ? 60 / s.feed : 0});
   else
     line_to(s.end, speed{false, s.feed / 60, 0});
+}
+
+gcode::probe_outcome planner::straight_probe(const gcode::straight &s, gcode::probe_kind k) {
+  const char *name = k == gcode::probe_kind::toward_or_error ? "G38.2"
+                     : k == gcode::probe_kind::toward        ? "G38.3"
+                     : k == gcode::probe_kind::away_or_error ? "G38.4"
+                                                             : "G38.5";
+  const gcode::pose start = pos_;
+  const std::array<long, x4step::axes> start_steps = sum_.steps;
+  stop_next_ = true;  // from rest: nothing blends into it
+  speed sp{false, s.feed / 60, 0};
+  if (s.mode == gcode::feed_mode::inverse_time) sp = speed{false, 0, s.feed > 0 ? 60 / s.feed : 0};
+  probe_result r;
+  const bool moves = line_to(s.end, sp, false, &k, &r);
+  stop_next_ = true;  // to rest: nothing blends out of it
+  if (!moves) {
+    // Less than a step: no motor can move, so the input cannot be watched.
+    if (k == gcode::probe_kind::toward_or_error || k == gcode::probe_kind::away_or_error)
+      fail(std::string(name) + " moves less than one step: no probing");
+    return {s.end, false, s.end};
+  }
+  if (!r.ran) return {s.end, true, s.end};
+  // Steps back to machine units: an axis whose motor stands at the start's
+  // or the end's step is exactly there (nothing drifts by rounding).
+  auto to_pose = [&](const std::array<long, x4step::axes> &st) {
+    gcode::pose p = s.end;
+    for (size_t a = 0; a < gcode::n_axes; a++) {
+      if (!m_.axes[a]) continue;
+      const axis &ax = *m_.axes[a];
+      const size_t mo = size_t(ax.motor);
+      if (st[mo] == start_steps[mo])
+        p[a] = start[a];
+      else if (st[mo] != std::lround(s.end[a] * ax.scale))
+        p[a] = double(st[mo]) / ax.scale;
+    }
+    return p;
+  };
+  gcode::probe_outcome o;
+  o.stop = to_pose(r.stop);
+  o.tripped = r.tripped;
+  o.trip = r.tripped ? to_pose(r.trip) : o.stop;
+  pos_ = o.stop;
+  for (const std::optional<axis> &ax : m_.axes)
+    if (ax) sum_.steps[size_t(ax->motor)] = r.stop[size_t(ax->motor)];
+  return o;
 }
 
 void planner::arc_feed(const gcode::arc &a) {

@@ -25,6 +25,10 @@
  *   gcode::error naming the program's file and line. A program is
  *   therefore planned whole once (plan_program into an output that only
  *   counts) before the first step, then again into the path queue.
+ * - Probing (G38.2..G38.5): one segment to the programmed end (its soft
+ *   limits checked), from rest to rest, handed to planner_output::probe();
+ *   the runner runs it to its end and says where the motors stopped; the
+ *   plan goes on from there (gcode::probe_outcome back to the interpreter).
  * - Messages: (MSG,...) and (DEBUG,...) come with the number of segments
  *   before them, so that a runner shows each when its line runs, not
  *   when it is planned (up to a queue's length earlier): message_queue.
@@ -73,11 +77,30 @@ struct message_info {
   std::uint64_t after = 0;
 };
 
+/// What a probing segment did (planner_output::probe). Steps are the
+/// motors' absolute positions as the planner counts them
+/// (plan_summary::steps: round(machine position x SCALE)), motor 1..4 at
+/// 0..3.
+struct probe_result {
+  /// false: the segment did not run (a check, a plan that does not move):
+  /// the planner takes contact at the programmed end.
+  bool ran = false;
+  /// The probe input changed (contact made, or broken for G38.4/G38.5).
+  bool tripped = false;
+  /// Where it changed (the engine's latch); where the motors stopped.
+  std::array<long, x4step::axes> trip{}, stop{};
+};
+
 /// Where planned segments and the program's other commands go, in order.
 class planner_output {
  public:
   virtual ~planner_output() = default;
   virtual void segment(const x4step::segment &, const segment_info &) = 0;
+  /// A probing segment (G38.2..G38.5): it starts from rest and the path
+  /// stands still after it. A runner sets segment.probe() itself (toward
+  /// for G38.2/G38.3, away for G38.4/G38.5), runs the path to the end of
+  /// this segment and returns the latch. This default does not run it.
+  virtual probe_result probe(const x4step::segment &, const segment_info &, gcode::probe_kind) { return {}; }
   /// The commands below come after the path stood still (the next
   /// segment starts from rest).
   virtual void dwell(double /*seconds*/) {}
@@ -143,6 +166,7 @@ class planner : public gcode::sink {
 
   void straight_traverse(const gcode::straight &s) override;
   void straight_feed(const gcode::straight &s) override;
+  gcode::probe_outcome straight_probe(const gcode::straight &s, gcode::probe_kind k) override;
   void arc_feed(const gcode::arc &a) override;
   void dwell(double seconds) override;
   void set_path_mode(gcode::path_mode m, double p_tolerance, double q_tolerance) override;
@@ -170,8 +194,11 @@ class planner : public gcode::sink {
     double feed_per_s;  // units/s; 0: see seconds
     double seconds;     // inverse time: the segment lasts this long
   };
-  /// checked: end is known within the soft limits (an arc's chords are checked before the first).
-  void line_to(const gcode::pose &end, const speed &sp, bool checked = false);
+  /// checked: end is known within the soft limits (an arc's chords are
+  /// checked before the first). probe: a probing segment, given to
+  /// out_.probe() (its answer in *result). False: less than a step, nothing planned.
+  bool line_to(const gcode::pose &end, const speed &sp, bool checked = false,
+               const gcode::probe_kind *probe = nullptr, probe_result *result = nullptr);
   void check_limits(const gcode::pose &p) const;
   [[noreturn]] void fail(const std::string &what) const;
 

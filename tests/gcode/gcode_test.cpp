@@ -300,3 +300,161 @@ TEST(Gcode, UnitsOffsetsAndArcs) {
 }
 
 }  // namespace
+
+// A sink whose probe stops where the test says: `stop_at` (machine
+// coordinates) with `tripped`; without it, contact at the end.
+struct prober : recorder {
+  bool have_stop = false, tripped = true;
+  g::pose stop_at{}, trip_at{};
+  std::vector<g::probe_kind> kinds;
+  std::vector<double> feeds;
+  g::probe_outcome straight_probe(const g::straight &s, g::probe_kind k) override {
+    log.push_back("PROBE " + pose(s.end));
+    kinds.push_back(k);
+    feeds.push_back(s.feed);
+    if (!have_stop) return {s.end, true, s.end};
+    return {stop_at, tripped, trip_at};
+  }
+};
+
+TEST(Gcode, ProbeGoesOnFromWhereItStopped) {
+  prober p;
+  p.have_stop = true;
+  p.stop_at = {0, 0, -3.5, 0, 0, 0};
+  p.trip_at = {0, 0, -3.25, 0, 0, 0};
+  g::interpreter in(p);
+  EXPECT_TRUE(in.execute_line("G21 G90 G38.2 Z-10 F120", "mdi", 1));
+  EXPECT_EQ(in.position()[g::Z], -3.5);
+  // Incremental moves count from the stop, absolute ones are where they were.
+  EXPECT_TRUE(in.execute_line("G91 G0 Z1", "mdi", 2));
+  EXPECT_TRUE(in.execute_line("G90 G1 X2", "mdi", 3));
+  // G38.3 without contact is no error: the program goes on from the stop.
+  p.tripped = false;
+  p.stop_at = {2, 0, -8, 0, 0, 0};
+  EXPECT_TRUE(in.execute_line("G38.3 Z-8", "mdi", 4));
+  EXPECT_TRUE(in.execute_line("G91 G1 X1", "mdi", 5));
+  const std::vector<std::string> want = {"PROBE 0 0 -10", "G0 0 0 -2.5", "G1 2 0 -2.5", "PROBE 2 0 -8",
+                                         "G1 3 0 -8"};
+  EXPECT_EQ(p.log, want);
+  const std::vector<g::probe_kind> kinds = {g::probe_kind::toward_or_error, g::probe_kind::toward};
+  EXPECT_EQ(p.kinds, kinds);
+  EXPECT_EQ(p.feeds, std::vector<double>({120, 120}));
+}
+
+TEST(Gcode, ProbeKindsAndUnits) {
+  prober p;
+  g::options o;
+  o.machine_units = g::units::inch;  // a program in mm on an inch machine
+  g::interpreter in(p, o);
+  EXPECT_TRUE(in.execute_line("G21 G38.2 X25.4 F254", "mdi", 1));
+  EXPECT_TRUE(in.execute_line("G38.3 X50.8", "mdi", 2));
+  EXPECT_TRUE(in.execute_line("G38.4 X0", "mdi", 3));
+  EXPECT_TRUE(in.execute_line("G38.5 X25.4", "mdi", 4));
+  EXPECT_TRUE(in.execute_line("X0", "mdi", 5));  // modal: G38.5 again
+  const std::vector<g::probe_kind> kinds = {g::probe_kind::toward_or_error, g::probe_kind::toward,
+                                            g::probe_kind::away_or_error, g::probe_kind::away,
+                                            g::probe_kind::away};
+  EXPECT_EQ(p.kinds, kinds);
+  EXPECT_EQ(p.log.front(), "PROBE 1 0 0");
+  EXPECT_EQ(p.log.back(), "PROBE 0 0 0");
+  EXPECT_EQ(p.feeds.front(), 10);  // inches per minute
+}
+
+TEST(Gcode, ProbeWithoutContactIsAnErrorAtItsLine) {
+  prober p;
+  p.have_stop = true;
+  p.tripped = false;
+  p.stop_at = {0, 0, -10, 0, 0, 0};
+  p.trip_at = p.stop_at;
+  EXPECT_EQ(run("G21 F100\nG0 Z1\n  G38.2 Z-10 M2\nG0 X5\nM2\n", &p),
+            "t.ngc:3:3: G38.2 move finished without making contact");
+  // The stop is where the interpreter stands, and the M2 behind it never came.
+  EXPECT_EQ(p.log.back(), "PROBE 0 0 -10");
+  p.log.clear();
+  EXPECT_EQ(run("G21 F100\nG38.4 Z-10\nM2\n", &p), "t.ngc:2:1: G38.4 move finished without breaking contact");
+  // G38.3 and G38.5 go on.
+  EXPECT_EQ(run("G21 F100\nG38.3 Z-10\nG38.5 Z-12\nM2\n", &p), "");
+
+  // Tripped before the first step (the trip is the start): LinuxCNC's
+  // "probe is already tripped" for G38.2 and G38.4, not for G38.3/G38.5.
+  p.tripped = true;
+  p.stop_at = p.trip_at = {0, 0, 1, 0, 0, 0};
+  EXPECT_EQ(run("G21 F100\nG0 Z1\nX0 G38.2 Z-10\nM2\n", &p),
+            "t.ngc:3:4: probe is already tripped when starting the G38.2 move");
+  EXPECT_EQ(run("G21 F100\nG0 Z1\nG38.4 Z5\nM2\n", &p),
+            "t.ngc:3:1: probe is already clear when starting the G38.4 move");
+  EXPECT_EQ(run("G21 F100\nG0 Z1\nG38.3 Z-10\nG38.5 Z5\nM2\n", &p), "");
+
+  // MDI: after the error the interpreter stands where the machine stopped.
+  prober q;
+  q.have_stop = true;
+  q.tripped = false;
+  q.stop_at = q.trip_at = {0, 0, -10, 0, 0, 0};
+  g::interpreter in(q);
+  EXPECT_THROW(in.execute_line("G21 G38.2 Z-10 F50", "mdi", 1), g::error);
+  EXPECT_EQ(in.position()[g::Z], -10);
+  EXPECT_TRUE(in.execute_line("G91 G1 Z2", "mdi", 2));
+  EXPECT_EQ(q.log.back(), "G1 0 0 -8");
+  // An M2 behind a failed probe never came: the program has not ended, and
+  // its modes (G91 here) are not reset.
+  EXPECT_THROW(in.execute_line("G38.2 Z-2 M2", "mdi", 3), g::error);
+  EXPECT_TRUE(in.execute_line("G1 Z1", "mdi", 4));
+  EXPECT_EQ(q.log.back(), "G1 0 0 -9");
+}
+
+TEST(Gcode, ProbeRefusals) {
+  // Positions LinuxCNC's rs274 refuses too (tests/gcode/probe/refusals.txt).
+  EXPECT_EQ(run("G21 F100\nG38.2 F50\nM2\n"),
+            "t.ngc:2:1: G38.2 needs an axis word (where the probe move ends)");
+  EXPECT_EQ(run("G21\n G38.2 Z-10\nM2\n"), "t.ngc:2:2: G38.2 with a feed rate of zero (no F given)");
+  EXPECT_EQ(run("G21 F100\nZ-3 G38.3\nG0 Z1\nZ-10\nM2\n"), "");
+  EXPECT_EQ(
+      run("G21 F100\nG38.3 Z-3\nG0 Z-3\nG38.2 Z-3\nM2\n"),
+      "t.ngc:4:1: G38.2 ends where it starts: the probe move needs a length (LinuxCNC: \"start point too "
+      "close to probe point\")");
+  EXPECT_EQ(
+      run("G21 F100\nG91 Z0 G38.4\nM2\n"),
+      "t.ngc:2:8: G38.4 ends where it starts: the probe move needs a length (LinuxCNC: \"start point too "
+      "close to probe point\")");
+  EXPECT_EQ(run("G21 F100\nG38.3 Z0\nG38.5 Z0\nM2\n"), "");  // allowed, as in LinuxCNC
+  EXPECT_EQ(run("G21 G93\nG38.2 Z-10 F2\nM2\n"),
+            "t.ngc:2:1: G38.2 in inverse time mode (G93): probing needs G94 and a feed rate (F)");
+  // LinuxCNC would probe at the F100 of G94 here: refused.
+  EXPECT_EQ(run("G21 F100\nG93\nG38.3 Z-10 F2\nM2\n"),
+            "t.ngc:3:1: G38.3 in inverse time mode (G93): probing needs G94 and a feed rate (F)");
+  EXPECT_EQ(run("G21 F100\nG53 G38.2 Z-10\nM2\n"), "t.ngc:2:1: G53 needs G0 or G1");
+  EXPECT_EQ(run("G21 F100\nG38.2 Z-10 R3\nM2\n"),
+            "t.ngc:2:12: R word with no G2, G3 or canned cycle to use it");
+  EXPECT_EQ(run("G21 F100\nG28 G38.2 Z-10\nM2\n"),
+            "t.ngc:2:5: G38.2 and G28 both use axis values: one of them per line");
+  // A refused probe line probes nothing, and what came before it on the line neither.
+  prober p;
+  EXPECT_EQ(
+      run("G21 F100\nM3 S100 G38.2 Z0\nM2\n", &p),
+      "t.ngc:2:9: G38.2 ends where it starts: the probe move needs a length (LinuxCNC: \"start point too "
+      "close to probe point\")");
+  EXPECT_TRUE(p.log.empty());
+}
+
+TEST(Gcode, ProbeInACheckAndSetPosition) {
+  // check(): no sink, contact at the programmed end.
+  prober p;
+  g::interpreter in(p);
+  std::istringstream prog("G21 F100\nG38.2 Z-10\nG91 G1 Z1\nG38.3 Z-1\nM2\n");
+  EXPECT_NO_THROW(in.check(prog, "t.ngc"));
+  EXPECT_TRUE(p.log.empty());
+  // set_position: the machine stands elsewhere (after a hold, an abort).
+  EXPECT_TRUE(in.execute_line("G21 G91 G1 X1 F100", "mdi", 1));
+  in.set_position({5, 6, 7, 8, 0, 0});
+  EXPECT_EQ(in.position(), (g::pose{5, 6, 7, 8, 0, 0}));
+  EXPECT_TRUE(in.execute_line("X1 A1", "mdi", 2));
+  EXPECT_EQ(p.log.back(), "G1 6 6 7");
+  EXPECT_EQ(in.position()[g::A], 9);
+  // In inches: set_position takes machine units.
+  g::options o;
+  o.machine_units = g::units::inch;
+  g::interpreter inch(p, o);
+  inch.set_position({1, 0, 0, 0, 0, 0});
+  EXPECT_TRUE(inch.execute_line("G21 G91 G1 X25.4 F100", "mdi", 1));
+  EXPECT_EQ(p.log.back(), "G1 2 0 0");
+}

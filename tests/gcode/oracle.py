@@ -10,7 +10,8 @@ sequences of motions and dwells: every end point and arc centre within
 the current length unit; they are turned into machine coordinates in mm
 with the offsets it prints (SET_G5X_OFFSET, SET_G92_OFFSET,
 USE_TOOL_LENGTH_OFFSET) and its USE_LENGTH_UNITS.
-Programs marked "refuse" must be refused by ours with file:line:column.
+Programs marked "refuse" must be refused by ours with file:line:column;
+the programs of probe/refusals.txt by both, on the same line.
 Without rs274 the test fails: it never skips.
 Usage: oracle.py GCODE_DUMP [CACHE]
 """
@@ -78,7 +79,7 @@ def oracle(path, tmp):
             {"SET_G5X_OFFSET": g5x, "SET_G92_OFFSET": g92, "USE_TOOL_LENGTH_OFFSET": tlo}[name][:] = v
         elif name == "DWELL":
             out.append(("DWELL", nums(args)[:1]))
-        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED"):
+        elif name in ("STRAIGHT_TRAVERSE", "STRAIGHT_FEED", "STRAIGHT_PROBE"):
             out.append((name.split("_")[1], machine(nums(args)[:6])))
         elif name == "ARC_FEED":
             v = nums(args)
@@ -135,7 +136,7 @@ def main():
             if not line:
                 continue
             kind, rel = line[0], line[1]
-            path = os.path.join(here, rel) if rel.startswith("cam/") else os.path.join(root, rel)
+            path = os.path.join(here, rel) if rel.startswith(("cam/", "probe/")) else os.path.join(root, rel)
             name = os.path.basename(rel)
             if not os.path.isfile(path):
                 print(f"FAIL {name}: {path} missing")
@@ -167,7 +168,31 @@ def main():
                 print(f"PASS {name} ({units}): {len(a) - dwells} motions ({arcs} arcs), {dwells} dwells, "
                       f"worst difference {res:.2g}")
                 passed[units] += 1
-    print(f"{passed['mm']} mm and {passed['inch']} inch programs equal rs274's; {fails} failures")
+        refused = 0
+        for n, line in enumerate(open(os.path.join(here, "probe", "refusals.txt")), 1):
+            if line.startswith("#") or not line.strip():
+                continue
+            text = line.strip().split("|")
+            prog = os.path.join(tmp, "t.ngc")
+            with open(prog, "w") as f:
+                f.write("\n".join(text) + "\n")
+            _, rb = ours(prog, [])
+            _, ra, _ = oracle(prog, tmp)
+            msg = rb.stderr.strip().splitlines()[-1] if rb.stderr.strip() else ""
+            at = re.match(re.escape(prog) + r":(\d+):\d+: \S", msg)
+            theirs = ra.stderr.strip().splitlines()[-1] if ra.stderr.strip() else ""
+            if ra.returncode == 0:
+                print(f"FAIL refusals.txt:{n}: rs274 accepts it")
+            elif not at or rb.returncode != 1:
+                print(f"FAIL refusals.txt:{n}: ours {msg or 'accepts it'}; rs274 refuses {theirs}")
+            elif text[int(at.group(1)) - 1] != theirs:
+                print(f"FAIL refusals.txt:{n}: ours refuses line {at.group(1)}, rs274 the line {theirs}")
+            else:
+                refused += 1
+                continue
+            fails += 1
+    print(f"{passed['mm']} mm and {passed['inch']} inch programs equal rs274's; "
+          f"{refused} probe lines refused by both; {fails} failures")
     return 1 if fails else 0
 
 

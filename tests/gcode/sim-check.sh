@@ -50,7 +50,7 @@ machine() {
 ran=0 failed=0
 while read -r kind rel _; do
 	[ "$kind" = match ] || continue
-	case $rel in cam/*) continue ;; esac # ours; this test is for programs nobody here wrote
+	case $rel in cam/* | probe/*) continue ;; esac # ours; this test is for programs nobody here wrote
 	prog=$cache/root/$rel name=$(basename "$rel")
 	if [ ! -f "$prog" ]; then
 		echo "FAIL $name: $prog missing"

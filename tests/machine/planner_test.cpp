@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <vector>
 
@@ -330,4 +331,171 @@ TEST(Planner, MessagesKnowTheirPlace) {
   EXPECT_FALSE(q.empty());
   q.clear();
   EXPECT_TRUE(q.empty());
+}
+
+// A runner's probe: the input changes once the probing motor reaches
+// `trip_step` (absolute, as the planner counts), the motors stop
+// `overrun` steps beyond it along the move (the braking); without a
+// trip_step the move runs to its end untripped.
+struct probe_runner : recorder {
+  std::optional<long> trip_step;
+  long overrun = 0;
+  size_t motor = 2;  // Z
+  std::array<long, 4> at{};
+  std::vector<size_t> probes;  // their indices in segs
+  std::vector<g::probe_kind> kinds;
+  void segment(const x4step::segment &s, const m::segment_info &i) override {
+    recorder::segment(s, i);
+    for (int a = 0; a < 4; a++) at[size_t(a)] += s.steps(axis(a + 1));
+  }
+  m::probe_result probe(const x4step::segment &s, const m::segment_info &i, g::probe_kind k) override {
+    probes.push_back(segs.size());
+    kinds.push_back(k);
+    recorder::segment(s, i);
+    m::probe_result r;
+    r.ran = true;
+    std::array<long, 4> end = at;
+    for (int a = 0; a < 4; a++) end[size_t(a)] += s.steps(axis(a + 1));
+    const long d = s.steps(axis(int(motor) + 1));
+    if (!trip_step) {
+      r.stop = end;
+      r.trip = end;
+    } else {
+      // Every motor at the same fraction of the move (a straight line).
+      auto along = [&](long on_motor) {
+        std::array<long, 4> p = at;
+        const double t = double(on_motor - at[motor]) / double(d);
+        for (int a = 0; a < 4; a++) p[size_t(a)] += std::lround(t * double(s.steps(axis(a + 1))));
+        return p;
+      };
+      r.tripped = true;
+      r.trip = along(*trip_step);
+      r.stop = along(*trip_step + (d > 0 ? overrun : -overrun));
+    }
+    at = r.stop;
+    return r;
+  }
+};
+
+TEST(Planner, ProbeStopsWhereTheRunnerSaysAndThePlanGoesOnFromThere) {
+  const m::machine mc = machine_of(machine_text());  // Z: -400 steps/mm
+  probe_runner out;
+  out.trip_step = 1500;  // Z -3.75
+  out.overrun = 100;     // stops at Z -4
+  std::istringstream in("G0 X10 Y10\nG38.2 Z-10 F60\nG91 G0 Z1\nG90 G1 X20 F600\nM2\n");
+  const m::plan_summary sum = m::plan_program(mc, in, "prog.ngc", out);
+  ASSERT_EQ(out.probes.size(), 1u);
+  ASSERT_EQ(out.segs.size(), 4u);
+  const recorded &pr = out.segs[out.probes[0]];
+  EXPECT_EQ(pr.seg.steps(axis::z), 4000);  // the whole programmed move
+  EXPECT_EQ(pr.seg.steps(axis::x), 0);
+  EXPECT_EQ(pr.info.line, 2);
+  EXPECT_EQ(pr.seg.tag(), 2u);
+  EXPECT_EQ(pr.info.end[2], -10);
+  EXPECT_DOUBLE_EQ(pr.info.feed, 1);  // 60 mm/min
+  EXPECT_EQ(pr.seg.entry_speed(), 0u);
+  EXPECT_EQ(out.kinds, std::vector<g::probe_kind>{g::probe_kind::toward_or_error});
+  // G91 Z1 from the stop (Z -4): to Z -3, 400 steps back.
+  EXPECT_EQ(out.segs[2].seg.steps(axis::z), -400);
+  EXPECT_EQ(out.segs[2].info.end[2], -3);
+  EXPECT_EQ(out.segs[2].seg.entry_speed(), 0u);  // nothing blends out of a probe
+  EXPECT_EQ(out.segs[3].seg.steps(axis::x), 10000);
+  EXPECT_EQ(out.segs[3].seg.steps(axis::z), 0);
+  EXPECT_EQ(sum.steps, out.at);
+  EXPECT_EQ(sum.steps[2], 1200);
+  // Extents and totals as for a feed to the programmed end.
+  EXPECT_EQ(sum.min[2], -10);
+  EXPECT_EQ(sum.segments, 4);
+  EXPECT_NEAR(sum.length, 14.142135623730951 + 10 + 1 + 10, 1e-9);
+}
+
+TEST(Planner, ProbeOutcomeInMachineUnits) {
+  // The planner as the interpreter's sink: stop and trip from the
+  // runner's steps, an axis whose motor did not step exactly where it was.
+  const m::machine mc = machine_of(machine_text(320, 333));
+  probe_runner out;
+  out.motor = 0;
+  out.trip_step = 3200 + 961;  // X 13.003125
+  out.overrun = 7;
+  m::planner p(mc, out, g::pose{10.0001, 20.0002, -1.00003, 0, 0, 0});
+  out.at = p.summary().steps;
+  const g::probe_outcome o =
+      p.straight_probe(g::straight{{30, 20.0002, -1.00003, 0, 0, 0}, 120, g::feed_mode::units_per_minute},
+                       g::probe_kind::toward);
+  EXPECT_TRUE(o.tripped);
+  EXPECT_EQ(o.trip[0], 4161 / 320.0);
+  EXPECT_EQ(o.stop[0], 4168 / 320.0);
+  EXPECT_EQ(o.trip[1], 20.0002);  // Y and Z did not step: exactly where they were
+  EXPECT_EQ(o.stop[2], -1.00003);
+  EXPECT_EQ(p.summary().steps[0], 4168);
+  // Untripped: the stop is the programmed end itself, the trip there too.
+  out.trip_step.reset();
+  const g::probe_outcome u = p.straight_probe(
+      g::straight{{40.0001, 20.0002, -1.00003, 0, 0, 0}, 120, g::feed_mode::units_per_minute},
+      g::probe_kind::away);
+  EXPECT_FALSE(u.tripped);
+  EXPECT_EQ(u.stop[0], 40.0001);
+  EXPECT_EQ(u.trip, u.stop);
+  EXPECT_EQ(p.summary().steps[0], std::lround(40.0001 * 320));
+  EXPECT_EQ(out.kinds, (std::vector<g::probe_kind>{g::probe_kind::toward, g::probe_kind::away}));
+}
+
+TEST(Planner, ProbeStartsAndEndsAtRest) {
+  // Straight on: G1 segments would blend at full speed; a probe does not.
+  const m::machine mc = machine_of(machine_text());
+  probe_runner out;
+  out.motor = 0;
+  std::istringstream in("G1 X10 F600\nG38.3 X20\nG1 X30\nM2\n");
+  m::plan_program(mc, in, "prog.ngc", out);
+  ASSERT_EQ(out.segs.size(), 3u);
+  EXPECT_EQ(out.segs[1].seg.entry_speed(), 0u);
+  EXPECT_EQ(out.segs[2].seg.entry_speed(), 0u);
+  const plan g1 = run(mc, "G1 X10 F600\nG1 X20\nG1 X30\nM2\n");
+  ASSERT_EQ(g1.out.segs.size(), 3u);
+  EXPECT_GT(g1.out.segs[1].seg.entry_speed(), 0u);  // the same moves without a probe
+  EXPECT_GT(g1.out.segs[2].seg.entry_speed(), 0u);
+}
+
+TEST(Planner, ProbeThatDoesNotRunAnswersContactAtTheEnd) {
+  // The default planner_output::probe (a check, a plan that does not
+  // move): ran == false, the plan goes on from the programmed end.
+  const m::machine mc = machine_of(machine_text());
+  const plan p = run(mc, "G0 X10\nG38.2 Z-10 F60\nG91 G0 Z1\nM2\n");
+  ASSERT_EQ(p.out.segs.size(), 2u);  // the probe went to probe(), not segment()
+  EXPECT_EQ(p.out.segs[1].seg.steps(axis::z), -400);
+  EXPECT_EQ(p.sum.steps[2], 3600);  // Z -9
+  EXPECT_EQ(p.sum.segments, 3);
+  EXPECT_EQ(p.sum.min[2], -10);
+}
+
+TEST(Planner, ProbeRefusals) {
+  const m::machine mc = machine_of(machine_text());
+  auto refusal = [&](const std::string &prog, probe_runner &out) {
+    std::istringstream in(prog);
+    try {
+      m::plan_program(mc, in, "prog.ngc", out);
+    } catch (const g::error &e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  probe_runner out;
+  EXPECT_EQ(refusal("G0 X10\nG38.2 Z-60 F60\nM2\n", out),
+            "prog.ngc:2:1: Z -60 is beyond the soft limit [AXIS_Z] MIN_LIMIT -50");
+  EXPECT_TRUE(out.probes.empty());
+  // Less than a step (Z: 0.0025 mm a step): G38.2 cannot probe; G38.3 goes on.
+  EXPECT_EQ(refusal("G38.2 Z-0.001 F60\nM2\n", out),
+            "prog.ngc:1:1: G38.2 moves less than one step: no probing");
+  EXPECT_EQ(refusal("G38.3 Z-0.001 F60\nG38.5 Z-0.0011\nM2\n", out), "accepted");
+  EXPECT_TRUE(out.probes.empty());
+  // The runner's answers the interpreter refuses, with the probe's place.
+  EXPECT_EQ(refusal("G0 X10\n  G38.2 Z-10 F60\nM2\n", out),
+            "prog.ngc:2:3: G38.2 move finished without making contact");
+  probe_runner at_once;
+  at_once.trip_step = 400;  // Z -1 where it starts: tripped before the first step
+  EXPECT_EQ(refusal("G0 Z-1\nG38.2 Z-10 F60\nM2\n", at_once),
+            "prog.ngc:2:1: probe is already tripped when starting the G38.2 move");
+  probe_runner at_once3;
+  at_once3.trip_step = 400;
+  EXPECT_EQ(refusal("G0 Z-1.0001\nG38.3 Z-10 F60\nM2\n", at_once3), "accepted");
 }
