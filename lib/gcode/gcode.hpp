@@ -258,10 +258,6 @@ class interpreter {
   pose work_offset() const;
   units program_units() const noexcept;
 
-  /// The machine stands elsewhere than the program left it (a hold, an
-  /// abort, a jog between lines): the next move starts from `machine`
-  /// (machine coordinates and units).
-  void set_position(const pose &machine);
   /// Another program changed the offsets (a parameter file written by
   /// another tool between lines): they become `c`; the modes stay.
   void set_coordinates(const coordinate_state &c);

@@ -1390,8 +1390,6 @@ coordinate_state interpreter::coordinates() const {
 }
 units interpreter::program_units() const noexcept { return p_->prog_units; }
 
-void interpreter::set_position(const pose &machine) { p_->pos = p_->to_mm(machine); }
-
 void interpreter::set_coordinates(const coordinate_state &c) {
   for (size_t i = 0; i < c.g5x.size(); ++i) p_->g5x[i] = p_->to_mm(c.g5x[i]);
   p_->cs = c.system >= 0 && c.system < int(c.g5x.size()) ? c.system : 0;
