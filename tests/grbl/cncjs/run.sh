@@ -110,7 +110,7 @@ for _ in $(seq 600); do
 	sleep 0.1
 done
 [ -n "$url" ] || fail "CNCjs did not listen within 60 s"
-echo "cncjs: CNCjs $(node -p "require('$cache/node_modules/cncjs/package.json').version") at $url, port $pty"
+echo "cncjs: CNCjs $(node -p "require('$cache/node_modules/cncjs/package.json').version") on Node.js $(node --version) at $url, port $pty"
 
 NODE_PATH=$cache/node_modules node "$here/client.js" "$url" "$secret" "$pty" "$program" \
 	"$expected" "$timeout" "$tolerance" >"$tmp/client.log" 2>&1 &
