@@ -40,7 +40,7 @@ shift 3
 cache=${X4_CNCJS_CACHE:-/var/cache/x4step/cncjs}
 "$top/scripts/get-cncjs.sh" "$cache" || exit 1
 
-tmp=$(mktemp -d /tmp/x4-cncjs.XXXXXX)
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/x4-cncjs.XXXXXX")
 pty=$tmp/ttyGRBL0
 bridge_pid=
 cncjs_pid=
