@@ -29,15 +29,29 @@ missing=""
 for p in $want; do
 	dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed" || missing="$missing $p"
 done
-[ -z "$missing" ] && exit 0
-
-if [ "$(id -u)" -ne 0 ]; then
-	echo "x4step: missing Debian packages:$missing" >&2
-	echo "x4step: install them with: sudo apt-get install$missing" >&2
-	exit 1
+# Node.js and npm run CNCjs, the G-code sender that tests the GRBL bridge
+# (tests/grbl/cncjs/): any Node.js >= 18 with its npm. A machine that has
+# them from elsewhere keeps them (NodeSource's nodejs conflicts with
+# Debian's npm); otherwise Debian's nodejs and npm.
+if [ "${1:-all}" != build ] && ! { command -v node && command -v npm; } >/dev/null; then
+	missing="$missing nodejs npm"
 fi
-echo "x4step: installing$missing"
-export DEBIAN_FRONTEND=noninteractive
-apt-get update -q >/dev/null
-# shellcheck disable=SC2086
-apt-get install -y -q --no-install-recommends $missing >/dev/null
+
+if [ -n "$missing" ]; then
+	if [ "$(id -u)" -ne 0 ]; then
+		echo "x4step: missing Debian packages:$missing" >&2
+		echo "x4step: install them with: sudo apt-get install$missing" >&2
+		exit 1
+	fi
+	echo "x4step: installing$missing"
+	export DEBIAN_FRONTEND=noninteractive
+	apt-get update -q >/dev/null
+	# shellcheck disable=SC2086
+	apt-get install -y -q --no-install-recommends $missing >/dev/null
+fi
+
+# CNCjs itself: from the npm registry into a cache, not installed
+# (scripts/get-cncjs.sh).
+if [ "${1:-all}" != build ] && [ "$(id -u)" -eq 0 ]; then
+	"$(dirname "$0")/get-cncjs.sh"
+fi
