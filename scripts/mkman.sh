@@ -7,6 +7,7 @@
 #   mkman.sh header VERSION OUT.3 HEADER...  x4step(3) from the doc comments
 #                                          (/** ... */) of the C headers
 #   mkman.sh machine VERSION OUT.5         x4step-machine(5) from machines/README.md
+#   mkman.sh x4grbl X4GRBL VERSION OUT.1   x4grbl(1) from `x4grbl --help` and docs/grbl.md
 # ENVIRONMENT comes from docs/simulator.md's table, EXAMPLES from the help
 # texts' examples and examples/ (scripts/md2man.py turns Markdown to roff).
 # The texts are kept as they are (no-fill blocks): what --help shows is what
@@ -175,8 +176,29 @@ EOF
 EOF
 }
 
+# x4grbl(1): its help, then docs/grbl.md.
+x4grbl_page() {
+	help=$("$1" --help)
+	cat <<EOF
+.TH X4GRBL 1 "" "x4grbl $2" "User Commands"
+.SH NAME
+x4grbl \\- a GRBL 1.1 controller for G\\-code senders on an x4step machine
+.SH SYNOPSIS
+EOF
+	printf '%s\n' "$help" | sed -n '1p' | sed 's/^usage: //' | block
+	echo ".SH OPTIONS"
+	printf '%s\n' "$help" | sed '1,2d' | block
+	"$top/scripts/md2man.py" "$top/docs/grbl.md"
+	cat <<'EOF'
+.SH SEE ALSO
+.BR x4ctl (1),
+.BR x4step\-machine (5)
+EOF
+}
+
 case "${1:-}" in
 x4ctl) x4ctl_page "$2" "$3" >"$4" ;;
+x4grbl) x4grbl_page "$2" "$3" >"$4" ;;
 machine) machine_page "$2" >"$3" ;;
 header)
 	version=$2 out=$3
@@ -184,7 +206,7 @@ header)
 	header_page "$version" "$@" >"$out"
 	;;
 *)
-	echo "usage: $0 x4ctl X4CTL VERSION OUT | header VERSION OUT HEADER... | machine VERSION OUT" >&2
+	echo "usage: $0 x4ctl X4CTL VERSION OUT | x4grbl X4GRBL VERSION OUT | header VERSION OUT HEADER... | machine VERSION OUT" >&2
 	exit 2
 	;;
 esac
