@@ -1400,7 +1400,7 @@ void interpreter::set_coordinates(const coordinate_state &c) {
 
 interpreter::modes interpreter::modal() const {
   const impl &s = *p_;
-  return modes{s.motion, s.cs,   s.pl,   s.prog_units,    s.incremental, s.fmode,
+  return modes{s.motion, s.cs,   s.pl,    s.prog_units,  s.incremental, s.fmode,
                s.sdir,   s.mist, s.flood, s.tool_loaded, s.feed,        s.speed};
 }
 

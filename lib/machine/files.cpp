@@ -97,7 +97,8 @@ void replace_file(const std::string &path, const std::string &text) {
     write_all(out.get(), text, tmp);
     struct stat old {};
     const mode_t mode = ::stat(path.c_str(), &old) == 0 ? old.st_mode & 07777 : 0644;  // the old file's
-    if (::fchmod(out.get(), mode) < 0 || ::fsync(out.get()) < 0) throw file_error(sys_error("cannot write", tmp));
+    if (::fchmod(out.get(), mode) < 0 || ::fsync(out.get()) < 0)
+      throw file_error(sys_error("cannot write", tmp));
     if (::close(out.release()) < 0) throw file_error(sys_error("cannot write", tmp));
     if (::rename(tmp.c_str(), path.c_str()) < 0) throw file_error(sys_error("cannot replace", path));
     // The rename itself outlives a power cut once the directory is synced.

@@ -119,7 +119,8 @@ class bridge::output : public m::planner_output {
 namespace {
 class serving_console : public x4ctl::console {
  public:
-  serving_console(std::function<void(int)> serve, const bool &reset) : serve_(std::move(serve)), reset_(reset) {}
+  serving_console(std::function<void(int)> serve, const bool &reset)
+      : serve_(std::move(serve)), reset_(reset) {}
   std::ostream &out() override { return text_; }
   bool live() const override { return false; }
   bool has_keyboard() const override { return false; }
@@ -137,7 +138,9 @@ class serving_console : public x4ctl::console {
 }  // namespace
 
 bridge::bridge(const x4ctl::config &c, bool keep_port)
-    : c_(c), mc_(x4ctl::load_machine(c, "x4grbl")), keep_port_(keep_port),
+    : c_(c),
+      mc_(x4ctl::load_machine(c, "x4grbl")),
+      keep_port_(keep_port),
       settings_(x4ctl::machine_path(c)) {}
 
 bridge::~bridge() = default;
@@ -148,7 +151,8 @@ void bridge::connect() {
   connected_ = true;
   if (!port_) {
     try {
-      port_ = std::make_unique<x4ctl::controller_port>(x4ctl::open_controller(x4ctl::machine_device(c_, mc_)));
+      port_ =
+          std::make_unique<x4ctl::controller_port>(x4ctl::open_controller(x4ctl::machine_device(c_, mc_)));
       x4ctl::prepare_port(*port_, mc_);
       path_ = std::make_unique<x4step::path>(port_->controller());
       if (path_->status().state == x4step::path_state::idle) path_->clear();
@@ -400,7 +404,8 @@ void bridge::system_command(const std::string &line) {
   if (rest.rfind("J=", 0) == 0) return jog_line(rest.substr(2));
   if (rest[0] == 'J') return reply(invalid_jog);
   // A letter GRBL does not know (the numbers and N are settings and startup blocks below).
-  if (std::isalpha(static_cast<unsigned char>(rest[0])) && rest[0] != 'N' && !std::strchr("$GCXHSIR#", rest[0]))
+  if (std::isalpha(static_cast<unsigned char>(rest[0])) && rest[0] != 'N' &&
+      !std::strchr("$GCXHSIR#", rest[0]))
     return reply(invalid_statement);
   if (rest == "$") {
     if (s == run_state::cycle || s == run_state::hold) return reply(not_idle);
@@ -592,7 +597,8 @@ void bridge::jog_line(const std::string &words) {
     }
   }
   if (!feed || *feed <= 0) return reply(undefined_feed);
-  if (std::none_of(to.begin(), to.end(), [](const auto &v) { return v.has_value(); })) return reply(no_axis_words);
+  if (std::none_of(to.begin(), to.end(), [](const auto &v) { return v.has_value(); }))
+    return reply(no_axis_words);
   // Where the jog starts: the end of the jogs queued, else where the machine stands.
   if (!jogging_) {
     jog_out_ = std::make_unique<output>(*this);
@@ -687,7 +693,8 @@ void bridge::update_motion() {
   if (!port_) return;
   while (const auto e = port_->controller().read_event(0ms)) {
     if (e->type == x4step::event_type::switch_hit &&
-        (e->how == unsigned(x4step::switch_kind::limit_pos) || e->how == unsigned(x4step::switch_kind::limit_neg)) &&
+        (e->how == unsigned(x4step::switch_kind::limit_pos) ||
+         e->how == unsigned(x4step::switch_kind::limit_neg)) &&
         !homing_)
       raise_alarm(alarm_code::hard_limit, true);
   }
@@ -741,7 +748,8 @@ void bridge::resync() {
 }
 
 void bridge::set_output(m::pin p, bool on) {
-  if (p != m::pin::none && port_) port_->set_output(p == m::pin::pin1 ? x4step::signal::one : x4step::signal::two, on);
+  if (p != m::pin::none && port_)
+    port_->set_output(p == m::pin::pin1 ? x4step::signal::one : x4step::signal::two, on);
 }
 
 void bridge::outputs_off() {
@@ -975,7 +983,8 @@ std::string bridge::status_report() {
     r += "|WPos:" + axes_text(w);
   }
   if (mask & 2) {
-    const long blocks = long(ps.depth) + long(backlog_segments_max) - long(ps.queued) - long(backlog_segments_);
+    const long blocks =
+        long(ps.depth) + long(backlog_segments_max) - long(ps.queued) - long(backlog_segments_);
     r += "|Bf:" + std::to_string(std::max(0L, blocks)) + "," +
          std::to_string(rx_buffer_size - std::min(rx_buffer_size, pending_bytes_ + partial_.size()));
   }
@@ -989,11 +998,13 @@ std::string bridge::status_report() {
     const x4step::axes_status at = port_->get_axes();
     std::string pn;
     for (size_t a = 0; a < 4; a++)
-      if (mc_.axes[a] && mc_.axes[a]->home.enabled && (at.switches_active >> (mc_.axes[a]->home.input - 1)) & 1)
+      if (mc_.axes[a] && mc_.axes[a]->home.enabled &&
+          (at.switches_active >> (mc_.axes[a]->home.input - 1)) & 1)
         pn += "XYZA"[a];
     if (!pn.empty()) r += "|Pn:" + pn;
   }
-  const bool busy = s == run_state::cycle || s == run_state::hold || s == run_state::jog || s == run_state::homing;
+  const bool busy =
+      s == run_state::cycle || s == run_state::hold || s == run_state::jog || s == run_state::homing;
   if (wco != last_wco_) wco_counter_ = 0;
   bool wco_now = false;
   if (wco_counter_ > 0) {

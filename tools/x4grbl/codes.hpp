@@ -12,9 +12,9 @@ namespace error_code {
 constexpr int expected_letter = 1, bad_number = 2, invalid_statement = 3, negative_value = 4,
               setting_disabled = 5, not_idle = 8, gcode_lock = 9, line_overflow = 11, travel_exceeded = 15,
               invalid_jog = 16, unsupported = 20, modal_group = 21, undefined_feed = 22, integer_needed = 23,
-              repeated_word = 25, no_axis_words = 26, line_number = 27, value_word_missing = 28, g53_motion = 30,
-              axis_words_unused = 31, invalid_target = 33, arc_radius = 34, arc_offset_missing = 35,
-              unused_words = 36;
+              repeated_word = 25, no_axis_words = 26, line_number = 27, value_word_missing = 28,
+              g53_motion = 30, axis_words_unused = 31, invalid_target = 33, arc_radius = 34,
+              arc_offset_missing = 35, unused_words = 36;
 }  // namespace error_code
 
 namespace alarm_code {
@@ -34,7 +34,8 @@ inline int error_code_of(const std::string &why) {
   if (has("radius")) return arc_radius;
   if (has("end point is its start point")) return invalid_target;
   if (has("needs R or the centre") || has("word missing for an arc")) return arc_offset_missing;
-  if (has("needs P") || has("needs L") || has("needs Q") || has("needs R") || has("needs Z")) return value_word_missing;
+  if (has("needs P") || has("needs L") || has("needs Q") || has("needs R") || has("needs Z"))
+    return value_word_missing;
   if (has("line number")) return line_number;
   if (has("negative")) return negative_value;
   if (has("whole number")) return integer_needed;

@@ -42,7 +42,8 @@ pty_link::pty_link(std::string link) : link_(std::move(link)) {
   if (!master_ || ::grantpt(master_.get()) < 0 || ::unlockpt(master_.get()) < 0)
     throw sys_failure("cannot create a pseudo-terminal");
   char name[128];
-  if (::ptsname_r(master_.get(), name, sizeof name) != 0) throw sys_failure("cannot name the pseudo-terminal");
+  if (::ptsname_r(master_.get(), name, sizeof name) != 0)
+    throw sys_failure("cannot name the pseudo-terminal");
   slave_ = name;
   // Raw both ways, before any client: the welcome line goes out as it is.
   {
@@ -59,7 +60,8 @@ pty_link::pty_link(std::string link) : link_(std::move(link)) {
   const std::string tmp = link_ + ".new";
   ::unlink(tmp.c_str());
   if (::symlink(slave_.c_str(), tmp.c_str()) < 0 || ::rename(tmp.c_str(), link_.c_str()) < 0)
-    throw sys_failure("cannot create the link " + link_ + " (does its directory exist and may you write it?)");
+    throw sys_failure("cannot create the link " + link_ +
+                      " (does its directory exist and may you write it?)");
 }
 
 pty_link::~pty_link() {

@@ -24,8 +24,8 @@ namespace {
 constexpr int invalid_statement = 3, negative_value = 4, step_pulse = 6, step_rate = 12, laser_mode = 17;
 
 // The bridge's own settings and their defaults (GRBL's).
-const std::map<int, double> own_defaults = {{1, 25},   {4, 0},    {10, 1}, {13, 0},
-                                             {26, 250}, {30, 1000}, {31, 0}, {32, 0}};
+const std::map<int, double> own_defaults = {{1, 25},   {4, 0},     {10, 1}, {13, 0},
+                                            {26, 250}, {30, 1000}, {31, 0}, {32, 0}};
 
 // GRBL's axes X Y Z A: $100 + i.
 constexpr size_t grbl_axes = 4;
@@ -76,7 +76,8 @@ class ini_text {
     std::string in;
     for (size_t i = 0; i < lines_.size(); i++) {
       const std::string t = trim(lines_[i]);
-      if (!t.empty() && t.front() == '[') in = t;
+      if (!t.empty() && t.front() == '[')
+        in = t;
       else if (in == "[" + section + "]" && !t.empty() && t.front() != '#' && t.front() != ';')
         last = long(i);
       if (t == "[" + section + "]" && last < 0) last = long(i);
@@ -98,7 +99,8 @@ class ini_text {
         continue;
       }
       const size_t eq = t.find('=');
-      if (in == "[" + section + "]" && eq != std::string::npos && trim(t.substr(0, eq)) == key) return long(i);
+      if (in == "[" + section + "]" && eq != std::string::npos && trim(t.substr(0, eq)) == key)
+        return long(i);
     }
     return -1;
   }
@@ -125,7 +127,7 @@ const m::homing *first_homing(const m::machine &mc) {
 settings::settings(std::string machine_path) : machine_path_(std::move(machine_path)) {
   const size_t dot = machine_path_.rfind(".ini");
   path_ = (dot != std::string::npos && dot + 4 == machine_path_.size() ? machine_path_.substr(0, dot)
-                                                                           : machine_path_) +
+                                                                       : machine_path_) +
           ".grbl";
   const std::string text = m::read_text(path_, true);
   std::istringstream in(text);
@@ -171,7 +173,8 @@ std::string settings::report(const m::machine &mc, const port_facts &p) const {
   const m::homing *h = first_homing(mc);
   unsigned home_dirs = 0;
   for (size_t i = 0; i < grbl_axes; i++)
-    if (const m::axis *a = grbl_axis(mc, i); a && a->home.enabled && a->home.search_vel < 0) home_dirs |= 1u << i;
+    if (const m::axis *a = grbl_axis(mc, i); a && a->home.enabled && a->home.search_vel < 0)
+      home_dirs |= 1u << i;
   line(0, std::to_string(int(std::lround(p.pulse_us))));
   line(1, std::to_string(int(value(1))));
   line(2, mask(p.clock_invert));
@@ -201,10 +204,11 @@ std::string settings::report(const m::machine &mc, const port_facts &p) const {
       const m::axis *a = grbl_axis(mc, i);
       const double ka = i < 3 ? k : 1.0;  // A: degrees
       double v = 0;
-      if (a) v = base == 100   ? std::fabs(a->scale) / ka
-                 : base == 110 ? a->max_velocity * 60 * ka
-                 : base == 120 ? a->max_acceleration * ka
-                               : (a->max_limit - a->min_limit) * ka;
+      if (a)
+        v = base == 100   ? std::fabs(a->scale) / ka
+            : base == 110 ? a->max_velocity * 60 * ka
+            : base == 120 ? a->max_acceleration * ka
+                          : (a->max_limit - a->min_limit) * ka;
       line(base + int(i), text_of(v));
     }
   return r;
