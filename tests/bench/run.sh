@@ -167,4 +167,11 @@ echo
 echo "== module: sustained segment rate of a streamed path (QEMU -icount, Debian 6.1)"
 X4_QEMU_BUILD=$qout tests/qemu/run-suite.sh -k 6.1.0 -t path >/dev/null 2>&1 || echo "(the path run failed: see $qout)"
 cat "$qout"/6.1.*/path/console.log | tr -d '\r' | grep -E '^sustained:'
+
+# The GRBL bridge (issue 31): a real CAM program streamed with character
+# counting on the simulated port: lines/s taken (check mode), '?' round
+# trip and CPU while it runs at its feeds, starved refills.
+echo
+echo "== x4grbl: cam/fusion360-linuxcnc.ngc streamed as a sender does (tests/bench/grbl_bench.py)"
+python3 tests/bench/grbl_bench.py "$build/tools/x4grbl/x4grbl" tests/gcode/cam/fusion360-linuxcnc.ngc 30 || failed=1
 exit $failed

@@ -35,12 +35,13 @@ class Bridge:
     """x4grbl --sim in a directory of its own, with a copy of the test
     mill that keeps its offsets in mill.var."""
 
-    def __init__(self, x4grbl, link=False, extra_ini=""):
+    def __init__(self, x4grbl, link=False, machine_text=None):
+        """machine_text: another machine (no switches) than the test mill."""
         self.dir = tempfile.mkdtemp(prefix="x4grbl-test.")
         self.machine = os.path.join(self.dir, "mill.ini")
         with open(MILL) as f:
-            text = f.read()
-        text = text.replace("[X4STEP]\n", "[RS274NGC]\nPARAMETER_FILE = mill.var\n[X4STEP]\n" + extra_ini, 1)
+            text = f.read() if machine_text is None else machine_text
+        text = text.replace("[X4STEP]\n", "[RS274NGC]\nPARAMETER_FILE = mill.var\n[X4STEP]\n", 1)
         with open(self.machine, "w") as f:
             f.write(text)
         self.link = os.path.join(self.dir, "ttyGRBL0") if link else None
@@ -48,6 +49,8 @@ class Bridge:
         if self.link:
             args += ["--link", self.link]
         env = dict(os.environ, X4STEP_SIM_MACHINE=MILL_SIM)
+        if machine_text is not None:
+            del env["X4STEP_SIM_MACHINE"]
         env.pop("X4STEP_SIM_TIME", None)
         self.log = open(os.path.join(self.dir, "log"), "w+")
         self.proc = subprocess.Popen(args, stderr=self.log, env=env)
@@ -68,7 +71,10 @@ class Bridge:
 
     def connect(self, greeting=True):
         """A client; greeting: its welcome read (and what follows it at once)."""
-        c = Client(socket.create_connection(("127.0.0.1", self.port)))
+        s = socket.create_connection(("127.0.0.1", self.port))
+        # A '?' right after a line must not wait for the line's ACK (Nagle).
+        s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+        c = Client(s)
         if greeting:
             c.greet()
         return c
@@ -181,9 +187,10 @@ class Client:
             time.sleep(0.05)
         raise TimeoutError("state never in %s: last %s" % (states, s))
 
-    def stream(self, lines, timeout=120.0, on_ack=None):
+    def stream(self, lines, timeout=120.0, on_ack=None, on_wait=None):
         """Streams lines with character counting (at most 128 bytes not
-        yet answered); returns the replies in order."""
+        yet answered); returns the replies in order. on_ack(client, reply)
+        after each reply, on_wait(client) while waiting for one."""
         replies = []
         pending = list(lines)
         end = time.time() + timeout
@@ -194,7 +201,9 @@ class Client:
                 self.inflight.append(len(l) + 1)
             if time.time() > end:
                 raise TimeoutError("stream stuck: %d lines left" % len(pending))
-            self._read(0.5)
+            self._read(0.01 if on_wait else 0.5)
+            if on_wait:
+                on_wait(self)
             while self.lines:
                 l = self.lines.pop(0)
                 if l == "ok" or l.startswith("error:"):

@@ -164,14 +164,15 @@ void bridge::connect() {
       locked_port_ = true;
     }
   }
-  const auto seq = port_ ? port_->controller().read_event(0ms) : std::nullopt;
-  if (seq) last_event_seq_ = seq->seq;
+  if (path_) starved_base_ = path_->status().starved;
   finish_reset();
   log_ += "client connected\n";
 }
 
 void bridge::disconnect() {
   connected_ = false;
+  // Refills that came after the path had begun to stop: the bridge fell behind.
+  if (path_) log_ += "path starved " + std::to_string(path_->status().starved - starved_base_) + " times\n";
   lines_.clear();
   partial_.clear();
   pending_bytes_ = 0;
@@ -196,8 +197,6 @@ void bridge::shutdown() {
 
 std::string bridge::take_output() { return std::exchange(out_text_, {}); }
 std::string bridge::take_log() { return std::exchange(log_, {}); }
-
-int bridge::port_fd() const { return port_ && !backlog_.empty() ? port_->controller().fd() : -1; }
 
 bool bridge::busy() const { return motion_pending() || aborting_ || !lines_.empty() || homing_; }
 

@@ -66,9 +66,10 @@ class bridge {
   /// few milliseconds while busy().
   void tick();
   /// Something runs or waits: tick() soon (else on input or every 100 ms).
+  /// (The path queue holds at least 256 segments, a quarter of a second
+  /// and more: a tick every few milliseconds keeps it full, and a
+  /// simulated port has no descriptor that polls for room.)
   bool busy() const;
-  /// The controller's descriptor (POLLOUT: room in the path queue), -1 none.
-  int port_fd() const;
   /// What to send to the client (taken: the buffer is emptied).
   std::string take_output();
   /// While a blocking operation (homing) runs, the bridge calls this to
@@ -163,7 +164,7 @@ class bridge {
   bool hold_asked_ = false;
   bool aborting_ = false;  // a reset or a jog cancel: the path brakes, then is cleared
   bool reset_pending_ = false;
-  std::uint64_t last_event_seq_ = 0;
+  std::uint64_t starved_base_ = 0;  // the path's starved count at connect
 
   // The machine's state as GRBL tells it.
   int alarm_ = 0;

@@ -196,7 +196,6 @@ int main(int argc, char **argv) {
     if (tcp) fds.push_back({tcp->fd(), POLLIN, 0});
     if (kind != client_kind::none)
       fds.push_back({client_fd(), short(POLLIN | (pending.empty() ? 0 : POLLOUT)), 0});
-    if (b->port_fd() >= 0) fds.push_back({b->port_fd(), POLLOUT, 0});
     const int timeout = b->busy() ? 5 : kind == client_kind::none && pty ? 50 : 100;
     if (::poll(fds.data(), fds.size(), timeout) < 0 && errno != EINTR) {
       std::cerr << "x4grbl: poll: " << std::strerror(errno) << "\n";
