@@ -38,6 +38,8 @@ constexpr key_name x4step_keys[] = {
     {"X4STEP", "SPINDLE_PIN"},
     {"X4STEP", "FLOOD_PIN"},
     {"X4STEP", "MIST_PIN"},
+    {"X4STEP", "PROBE_INPUT"},
+    {"X4STEP", "PROBE_NC"},
     {"TRAJ", "COORDINATES"},
     {"TRAJ", "LINEAR_UNITS"},
     {"TRAJ", "ANGULAR_UNITS"},
@@ -468,6 +470,10 @@ void read_x4step(ini &f, machine &m, bool linuxcnc) {
   m.spindle = pin_of(r, "SPINDLE_PIN");
   m.flood = pin_of(r, "FLOOD_PIN");
   m.mist = pin_of(r, "MIST_PIN");
+  m.probe_input = int(r.whole("PROBE_INPUT", 1, 5).value_or(0));
+  m.probe_nc = r.whole("PROBE_NC", 0, 1).value_or(0) == 1;
+  if (r.has("PROBE_NC") && !m.probe_input)
+    r.fail("PROBE_NC", "no PROBE_INPUT: give the probe's input 1..5 first");
   // One pin, one job: the second key naming a pin is the contradiction.
   const std::pair<const char *, pin> pins[] = {
       {"SPINDLE_PIN", m.spindle}, {"FLOOD_PIN", m.flood}, {"MIST_PIN", m.mist}};

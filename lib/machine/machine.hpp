@@ -106,6 +106,10 @@ struct machine {
   std::string parameter_file;
   /// [TRAJ] NO_FORCE_HOMING = 1: programs may move axes not homed.
   bool no_force_homing = false;
+  /// [X4STEP] PROBE_INPUT: the touch probe's input 1..5 for G38.x (0: none);
+  /// PROBE_NC = 1: normally closed (active while low).
+  int probe_input = 0;
+  bool probe_nc = false;
 };
 
 /// Whether `units` lies within the axis' soft limits (a billionth of the

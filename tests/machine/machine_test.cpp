@@ -340,6 +340,14 @@ TEST(Machine, RefusesContradictions) {
                  "^m.ini:3:[0-9]+: \\[X4STEP\\] FLOOD_PIN: pin 14 is the SPINDLE_PIN already");
   EXPECT_REFUSED(replaced(1, "[X4STEP]\nMIST_PIN = 1\nSPINDLE_PIN = 1"),
                  "^m.ini:3:[0-9]+: \\[X4STEP\\] SPINDLE_PIN: pin 1 is the MIST_PIN already");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nPROBE_NC = 1"),
+                 "^m.ini:2:[0-9]+: \\[X4STEP\\] PROBE_NC: no PROBE_INPUT: give the probe's input 1..5 first");
+  EXPECT_REFUSED(replaced(1, "[X4STEP]\nPROBE_INPUT = 6"), "^m.ini:2:[0-9]+: \\[X4STEP\\] PROBE_INPUT: ");
+  {
+    const m::machine probe = read(replaced(1, "[X4STEP]\nPROBE_INPUT = 4\nPROBE_NC = 1"));
+    EXPECT_EQ(probe.probe_input, 4);
+    EXPECT_TRUE(probe.probe_nc);
+  }
   std::string smc = replaced(1, "[X4STEP]\nOUTPUT_MODE = smc-phase");
   smc.replace(smc.find("MOTOR = 3"), 9, "MOTOR = 4");
   EXPECT_REFUSED(smc,
