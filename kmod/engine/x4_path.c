@@ -507,9 +507,9 @@ bool x4_path_probe_hit(struct x4_engine *e, struct x4_chan *c)
 	struct x4_path *pa = &e->path;
 	int i;
 
-	c->probe_mask = 0;
+	c->probe_mask = 0; /* it trips once */
 	pa->latch.tripped = true;
-	for (i = 0; i < X4_AXES; i++)
+	for (i = 0; i < X4_AXES; i++) /* before this tick's step */
 		pa->latch.position[i] = x4_chan_position(e, i);
 	pa->latch.trips++;
 	if (c->n == 1 && !plan_speed2(&c->run, 0)) {
@@ -517,7 +517,7 @@ bool x4_path_probe_hit(struct x4_engine *e, struct x4_chan *c)
 		x4_chan_cut(c);
 		return true;
 	}
-	x4_path_hold(e, true);
+	x4_path_hold(e, true); /* along the path, then flushed */
 	return false;
 }
 

@@ -175,7 +175,7 @@ static void x4_track_probe(struct x4_track *t, const struct x4_engine *e)
 	t->probe_trips = e->path.latch.trips;
 	t->push(t, X4STEP_EV_SWITCH, x4_chan_mode_axes(e), X4STEP_SW_PROBE,
 		e->path.probe_input, 0);
-	t->path_aborting = true;
+	t->path_aborting = true; /* the trip flushes the path */
 }
 
 void x4_track_update(struct x4_track *t, const struct x4_engine *e, int c,
