@@ -182,9 +182,9 @@ class path_config {
 
 /// Where the last probing segment that ran stopped waiting (path::probe()).
 struct probe_latch {
-  bool tripped = false;              ///< its input reached the awaited state
-  std::array<long, axes> steps{};    ///< every axis' position (steps) at that step tick; 0 without a trip
-  std::uint64_t tag = 0;             ///< the probing segment's tag
+  bool tripped = false;            ///< its input reached the awaited state
+  std::array<long, axes> steps{};  ///< every axis' position (steps) at that step tick; 0 without a trip
+  std::uint64_t tag = 0;           ///< the probing segment's tag
 };
 
 /// The path of a controller's port. Holds a reference: the controller

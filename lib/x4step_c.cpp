@@ -435,8 +435,8 @@ int X4PathAppendProbe(const X4Segment *segment, int mode) {
   if (!port) return X4ErrInitNotDone;
   if (!segment || (mode != X4PROBE_TOWARD && mode != X4PROBE_AWAY)) return X4ErrParamFail;
   return guarded([&] {
-    x4step::path(*port).append(
-        to_segment(*segment).probe(mode == X4PROBE_TOWARD ? x4step::probe_mode::toward : x4step::probe_mode::away));
+    x4step::path(*port).append(to_segment(*segment).probe(mode == X4PROBE_TOWARD ? x4step::probe_mode::toward
+                                                                                 : x4step::probe_mode::away));
   });
 }
 

@@ -111,8 +111,8 @@ void machine::read(std::istream &in, const std::string &name) {
                           : "write a limit switch as: " + key + " AXIS AT PIN no|nc [hyst STEPS]");
       s.what = key == "probe" ? machine_switch::kind::probe
                : key == "ref" ? machine_switch::kind::ref
-               : key == "e+" ? machine_switch::kind::plus
-                             : machine_switch::kind::minus;
+               : key == "e+"  ? machine_switch::kind::plus
+                              : machine_switch::kind::minus;
       s.axis = axis_of(w[1], where);
       if (ref && w[2] != "below" && w[2] != "above")
         refuse(where, std::string(key == "ref" ? "REF" : "probe") + " side '" + w[2] +

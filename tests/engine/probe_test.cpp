@@ -367,7 +367,9 @@ struct Told {
   uint32_t type, axes, how, value;
 };
 std::vector<Told> told;
-void Tell(x4_track *, u32 type, u32 axes, u32 how, u32 value, u32) { told.push_back({type, axes, how, value}); }
+void Tell(x4_track *, u32 type, u32 axes, u32 how, u32 value, u32) {
+  told.push_back({type, axes, how, value});
+}
 
 // The event stream: the probe's switch event (the path's axes, the input),
 // then the path's end, ABORTED; also when it trips at the start.

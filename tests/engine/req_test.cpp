@@ -518,8 +518,8 @@ TEST(Req, SegmentProbeFlags) {
   r.flags = X4STEP_SEG_PROBE_AWAY;
   ASSERT_EQ(x4_req_segment(&r, &s), X4_OK);
   EXPECT_EQ(s.probe, X4_PROBE_AWAY);
-  for (uint32_t f : {uint32_t(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY), uint32_t(X4STEP_SEG_PROBE_AWAY << 1),
-                     uint32_t(X4STEP_SEG_PROBE_TOWARD | 0x80000000u)}) {
+  for (uint32_t f : {uint32_t(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY),
+                     uint32_t(X4STEP_SEG_PROBE_AWAY << 1), uint32_t(X4STEP_SEG_PROBE_TOWARD | 0x80000000u)}) {
     r.flags = f;
     EXPECT_EQ(x4_req_segment(&r, &s), X4_ERR_PARAM_FAIL) << std::hex << f;
   }

@@ -56,7 +56,8 @@ class SimProbe : public SimEnv {
 };
 
 // Z (the leader) by z steps, X by x, one unit a Z step, at feed steps/s.
-x4step::segment Seg(long z, long x, std::uint32_t feed, probe_mode m = probe_mode::none, std::uint64_t tag = 0) {
+x4step::segment Seg(long z, long x, std::uint32_t feed, probe_mode m = probe_mode::none,
+                    std::uint64_t tag = 0) {
   return x4step::segment{}
       .steps(axis(3), z)
       .steps(axis(1), x)
@@ -202,7 +203,8 @@ TEST_F(SimProbe, RefusedWithoutAProbeInput) {
   } catch (const x4step::error &e) {
     EXPECT_EQ(e.code(), x4step::make_error_code(x4step::errc::param_fail));
   }
-  EXPECT_EQ(x4step::check(Seg(100, 0, 1000, probe_mode::away)), x4step::errc::ok) << "the port's input decides";
+  EXPECT_EQ(x4step::check(Seg(100, 0, 1000, probe_mode::away)), x4step::errc::ok)
+      << "the port's input decides";
   EXPECT_EQ(x4step::check(Seg(100, 0, 1000, static_cast<probe_mode>(7))), x4step::errc::param_fail);
   try {
     path.configure(x4step::path_config{}.probe_input(6, false));

@@ -105,17 +105,19 @@ void Probe(x4step::controller &c, x4step::path &path, long z, std::uint32_t feed
   const x4step::probe_latch l = path.probe();
   const Seen s = Trace();
   const long long expect_machine = m == probe_mode::toward ? kAt : kAt - 1;
-  Check(l.tripped && s.changed, F("%s at %u steps/s: tripped (the switch changed: %d)", dir, feed, s.changed));
+  Check(l.tripped && s.changed,
+        F("%s at %u steps/s: tripped (the switch changed: %d)", dir, feed, s.changed));
   Check(l.steps[2] - coord0 == s.before,
-        F("%s at %u steps/s: latch %ld is the step the input changed at (%+lld steps written before it)", dir, feed,
-          l.steps[2], s.before));
+        F("%s at %u steps/s: latch %ld is the step the input changed at (%+lld steps written before it)", dir,
+          feed, l.steps[2], s.before));
   Check(mach0 + s.before == expect_machine,
         F("%s at %u steps/s: the machine changed the input at Z = %lld", dir, feed, mach0 + s.before));
   const long long past = std::llabs(s.total - s.before);
   std::printf("info: %s at %u steps/s: %lld steps braking past the change\n", dir, feed, past);
   Check(past <= static_cast<long long>(feed) * feed / (2 * 100000) + 2,
         F("%s at %u steps/s: stopped within the brake (%lld steps)", dir, feed, past));
-  Check(std::labs(s.total) < std::labs(z), F("%s at %u steps/s: stopped before the segment's end", dir, feed));
+  Check(std::labs(s.total) < std::labs(z),
+        F("%s at %u steps/s: stopped before the segment's end", dir, feed));
   const x4step::path_status st = path.status();
   Check(st.state == x4step::path_state::idle && st.queued == 0, F("%s: the queue is flushed", dir));
   bool refused = false;
