@@ -254,8 +254,12 @@ void x4_req_get_axes(const struct x4_engine *e, u32 inputs, u64 when,
 	}
 }
 
+/* A segment record's flags that must be 0 (ABI 6: the probe flags aside). */
+#define X4_SEG_OTHER_FLAGS (~(u32)(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY))
+
 int x4_req_segment(const struct x4step_segment *r, struct x4_segment *seg)
 {
+	u32 other = r->flags & X4_SEG_OTHER_FLAGS;
 	int i;
 
 	for (i = 0; i < X4_AXES; i++)
@@ -269,9 +273,7 @@ int x4_req_segment(const struct x4step_segment *r, struct x4_segment *seg)
 	seg->probe = (r->flags & X4STEP_SEG_PROBE_TOWARD ? X4_PROBE_TOWARD : 0) |
 		     (r->flags & X4STEP_SEG_PROBE_AWAY ? X4_PROBE_AWAY : 0);
 	/* libx4step runs the same check before it writes. */
-	return x4_segment_check(seg, (r->flags & ~(X4STEP_SEG_PROBE_TOWARD |
-						   X4STEP_SEG_PROBE_AWAY)) |
-				     r->reserved);
+	return x4_segment_check(seg, other | r->reserved);
 }
 
 bool x4_req_bad_path_ctl(const struct x4step_path_ctl *c)
