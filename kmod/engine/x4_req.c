@@ -255,7 +255,8 @@ void x4_req_get_axes(const struct x4_engine *e, u32 inputs, u64 when,
 }
 
 /* A segment record's flags that must be 0 (ABI 6: the probe flags aside). */
-#define X4_SEG_OTHER_FLAGS (~(u32)(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY))
+#define X4_SEG_OTHER_FLAGS \
+	(~(u32)(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY))
 
 int x4_req_segment(const struct x4step_segment *r, struct x4_segment *seg)
 {
