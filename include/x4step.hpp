@@ -470,7 +470,9 @@ enum class end_reason {
 /// brake()/halt(), a brake key, the controller's close, and
 /// monitor::emergency_halt() (value: 0 brake, 1 stop, as halt_mode).
 enum class brake_source { request = 1, key = 2, close = 3, emergency = 4 };
-enum class switch_kind { limit_pos = 1, limit_neg = 2, ref = 3 };
+/// probe: a probing segment's input (path_config::probe_input) reached the
+/// state it waits for; axes: the path's; its end follows (the queue flushed).
+enum class switch_kind { limit_pos = 1, limit_neg = 2, ref = 3, probe = 4 };
 enum class controller_change { opened = 1, closed = 2, released = 3 };  ///< released: a controller may open
 
 struct event {

@@ -189,6 +189,29 @@ int X4PathOverride(int percent);
  *  @return X4NoErr, X4ErrInitNotDone */
 int X4PathState(int *state, long *queued, unsigned long long *tag);
 
+/*
+ * Probing (module interface 6; G38.2..G38.5): a probing segment watches
+ * the path's probe input on every step tick. Where the input first is in
+ * the state it waits for, every axis' position is latched (X4PathProbe),
+ * and the path brakes along it and is flushed (X4PathClear before more);
+ * a probing segment that ends without that lets the path go on.
+ */
+#define X4PROBE_TOWARD 1 /**< until the probe input becomes active (G38.2, G38.3) */
+#define X4PROBE_AWAY 2   /**< until it becomes inactive (G38.4, G38.5) */
+/** The probe input: 1..5 (X4GetIn bit 0..4), 0: none; active_low non-zero
+ *  for a normally closed probe. Only while no path is active.
+ *  @return X4NoErr, X4ErrInitNotDone, X4ErrParamFail, X4ErrIsActive */
+int X4PathProbeInput(int input, int active_low);
+/** Queue one probing segment (mode X4PROBE_TOWARD or X4PROBE_AWAY), as
+ *  X4PathAppend queues one. X4ErrParamFail also without a probe input.
+ *  @return as X4PathAppend */
+int X4PathAppendProbe(const X4Segment *segment, int mode);
+/** The latch of the last probing segment that ran (cleared when one
+ *  starts): whether it tripped, every axis' position then (position[4],
+ *  0 without a trip) and its tag; any pointer may be NULL.
+ *  @return X4NoErr, X4ErrInitNotDone */
+int X4PathProbe(int *tripped, long *position, unsigned long long *tag);
+
 #pragma GCC visibility pop
 #ifdef __cplusplus
 }

@@ -24,6 +24,22 @@
  *   p.wait();  // until the queue ran empty, or a hold stood
  * @endcode
  *
+ * Probing (G38.2..G38.5, module interface 6): a segment with probe(mode)
+ * watches the path's probe input (path_config::probe_input) on every step
+ * tick. Where the input first is in the awaited state, path::probe()
+ * latches every axis' position (the step at which the input changed, at
+ * any feed), and the path brakes along the path and is flushed, as by
+ * abort(): append() throws not_active until clear().
+ *
+ * @code
+ *   p.configure(x4step::path_config{}.probe_input(3, false));  // pin 12, NO
+ *   p.append(x4step::segment{}.steps(x4step::axis::z, -4000).length(4000).top_speed(500).accel(5000)
+ *                .probe(x4step::probe_mode::toward));
+ *   p.wait();
+ *   const x4step::probe_latch l = p.probe();  // l.tripped, l.steps[2]
+ *   p.clear();
+ * @endcode
+ *
  * Threads: as a controller (x4step.hpp): one thread at a time per object.
  */
 #ifndef X4STEP_PATH_HPP
@@ -39,6 +55,13 @@
 
 #pragma GCC visibility push(default)
 namespace x4step {
+
+/// What a probing segment waits for on the path's probe input.
+enum class probe_mode {
+  none,    ///< not a probing segment
+  toward,  ///< stop when the input becomes active: G38.2/G38.3
+  away     ///< stop when it becomes inactive: G38.4/G38.5
+};
 
 /// One straight segment of a path, built by name:
 /// segment{}.steps(axis::x, 100).steps(axis::y, -40).length(1077).top_speed(5000).accel(50000)
@@ -65,6 +88,16 @@ class segment {
     tag_ = t;
     return *this;
   }
+  /// A probing segment: it ends where the probe input reaches the state
+  /// `m` waits for (path::probe() has where), braking along the path and
+  /// flushing the queue; if it never does, the path goes on after it. The
+  /// path needs a probe input (path_config::probe_input), else param_fail.
+  /// The input is sampled at each step tick: a feed of v steps/s sees a
+  /// change within 1/v s, and brakes from there with accel().
+  segment &probe(probe_mode m) noexcept {
+    probe_ = m;
+    return *this;
+  }
 
   long steps(axis a) const noexcept { return steps_[a.index()]; }
   std::uint32_t length() const noexcept { return length_; }
@@ -72,6 +105,7 @@ class segment {
   std::uint32_t entry_speed() const noexcept { return v_entry_; }
   std::uint32_t accel() const noexcept { return accel_; }
   std::uint64_t tag() const noexcept { return tag_; }
+  probe_mode probe() const noexcept { return probe_; }
 
  private:
   segment &set(std::uint32_t &field, std::uint32_t value) noexcept {
@@ -81,6 +115,7 @@ class segment {
   std::array<long, axes> steps_{};
   std::uint32_t length_ = 0, v_max_ = 0, v_entry_ = 0, accel_ = 0;
   std::uint64_t tag_ = 0;
+  probe_mode probe_ = probe_mode::none;
 };
 
 /// Why a segment is invalid (steps_too_high, no_steps, param_fail, or
@@ -112,7 +147,8 @@ struct path_status {
 };
 
 /// The queue's size (256..4096, a power of 2; 0 keeps it: it can change
-/// only while no path is active) and what brake keys do.
+/// only while no path is active), what brake keys do, and the probe input
+/// (like the depth, it can change only while no path is active).
 class path_config {
  public:
   path_config &depth(unsigned n) noexcept {
@@ -123,12 +159,32 @@ class path_config {
     keys_abort_ = on;
     return *this;
   }
+  /// The probe input of probing segments: 1..5 (X4GetIn bit 0..4, as
+  /// switches number them), 0: none; active_low for a normally closed
+  /// probe. Its own polarity: switches::nc does not apply to it. An input
+  /// above 5 fails configure() with param_fail.
+  path_config &probe_input(unsigned input, bool active_low) noexcept {
+    probe_input_ = input;
+    probe_active_low_ = active_low;
+    return *this;
+  }
   unsigned depth() const noexcept { return depth_; }
   bool keys_abort() const noexcept { return keys_abort_; }
+  unsigned probe_input() const noexcept { return probe_input_; }
+  bool probe_active_low() const noexcept { return probe_active_low_; }
 
  private:
   unsigned depth_ = 0;  // 0: keep the depth (256 at first)
   bool keys_abort_ = false;
+  unsigned probe_input_ = 0;
+  bool probe_active_low_ = false;
+};
+
+/// Where the last probing segment that ran stopped waiting (path::probe()).
+struct probe_latch {
+  bool tripped = false;            ///< its input reached the awaited state
+  std::array<long, axes> steps{};  ///< every axis' position (steps) at that step tick; 0 without a trip
+  std::uint64_t tag = 0;           ///< the probing segment's tag
 };
 
 /// The path of a controller's port. Holds a reference: the controller
@@ -138,7 +194,8 @@ class path {
  public:
   explicit path(controller &c) noexcept : c_(&c) {}
 
-  /// Only while no path is active (else is_active).
+  /// Only while no path is active (else is_active), unless the depth is
+  /// 0 and the probe input stays as it is (keys_abort changes any time).
   void configure(const path_config &c);
   path_config config() const;
 
@@ -165,6 +222,9 @@ class path {
   void set_override(unsigned percent);
 
   path_status status() const;
+  /// The latch of the last probing segment that ran (cleared when one
+  /// starts): tripped, and every axis' position where its input changed.
+  probe_latch probe() const;
   /// Block until the path stands: its queue ran empty (done, or flushed by
   /// an abort, a stop or a limit), or a hold reached rest (poll(), no
   /// spinning); status() tells which. False on timeout; -1: for ever.

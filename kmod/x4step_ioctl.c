@@ -338,6 +338,7 @@ static long x4step_ioctl_any(struct x4_port *x4, struct file *file,
 		return x4step_move_halt_ioctl(x4, cmd, uarg);
 	case X4STEP_GET_PATH:
 	case X4STEP_GET_PATH_CONFIG:
+	case X4STEP_GET_PROBE:
 		return x4step_path_ioctl_read(x4, cmd, uarg);
 	default:
 		return -ENOTTY;

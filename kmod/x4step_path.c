@@ -7,7 +7,7 @@
  * and the path is kicked under the lock after each chunk of records; the
  * mutex is let go between chunks. X4STEP_PATH_CTL holds, resumes, aborts
  * and overrides (a hold and an abort under the raw lock only, as the
- * halts); X4STEP_GET_PATH reports. The queue's storage belongs to the
+ * halts); X4STEP_GET_PATH reports, X4STEP_GET_PROBE reads the probe latch. The queue's storage belongs to the
  * port (kvcalloc: up to 4096 segments) and changes only while no path is
  * active.
  */
@@ -323,11 +323,15 @@ int x4step_path_ctl_ioctl(struct x4_port *x4, void __user *uarg)
 static int x4step_path_set_config(struct x4_port *x4,
 				  const struct x4step_path_config *c)
 {
-	int ret = 0;
+	unsigned long flags;
+	int ret;
 
 	if (x4_req_bad_path_config(c))
 		return -EINVAL;
-	if (c->depth)
+	raw_spin_lock_irqsave(&x4->slock, flags);
+	ret = x4_req_errno(x4_req_set_probe(&x4->eng, c));
+	raw_spin_unlock_irqrestore(&x4->slock, flags);
+	if (!ret && c->depth)
 		ret = x4step_path_resize(x4, c->depth);
 	if (!ret)
 		WRITE_ONCE(x4->path_cfg_flags, c->flags);
@@ -351,9 +355,16 @@ int x4step_path_ioctl_read(struct x4_port *x4, unsigned int cmd,
 {
 	struct x4step_path_config cfg;
 	struct x4step_path_status st;
+	struct x4step_probe pr;
 	struct x4_path_status s;
 	unsigned long flags;
 
+	if (cmd == X4STEP_GET_PROBE) {
+		raw_spin_lock_irqsave(&x4->slock, flags);
+		x4_req_probe(&x4->eng, &pr);
+		raw_spin_unlock_irqrestore(&x4->slock, flags);
+		return copy_to_user(uarg, &pr, sizeof(pr)) ? -EFAULT : 0;
+	}
 	if (cmd == X4STEP_GET_PATH_CONFIG) {
 		x4_req_path_config(&x4->eng, READ_ONCE(x4->path_cfg_flags),
 				   &cfg);

@@ -30,6 +30,18 @@ namespace {
 
 constexpr std::uint32_t value_max = 0x7fffffff;
 
+std::uint8_t to_engine(probe_mode m) {
+  switch (m) {
+    case probe_mode::none:
+      return X4_PROBE_NONE;
+    case probe_mode::toward:
+      return X4_PROBE_TOWARD;
+    case probe_mode::away:
+      return X4_PROBE_AWAY;
+  }
+  return 0xff;  // not a mode: param_fail
+}
+
 x4step_segment to_kernel(const segment &s) {
   x4step_segment k{};
   for (axis a : axis_set::all()) k.steps[a.index()] = static_cast<__s32>(s.steps(a));
@@ -38,6 +50,8 @@ x4step_segment to_kernel(const segment &s) {
   k.v_entry = s.entry_speed();
   k.accel = s.accel();
   k.tag = s.tag();
+  if (s.probe() == probe_mode::toward) k.flags = X4STEP_SEG_PROBE_TOWARD;
+  if (s.probe() == probe_mode::away) k.flags = X4STEP_SEG_PROBE_AWAY;
   return k;
 }
 
@@ -97,6 +111,7 @@ errc check(const segment &s) noexcept {
   k.v_max = s.top_speed();
   k.v_entry = s.entry_speed();
   k.accel = s.accel();
+  k.probe = to_engine(s.probe());
   const int ret = x4_segment_check(&k, 0);
   return ret == X4_ERR_RATE_BUDGET ? errc::freq_too_high : static_cast<errc>(ret);
 }
@@ -136,13 +151,29 @@ void path::configure(const path_config &c) {
   x4step_path_config k{};
   k.depth = c.depth();
   k.flags = c.keys_abort() ? X4STEP_PATH_KEYS_ABORT : 0;
+  if (c.probe_active_low()) k.flags |= X4STEP_PATH_PROBE_NC;
+  if (c.probe_input() > 5) fail(errc::param_fail);
+  k.probe = c.probe_input();
   if (need_io(*c_).ioctl(X4STEP_SET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_SET_PATH_CONFIG");
 }
 
 path_config path::config() const {
   x4step_path_config k{};
   if (need_io(*c_).ioctl(X4STEP_GET_PATH_CONFIG, &k)) fail_ioctl(errno, "X4STEP_GET_PATH_CONFIG");
-  return path_config().depth(k.depth).keys_abort(k.flags & X4STEP_PATH_KEYS_ABORT);
+  return path_config()
+      .depth(k.depth)
+      .keys_abort(k.flags & X4STEP_PATH_KEYS_ABORT)
+      .probe_input(k.probe, k.flags & X4STEP_PATH_PROBE_NC);
+}
+
+probe_latch path::probe() const {
+  x4step_probe k{};
+  if (need_io(*c_).ioctl(X4STEP_GET_PROBE, &k)) fail_ioctl(errno, "X4STEP_GET_PROBE");
+  probe_latch l;
+  l.tripped = k.flags & X4STEP_PROBE_TRIPPED;
+  for (int i = 0; i < axes; i++) l.steps[static_cast<std::size_t>(i)] = k.position[i];
+  l.tag = k.tag;
+  return l;
 }
 
 std::size_t path::try_append(const segment *s, std::size_t n) { return write_some(need_io(*c_), s, n); }

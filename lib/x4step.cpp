@@ -354,7 +354,7 @@ const char *event_how(const event &e) {
                                      "braked off the reference switch"};
   static const char *const sources[] = {"by request", "by key", "by the controller's close",
                                         "by an emergency halt"};
-  static const char *const switches[] = {"E+", "E-", "REF"};
+  static const char *const switches[] = {"E+", "E-", "REF", "probe"};
   static const char *const changes[] = {"opened", "closed", "released the port"};
   const unsigned h = e.how - 1;
   switch (e.type) {
@@ -365,7 +365,7 @@ const char *event_how(const event &e) {
     case event_type::brake:
       return h < 4 ? sources[h] : "";
     case event_type::switch_hit:
-      return h < 3 ? switches[h] : "";
+      return h < 4 ? switches[h] : "";
     case event_type::controller:
       return h < 3 ? changes[h] : "";
     default:

@@ -399,24 +399,55 @@ int X4BrakeAxis(int axis) { return halt_axis(axis, x4step::halt_mode::brake); }
 
 int X4StopAxis(int axis) { return halt_axis(axis, x4step::halt_mode::stop); }
 
+// An X4Segment as the library's segment (param_fail: a value above 32 bits).
+static x4step::segment to_segment(const X4Segment &s) {
+  if (s.length > UINT32_MAX || s.top_speed > UINT32_MAX || s.entry_speed > UINT32_MAX || s.accel > UINT32_MAX)
+    fail(x4step::errc::param_fail);
+  x4step::segment g;
+  for (x4step::axis a : x4step::axis_set::all()) g.steps(a, s.steps[a.index()]);
+  return g.length(static_cast<std::uint32_t>(s.length))
+      .top_speed(static_cast<std::uint32_t>(s.top_speed))
+      .entry_speed(static_cast<std::uint32_t>(s.entry_speed))
+      .accel(static_cast<std::uint32_t>(s.accel))
+      .tag(s.tag);
+}
+
 int X4PathAppend(const X4Segment *segments, int count) {
   if (!port) return X4ErrInitNotDone;
   if (count < 0 || (count && !segments)) return X4ErrParamFail;
   return guarded([&] {
     std::vector<x4step::segment> v;
-    for (const X4Segment &s : std::vector<X4Segment>(segments, segments + count)) {
-      if (s.length > UINT32_MAX || s.top_speed > UINT32_MAX || s.entry_speed > UINT32_MAX ||
-          s.accel > UINT32_MAX)
-        fail(x4step::errc::param_fail);
-      x4step::segment g;
-      for (x4step::axis a : x4step::axis_set::all()) g.steps(a, s.steps[a.index()]);
-      v.push_back(g.length(static_cast<std::uint32_t>(s.length))
-                      .top_speed(static_cast<std::uint32_t>(s.top_speed))
-                      .entry_speed(static_cast<std::uint32_t>(s.entry_speed))
-                      .accel(static_cast<std::uint32_t>(s.accel))
-                      .tag(s.tag));
-    }
+    for (const X4Segment &s : std::vector<X4Segment>(segments, segments + count)) v.push_back(to_segment(s));
     x4step::path(*port).append(v);
+  });
+}
+
+int X4PathProbeInput(int input, int active_low) {
+  if (!port) return X4ErrInitNotDone;
+  if (input < 0 || input > 5) return X4ErrParamFail;
+  return guarded([&] {
+    x4step::path p(*port);
+    p.configure(p.config().depth(0).probe_input(static_cast<unsigned>(input), active_low != 0));
+  });
+}
+
+int X4PathAppendProbe(const X4Segment *segment, int mode) {
+  if (!port) return X4ErrInitNotDone;
+  if (!segment || (mode != X4PROBE_TOWARD && mode != X4PROBE_AWAY)) return X4ErrParamFail;
+  return guarded([&] {
+    x4step::path(*port).append(to_segment(*segment).probe(mode == X4PROBE_TOWARD ? x4step::probe_mode::toward
+                                                                                 : x4step::probe_mode::away));
+  });
+}
+
+int X4PathProbe(int *tripped, long *position, unsigned long long *tag) {
+  if (!port) return X4ErrInitNotDone;
+  return guarded([&] {
+    const x4step::probe_latch l = x4step::path(*port).probe();
+    if (tripped) *tripped = l.tripped;
+    if (position)
+      for (std::size_t i = 0; i < l.steps.size(); i++) position[i] = l.steps[i];
+    if (tag) *tag = l.tag;
   });
 }
 

@@ -131,6 +131,7 @@ void x4_chan_begin(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 	c->path = false;
 	c->path_cut = false;
 	c->dir_fresh = 0;
+	c->probe_mask = 0; /* a path's probing segment arms it after this */
 	c->n = 0;
 	c->t_cur = 0;
 	c->ctl = 0;

@@ -86,6 +86,7 @@ int x4_segment_check(const struct x4_segment *s, u32 reserved)
 	if (!leader)
 		return X4_ERR_NO_STEPS;
 	if (reserved || !length || !s->v_max || !s->accel ||
+	    s->probe > X4_PROBE_AWAY ||
 	    length > X4_PATH_VALUE_MAX || s->v_max > X4_PATH_VALUE_MAX ||
 	    s->v_entry > X4_PATH_VALUE_MAX || s->accel > X4_PATH_VALUE_MAX ||
 	    (u64)s->v_max > (u64)X4_PATH_RAMP_MAX_S * s->accel)

@@ -102,7 +102,9 @@ enum x4_output_mode {
  * `steps`, along `length` path units (any unit: user space chooses), at
  * path speeds (units/s) up to v_max, entering at most at v_entry (the
  * corner before it allows no more), accelerating and braking with accel
- * (units/s^2). The leader axis' steps lie at equal path distances.
+ * (units/s^2). The leader axis' steps lie at equal path distances. A
+ * probing segment (probe) ends where the path's probe input changes to
+ * the state it waits for (x4_path.h).
  */
 struct x4_segment {
 	s32 steps[X4_AXES];
@@ -111,6 +113,14 @@ struct x4_segment {
 	u32 v_entry;
 	u32 accel;
 	u64 tag;
+	u8 probe; /* enum x4_probe */
+};
+
+/* What a probing segment waits for on the path's probe input. */
+enum x4_probe {
+	X4_PROBE_NONE, /* not a probing segment */
+	X4_PROBE_TOWARD, /* the input becomes active (G38.2, G38.3) */
+	X4_PROBE_AWAY, /* the input becomes inactive (G38.4, G38.5) */
 };
 
 #define X4_PATH_RAMP_MAX_S 1800 /* v_max / accel: 200 % fits the ramp math */
@@ -151,7 +161,8 @@ int x4_home_check(u8 phases, s32 vref1, s32 vref2, u32 sref);
  * A path segment's own arguments, whatever the port (the module checks
  * every record with it, libx4step every segment before it writes), in
  * this order: steps (X4_ERR_STEPS_TOO_HIGH, X4_ERR_NO_STEPS); `reserved`,
- * the record's fields that must be 0, and the values (X4_ERR_PARAM_FAIL);
+ * the record's fields that must be 0, and the values, the probe mode
+ * among them (X4_ERR_PARAM_FAIL);
  * the leader's rate at v_max above X4_VEL_MAX (X4_ERR_RATE_BUDGET).
  */
 int x4_segment_check(const struct x4_segment *s, u32 reserved);

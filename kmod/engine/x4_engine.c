@@ -490,6 +490,10 @@ static void rise(struct x4_engine *e, struct x4_chan *c, u64 now_ns)
 		x4_chan_cut(c);
 		return;
 	}
+	/* A probing segment's input (e->levels: sampled for this tick). */
+	if ((e->levels ^ c->probe_flip) & c->probe_mask &&
+	    x4_path_probe_hit(e, c))
+		return;
 	if (c->dir_fresh && dir_wait(c, t_step, now_ns))
 		return;
 	c->stepping = step_axes(e, c);

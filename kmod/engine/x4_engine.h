@@ -104,14 +104,15 @@ static inline bool x4_engine_pulse_pending(const struct x4_engine *e,
 }
 
 /*
- * The pending event is a step that a switch may forbid, or one of a
- * reference run (whose phase 2 starts from the REF level the brake of
+ * The pending event is a step that a switch may forbid (a probing
+ * segment's input too), or one of a reference run (whose phase 2 starts from the REF level the brake of
  * phase 1 ended at): sample first.
  */
 static inline bool x4_engine_rise_watched(const struct x4_engine *e)
 {
 	return e->cur->phase == X4_RISE &&
-	       (e->cur->halt_mask | e->cur->deferred | e->cur->home);
+	       (e->cur->halt_mask | e->cur->deferred | e->cur->home |
+		e->cur->probe_mask);
 }
 
 #endif /* X4_ENGINE_H */

@@ -121,6 +121,8 @@ int x4_path_check(const struct x4_engine *e, const struct x4_segment *s)
 	/* Its rate at v_max: within what the port can do. */
 	if ((u64)s->v_max * leader > rate_max(e) * s->length)
 		return X4_ERR_RATE_BUDGET;
+	if (s->probe && !e->path.probe_input)
+		return X4_ERR_PARAM_FAIL; /* no input to probe with */
 	if (e->busy & ~(e->ch[0].path ? 1u : 0u))
 		return X4_ERR_IS_ACTIVE; /* other moves run */
 	if (!e->path.depth)
@@ -477,6 +479,49 @@ static void plan_piece(struct x4_engine *e, struct x4_chan *c)
 }
 
 /*
+ * Watch the probe input while the segment at head is a probing one (from
+ * its start, fresh: its latch is cleared; or again after a hold).
+ * TOWARD trips at the input's active level, AWAY at its inactive one.
+ */
+static void arm_probe(struct x4_engine *e, struct x4_chan *c, bool fresh)
+{
+	struct x4_path *pa = &e->path;
+	const struct x4_segment *s = &slot_of(pa, pa->head)->seg;
+	u8 bit = x4_chan_input_bit(pa->probe_input);
+
+	c->probe_mask = 0;
+	if (!s->probe)
+		return;
+	if (fresh) {
+		memset(pa->latch.position, 0, sizeof(pa->latch.position));
+		pa->latch.tripped = false;
+		pa->latch.tag = s->tag;
+		pa->latch.runs++;
+	}
+	c->probe_mask = bit;
+	c->probe_flip = pa->probe_nc != (s->probe == X4_PROBE_AWAY) ? bit : 0;
+}
+
+bool x4_path_probe_hit(struct x4_engine *e, struct x4_chan *c)
+{
+	struct x4_path *pa = &e->path;
+	int i;
+
+	c->probe_mask = 0; /* it trips once */
+	pa->latch.tripped = true;
+	for (i = 0; i < X4_AXES; i++) /* before this tick's step */
+		pa->latch.position[i] = x4_chan_position(e, i);
+	pa->latch.trips++;
+	if (c->n == 1 && !plan_speed2(&c->run, 0)) {
+		/* At rest before the piece's first step: none is made. */
+		x4_chan_cut(c);
+		return true;
+	}
+	x4_path_hold(e, true); /* along the path, then flushed */
+	return false;
+}
+
+/*
  * Start the segment at head, entering at path speed v_in / pa->leader
  * (v_in: the segment before's end speed in its leader steps/s times its
  * length): its axes and Bresenham, its switches, and its exit speed, read
@@ -506,6 +551,7 @@ static void start_segment(struct x4_engine *e, struct x4_chan *c, u64 v_in)
 	x4_plan_axes(&c->run, steps);
 	x4_chan_bres_start(c);
 	x4_chan_arm_switches(e, c);
+	arm_probe(e, c, true);
 	pa->started = true;
 	pa->lonely = tail == pa->head + 1;
 	if (!pa->lonely)
@@ -669,6 +715,7 @@ static void begin_path(struct x4_engine *e, u64 now_ns)
 	x4_chan_begin(e, c, now_ns); /* directions now, the first step after */
 	if (pa->pos) /* resumed within a segment: its Bresenham goes on */
 		memcpy(c->bres, bres, sizeof(bres));
+	arm_probe(e, c, false); /* x4_chan_begin() disarmed it */
 	c->path = true;
 	c->rate = (u32)(rate_max(e) *
 			x4_chan_writes_per_step(e, x4_chan_mode_axes(e)));
@@ -805,6 +852,21 @@ int x4_path_resume(struct x4_engine *e, u64 now_ns)
 		return X4_OK;
 	}
 	begin_path(e, now_ns);
+	return X4_OK;
+}
+
+int x4_path_set_probe(struct x4_engine *e, u8 input, bool nc)
+{
+	struct x4_path *pa = &e->path;
+
+	if (input > X4_INPUTS)
+		return X4_ERR_PARAM_FAIL;
+	if (input == pa->probe_input && nc == pa->probe_nc)
+		return X4_OK;
+	if (x4_path_active(e))
+		return X4_ERR_IS_ACTIVE; /* its probing segments were checked */
+	pa->probe_input = input;
+	pa->probe_nc = nc;
 	return X4_OK;
 }
 

@@ -20,6 +20,16 @@
  * plan safe, whatever the timer reads while a pass runs (a lower override
  * the path is too fast to obey at once is braked toward at the limit),
  * and no loop over the queue runs under the lock.
+ *
+ * Probing (G38.2..G38.5): a probing segment (x4_segment.probe) watches the
+ * path's probe input on every step tick, as a limit switch is watched. At
+ * the first tick the input is in the awaited state (active: TOWARD;
+ * inactive: AWAY) the latch takes every axis' coordinate (that of the step
+ * at which the input changed: the tick's own step is not made yet), and
+ * the path holds along the path and flushes its queue, as an abort does.
+ * A segment that starts from rest with the input in that state already
+ * trips at its first tick and makes no step; one that ends without a trip
+ * lets the path go on, its latch not tripped.
  */
 #ifndef X4_PATH_H
 #define X4_PATH_H
@@ -73,6 +83,18 @@ int x4_path_hold(struct x4_engine *e, bool abort);
 int x4_path_resume(struct x4_engine *e, u64 now_ns);
 /* Under the lock: the feed override, percent (writer: x4_path_replan()). */
 int x4_path_set_override(struct x4_engine *e, u32 percent);
+/*
+ * The probe input, 1..5 (X4GetIn bit 0..4) or 0, active while LOW (nc):
+ * only while no path is active, unless it stays as it is.
+ */
+int x4_path_set_probe(struct x4_engine *e, u8 input, bool nc);
+/*
+ * For the event machine (x4_engine.c): the running probing segment's input
+ * is in the awaited state at channel c's pending step. True: that step is
+ * not made (the path stood at rest: it ends there).
+ */
+bool x4_path_probe_hit(struct x4_engine *e, struct x4_chan *c);
+
 /* An active path owns every axis of the output mode. */
 bool x4_path_active(const struct x4_engine *e);
 

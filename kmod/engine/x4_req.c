@@ -24,6 +24,7 @@ enum x4_req_access x4_req_access(unsigned int cmd)
 	case X4STEP_GET_AXES:
 	case X4STEP_GET_PATH:
 	case X4STEP_GET_PATH_CONFIG:
+	case X4STEP_GET_PROBE:
 	case X4STEP_ESTOP: /* the emergency halt, whoever controls the port */
 		return X4_REQ_ANY;
 	case X4STEP_LOAD:
@@ -253,8 +254,13 @@ void x4_req_get_axes(const struct x4_engine *e, u32 inputs, u64 when,
 	}
 }
 
+/* A segment record's flags that must be 0 (ABI 6: the probe flags aside). */
+#define X4_SEG_OTHER_FLAGS \
+	(~(u32)(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY))
+
 int x4_req_segment(const struct x4step_segment *r, struct x4_segment *seg)
 {
+	u32 other = r->flags & X4_SEG_OTHER_FLAGS;
 	int i;
 
 	for (i = 0; i < X4_AXES; i++)
@@ -264,8 +270,11 @@ int x4_req_segment(const struct x4step_segment *r, struct x4_segment *seg)
 	seg->v_entry = r->v_entry;
 	seg->accel = r->accel;
 	seg->tag = r->tag;
+	/* Both probe flags: 3, which x4_segment_check() refuses. */
+	seg->probe = (r->flags & X4STEP_SEG_PROBE_TOWARD ? X4_PROBE_TOWARD : 0) |
+		     (r->flags & X4STEP_SEG_PROBE_AWAY ? X4_PROBE_AWAY : 0);
 	/* libx4step runs the same check before it writes. */
-	return x4_segment_check(seg, r->flags | r->reserved);
+	return x4_segment_check(seg, other | r->reserved);
 }
 
 bool x4_req_bad_path_ctl(const struct x4step_path_ctl *c)
@@ -276,7 +285,8 @@ bool x4_req_bad_path_ctl(const struct x4step_path_ctl *c)
 
 bool x4_req_bad_path_config(const struct x4step_path_config *c)
 {
-	if (X4_NONZERO(c->reserved) || c->flags & ~X4STEP_PATH_KEYS_ABORT)
+	if (c->reserved || c->probe > X4_INPUTS ||
+	    c->flags & ~(X4STEP_PATH_KEYS_ABORT | X4STEP_PATH_PROBE_NC))
 		return true;
 	return c->depth && (c->depth < X4STEP_PATH_DEPTH_MIN ||
 			    c->depth > X4STEP_PATH_DEPTH_MAX ||
@@ -288,7 +298,31 @@ void x4_req_path_config(const struct x4_engine *e, u32 flags,
 {
 	memset(c, 0, sizeof(*c));
 	c->depth = e->path.depth ? e->path.depth : X4STEP_PATH_DEPTH_MIN;
-	c->flags = flags;
+	c->flags = flags & ~X4STEP_PATH_PROBE_NC;
+	if (e->path.probe_nc)
+		c->flags |= X4STEP_PATH_PROBE_NC;
+	c->probe = e->path.probe_input;
+}
+
+int x4_req_set_probe(struct x4_engine *e, const struct x4step_path_config *c)
+{
+	return x4_path_set_probe(e, (u8)c->probe,
+				 c->flags & X4STEP_PATH_PROBE_NC);
+}
+
+void x4_req_probe(const struct x4_engine *e, struct x4step_probe *up)
+{
+	const struct x4_probe_latch *l = &e->path.latch;
+	int i;
+
+	memset(up, 0, sizeof(*up));
+	up->flags = l->tripped ? X4STEP_PROBE_TRIPPED : 0;
+	up->input = e->path.probe_input;
+	up->tag = l->tag;
+	for (i = 0; i < X4_AXES; i++)
+		up->position[i] = l->position[i];
+	up->runs = l->runs;
+	up->trips = l->trips;
 }
 
 void x4_req_path_status(const struct x4_path_status *s, u32 flags,

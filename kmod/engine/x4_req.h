@@ -69,6 +69,13 @@ bool x4_req_bad_path_config(const struct x4step_path_config *c);
 /* X4STEP_GET_PATH_CONFIG's answer; `flags` the path flags configured. */
 void x4_req_path_config(const struct x4_engine *e, u32 flags,
 			struct x4step_path_config *c);
+/*
+ * X4STEP_SET_PATH_CONFIG's probe input and polarity into the engine (after
+ * x4_req_bad_path_config()): an X4Step result.
+ */
+int x4_req_set_probe(struct x4_engine *e, const struct x4step_path_config *c);
+/* X4STEP_GET_PROBE's answer: the engine's probe latch. */
+void x4_req_probe(const struct x4_engine *e, struct x4step_probe *up);
 /* X4STEP_GET_PATH's answer from the engine's status. */
 void x4_req_path_status(const struct x4_path_status *s, u32 flags,
 			struct x4step_path_status *st);

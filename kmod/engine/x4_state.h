@@ -122,6 +122,8 @@ struct x4_chan {
 	bool path_cut; /* ... and was stopped: the path ends here */
 	u8 dir_fresh; /* clocks whose direction changed at dir_ready - setup */
 	u64 dir_ready; /* ... and may step from then on */
+	u8 probe_mask; /* a probing segment's input (x4_path.c) ... */
+	u8 probe_flip; /* ... trips it when (levels ^ probe_flip) & probe_mask */
 };
 
 /*
@@ -155,6 +157,18 @@ enum x4_path_rest {
 	X4_REST_HELD, /* a hold reached rest */
 };
 
+/*
+ * The probe latch: where the last probing segment that ran stopped
+ * waiting (x4_path.h). Cleared when a probing segment starts.
+ */
+struct x4_probe_latch {
+	bool tripped; /* its input reached the awaited state */
+	s32 position[X4_AXES]; /* every axis' coordinate at that step tick */
+	u64 tag; /* the probing segment's */
+	u64 runs; /* probing segments started */
+	u64 trips; /* ... and tripped */
+};
+
 struct x4_path {
 	struct x4_path_slot *slot; /* `depth` slots, from the glue */
 	u32 depth; /* a power of 2; 0: no queue */
@@ -181,6 +195,9 @@ struct x4_path {
 	u64 done; /* segments completed */
 	u64 starved; /* refills that came after the path began to stop */
 	u64 frac; /* the ns fraction the pieces' ends left out, 32.32 */
+	u8 probe_input; /* 1..5 (X4GetIn bit 0..4), 0: none */
+	bool probe_nc; /* ... active while LOW */
+	struct x4_probe_latch latch;
 };
 
 struct x4_engine {
@@ -207,6 +224,7 @@ struct x4_engine {
 	struct x4_profile prof[X4_AXES];
 	struct x4_switches sw;
 	u8 inputs; /* active switches (after NO/NC), last sampled */
+	u8 levels; /* ... and the input levels (X4GetIn bits) they came from */
 
 	/*
 	 * A late event never makes a pulse, space or phase step shorter than

@@ -198,6 +198,7 @@ void x4_switch_sense(struct x4_engine *e, u8 levels)
 {
 	int i;
 
+	e->levels = levels;
 	e->inputs = x4_switch_active(e, levels);
 	for (i = 0; i < X4_AXES; i++) {
 		struct x4_chan *c = &e->ch[i];

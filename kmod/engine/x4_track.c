@@ -2,7 +2,8 @@
 /*
  * x4step engine: why moves end (x4_track.h), from what the engine shows
  * after each of its calls: new error bits (a limit hit, a reference run
- * too long), a reference phase ended, a path held or flushed.
+ * too long), a reference phase ended, a path held or flushed, a probing
+ * segment's input tripped.
  */
 #include "x4_track.h"
 
@@ -165,12 +166,26 @@ static u8 x4_track_path_end(struct x4_track *t, const struct x4_engine *e)
 	return aborting ? X4STEP_END_ABORTED : X4STEP_END_COMPLETED;
 }
 
+/*
+ * A probing segment's input tripped: a switch event, and the path, whose
+ * queue the trip flushes, ends ABORTED (x4_track_path_end()).
+ */
+static void x4_track_probe(struct x4_track *t, const struct x4_engine *e)
+{
+	t->probe_trips = e->path.latch.trips;
+	t->push(t, X4STEP_EV_SWITCH, x4_chan_mode_axes(e), X4STEP_SW_PROBE,
+		e->path.probe_input, 0);
+	t->path_aborting = true; /* the trip flushes the path */
+}
+
 void x4_track_update(struct x4_track *t, const struct x4_engine *e, int c,
 		     u32 kind)
 {
 	u8 ended, started, how, bit, was;
 	int i;
 
+	if (e->path.latch.trips != t->probe_trips)
+		x4_track_probe(t, e);
 	if (memcmp(e->err, t->err, sizeof(t->err)))
 		x4_track_errors(t, e);
 	for (i = 0; i < X4_AXES; i++) {
@@ -214,6 +229,7 @@ void x4_track_fired(struct x4_track *t, const struct x4_engine *e, int c)
 {
 	if (e->busy != t->busy || e->ch[c].home != t->home[c] ||
 	    e->ch[c].ref_found != t->ref_found[c] ||
+	    e->path.latch.trips != t->probe_trips ||
 	    memcmp(e->err, t->err, sizeof(t->err)))
 		x4_track_update(t, e, c, 0);
 }

@@ -26,6 +26,7 @@ struct x4_track {
 	bool path_aborting; /* the path's end is an abort */
 	u8 braked; /* channels whose brake was asked for */
 	u8 stopped; /* channels stopped at once */
+	u64 probe_trips; /* the path's probe trips told (x4_probe_latch) */
 };
 
 /* The channels that run moves of the axes in `axes`. */

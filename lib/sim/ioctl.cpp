@@ -135,6 +135,7 @@ int port::any_ioctl_locked(unsigned long cmd, void *arg) {
     }
     case X4STEP_GET_PATH:
     case X4STEP_GET_PATH_CONFIG:
+    case X4STEP_GET_PROBE:
       return path_read_locked(cmd, arg);
     default:
       return -ENOTTY;

@@ -27,6 +27,8 @@ const char *kind_name(machine_switch::kind k) {
       return "REF";
     case machine_switch::kind::plus:
       return "E+";
+    case machine_switch::kind::probe:
+      return "probe";
     default:
       return "E-";
   }
@@ -97,22 +99,24 @@ void machine::read(std::istream &in, const std::string &name) {
     const auto w = words(line);
     if (w.empty()) continue;
     const std::string &key = w[0];
-    if (key == "ref" || key == "e+" || key == "e-") {
-      // ref AXIS below|above AT PIN no|nc [hyst N]; e+/e- AXIS AT PIN no|nc [hyst N]
+    if (key == "ref" || key == "probe" || key == "e+" || key == "e-") {
+      // ref|probe AXIS below|above AT PIN no|nc [hyst N]; e+/e- AXIS AT PIN no|nc [hyst N]
       machine_switch s;
       s.line = n;
-      const bool ref = key == "ref";
+      const bool ref = key == "ref" || key == "probe";
       const std::size_t k = ref ? 3 : 2;  // index of AT
       if (w.size() != k + 3 && !(w.size() == k + 5 && w[k + 3] == "hyst"))
-        refuse(where, ref ? "write a REF switch as: ref AXIS below|above AT PIN no|nc [hyst STEPS]"
+        refuse(where, ref ? "write a " + std::string(key == "ref" ? "REF" : "probe") + " switch as: " + key +
+                                " AXIS below|above AT PIN no|nc [hyst STEPS]"
                           : "write a limit switch as: " + key + " AXIS AT PIN no|nc [hyst STEPS]");
-      s.what = ref           ? machine_switch::kind::ref
-               : key == "e+" ? machine_switch::kind::plus
-                             : machine_switch::kind::minus;
+      s.what = key == "probe" ? machine_switch::kind::probe
+               : key == "ref" ? machine_switch::kind::ref
+               : key == "e+"  ? machine_switch::kind::plus
+                              : machine_switch::kind::minus;
       s.axis = axis_of(w[1], where);
       if (ref && w[2] != "below" && w[2] != "above")
-        refuse(where,
-               "REF side '" + w[2] + "': use below (active at AT and under) or above (at AT and over)");
+        refuse(where, std::string(key == "ref" ? "REF" : "probe") + " side '" + w[2] +
+                          "': use below (active at AT and under) or above (at AT and over)");
       s.above = ref ? w[2] == "above" : s.what == machine_switch::kind::plus;
       s.at = steps(w[k], "position", where);
       s.bit = input_bit(w[k + 1], where);
@@ -134,7 +138,7 @@ void machine::read(std::istream &in, const std::string &name) {
       for (std::size_t i = 2; i < w.size(); i++) pin_level(w[i], c, where);
       add_change(c, where);
     } else {
-      refuse(where, "'" + key + "' is not a machine line: use ref, e+, e-, position or input");
+      refuse(where, "'" + key + "' is not a machine line: use ref, e+, e-, probe, position or input");
     }
   }
   update_switches();

@@ -4,7 +4,8 @@
 // inputs at given times. The model is the QEMU virtual port's
 // (tests/qemu/fixtures/x4vport.c: positions, switches "below|above AT HYST no|nc",
 // switches on one input in parallel), so that both machines agree; the
-// file names the switches as ProStep4 does (REF, E+, E-). Internal.
+// file names the switches as ProStep4 does (REF, E+, E-), and a path's
+// probe (a touch plate, a tool setter) as "probe". Internal.
 #ifndef X4STEP_SIM_MACHINE_HPP
 #define X4STEP_SIM_MACHINE_HPP
 
@@ -18,7 +19,7 @@ namespace x4step::sim {
 
 /// A switch on an axis (x4vport's struct x4v_switch).
 struct machine_switch {
-  enum class kind { ref, plus, minus };
+  enum class kind { ref, plus, minus, probe };
   kind what = kind::ref;
   int axis = 0;           ///< 0..3
   std::int64_t at = 0;    ///< machine position in steps

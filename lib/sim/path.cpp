@@ -147,13 +147,20 @@ int port::path_ctl_locked(const x4step_path_ctl &c) {
 // x4step_path_set_config().
 int port::path_config_locked(const x4step_path_config &c) {
   if (x4_req_bad_path_config(&c)) return -EINVAL;
-  const int ret = c.depth ? path_resize_locked(c.depth) : 0;
+  int ret = x4_req_errno(x4_req_set_probe(&eng_, &c));
+  if (!ret && c.depth) ret = path_resize_locked(c.depth);
   if (!ret) path_cfg_flags_ = c.flags;
   return ret;
 }
 
-// x4step_path_ioctl_read(): GET_PATH_CONFIG and GET_PATH, on any descriptor.
+// x4step_path_ioctl_read(): GET_PATH_CONFIG, GET_PATH and GET_PROBE, on any descriptor.
 int port::path_read_locked(unsigned long cmd, void *arg) {
+  if (cmd == X4STEP_GET_PROBE) {
+    x4step_probe pr;
+    x4_req_probe(&eng_, &pr);
+    std::memcpy(arg, &pr, sizeof pr);
+    return 0;
+  }
   if (cmd == X4STEP_GET_PATH_CONFIG) {
     x4step_path_config cfg;
     x4_req_path_config(&eng_, path_cfg_flags_, &cfg);

@@ -27,6 +27,8 @@ std::optional<switches> sim_machine_switches() {
       case sim::machine_switch::kind::minus:
         s.minus[axis] = input;
         break;
+      case sim::machine_switch::kind::probe:  // the path's (path_config::probe_input)
+        continue;
     }
     if (w.nc) s.nc |= 1u << w.bit;
   }

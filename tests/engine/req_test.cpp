@@ -391,7 +391,7 @@ TEST(Req, SegmentCopiedAndChecked) {
   EXPECT_EQ(seg.accel, 10000u);
   EXPECT_EQ(seg.tag, 0x123456789abcull);
   EXPECT_EQ(x4_req_segment(&r, &seg), x4_segment_check(&seg, 0));
-  r.flags = 1;
+  r.flags = 4;  // 1 and 2: probing (Req.SegmentProbeFlags)
   EXPECT_EQ(x4_req_segment(&r, &seg), X4_ERR_PARAM_FAIL);
   r.flags = 0;
   r.reserved = 1;
@@ -435,14 +435,23 @@ TEST(Req, BadPathConfig) {
   c.depth = 0;
   c.flags = X4STEP_PATH_KEYS_ABORT;
   EXPECT_FALSE(x4_req_bad_path_config(&c));
-  c.flags = X4STEP_PATH_KEYS_ABORT << 1;
+  c.flags = X4STEP_PATH_KEYS_ABORT | X4STEP_PATH_PROBE_NC;
+  EXPECT_FALSE(x4_req_bad_path_config(&c));
+  c.flags = X4STEP_PATH_PROBE_NC << 1;
   EXPECT_TRUE(x4_req_bad_path_config(&c));
   c.flags = 0;
-  for (auto &w : c.reserved) {
-    w = 1;
-    EXPECT_TRUE(x4_req_bad_path_config(&c));
-    w = 0;
+  for (uint32_t in = 0; in <= 5; in++) {
+    c.probe = in;
+    EXPECT_FALSE(x4_req_bad_path_config(&c)) << "probe input " << in;
   }
+  for (uint32_t in : {6u, 0xffffffffu}) {
+    c.probe = in;
+    EXPECT_TRUE(x4_req_bad_path_config(&c)) << "probe input " << in;
+  }
+  c.probe = 0;
+  c.reserved = 1;
+  EXPECT_TRUE(x4_req_bad_path_config(&c));
+  c.reserved = 0;
 }
 
 TEST(Req, PathConfigAnswer) {
@@ -453,11 +462,70 @@ TEST(Req, PathConfigAnswer) {
   x4_req_path_config(&e, X4STEP_PATH_KEYS_ABORT, &c);
   EXPECT_EQ(c.depth, uint32_t(X4STEP_PATH_DEPTH_MIN)) << "no queue yet: the default";
   EXPECT_EQ(c.flags, uint32_t(X4STEP_PATH_KEYS_ABORT));
-  EXPECT_EQ(c.reserved[0] | c.reserved[1], 0u);
+  EXPECT_EQ(c.probe | c.reserved, 0u);
   e.path.depth = 1024;
   x4_req_path_config(&e, 0, &c);
   EXPECT_EQ(c.depth, 1024u);
   EXPECT_EQ(c.flags, 0u);
+  // The probe input and its polarity: the engine's.
+  ASSERT_EQ(x4_path_set_probe(&e, 4, true), X4_OK);
+  x4_req_path_config(&e, 0, &c);
+  EXPECT_EQ(c.probe, 4u);
+  EXPECT_EQ(c.flags, uint32_t(X4STEP_PATH_PROBE_NC));
+  x4step_path_config set{};
+  set.probe = 2;
+  ASSERT_EQ(x4_req_set_probe(&e, &set), X4_OK);
+  EXPECT_EQ(e.path.probe_input, 2);
+  EXPECT_FALSE(e.path.probe_nc);
+}
+
+TEST(Req, ProbeAnswer) {
+  x4_engine e;
+  x4_engine_init(&e);
+  e.path.probe_input = 3;
+  e.path.latch.tripped = true;
+  for (int i = 0; i < X4_AXES; i++) e.path.latch.position[i] = -1000 * (i + 1);
+  e.path.latch.tag = 42;
+  e.path.latch.runs = 5;
+  e.path.latch.trips = 4;
+  x4step_probe p = Filled<x4step_probe>(0xff);
+  x4_req_probe(&e, &p);
+  EXPECT_EQ(p.flags, uint32_t(X4STEP_PROBE_TRIPPED));
+  EXPECT_EQ(p.input, 3u);
+  EXPECT_EQ(p.tag, 42u);
+  for (int i = 0; i < X4_AXES; i++) EXPECT_EQ(p.position[i], -1000 * (i + 1));
+  EXPECT_EQ(p.runs, 5u);
+  EXPECT_EQ(p.trips, 4u);
+  for (uint32_t w : p.reserved) EXPECT_EQ(w, 0u);
+  e.path.latch.tripped = false;
+  x4_req_probe(&e, &p);
+  EXPECT_EQ(p.flags, 0u);
+}
+
+// A record's probe flags: one of them, or none; both, or another flag, EINVAL.
+TEST(Req, SegmentProbeFlags) {
+  x4step_segment r{};
+  r.steps[0] = 100;
+  r.length = 100;
+  r.v_max = 1000;
+  r.accel = 10000;
+  x4_segment s;
+  ASSERT_EQ(x4_req_segment(&r, &s), X4_OK);
+  EXPECT_EQ(s.probe, X4_PROBE_NONE);
+  r.flags = X4STEP_SEG_PROBE_TOWARD;
+  ASSERT_EQ(x4_req_segment(&r, &s), X4_OK);
+  EXPECT_EQ(s.probe, X4_PROBE_TOWARD);
+  r.flags = X4STEP_SEG_PROBE_AWAY;
+  ASSERT_EQ(x4_req_segment(&r, &s), X4_OK);
+  EXPECT_EQ(s.probe, X4_PROBE_AWAY);
+  for (uint32_t f : {uint32_t(X4STEP_SEG_PROBE_TOWARD | X4STEP_SEG_PROBE_AWAY),
+                     uint32_t(X4STEP_SEG_PROBE_AWAY << 1), uint32_t(X4STEP_SEG_PROBE_TOWARD | 0x80000000u)}) {
+    r.flags = f;
+    EXPECT_EQ(x4_req_segment(&r, &s), X4_ERR_PARAM_FAIL) << std::hex << f;
+  }
+  r.flags = X4STEP_SEG_PROBE_TOWARD;
+  r.reserved = 1;
+  EXPECT_EQ(x4_req_segment(&r, &s), X4_ERR_PARAM_FAIL);
 }
 
 TEST(Req, PathStatusAnswer) {

@@ -3,7 +3,8 @@
 # Mutation run of the engine core (issue 16): apply each one-line mutation
 # of tests/mutation/mutations.txt, one at a time, to a copy of the engine's
 # sources, build the engine's host tests (tests/engine: req_test,
-# track_test, lateness_test, path_test, positioning_test, engine_test)
+# track_test, lateness_test, probe_test, path_test, positioning_test,
+# engine_test)
 # against it and run them. Every mutation must make at least
 # one test fail (KILLED); one that all tests pass is SURVIVED, and one that
 # cannot be applied (its text is not on exactly one line) or does not build
@@ -30,7 +31,7 @@ list=${1:-$top/tests/mutation/mutations.txt}
 build=${BUILD:-$top/build}
 case $build in /*) ;; *) build=$top/$build ;; esac
 work=$build/mutation
-tests="req_access_test req_test track_test lateness_test path_test positioning_test engine_test" # fastest first
+tests="req_access_test req_test track_test lateness_test probe_test path_test positioning_test engine_test" # fastest first
 start=$(date +%s)
 
 if [ -d "$top/kmod/engine" ]; then

@@ -288,7 +288,7 @@ machine "E- above E+" ":2: axis 1: E- at 500 is not below E+ at 100 (line 1)" \
 	"e+ 1 100 pin11 nc\ne- 1 500 pin12 nc\n"
 machine "no and nc on one pin" ":3: pin 10 has a no switch already (line 1)" \
 	"ref 1 below -10 pin10 no\n# axis 2\ne- 2 -100 pin10 nc\n"
-machine "an unknown keyword" ":2: 'limit' is not a machine line: use ref, e+, e-, position or input" \
+machine "an unknown keyword" ":2: 'limit' is not a machine line: use ref, e+, e-, probe, position or input" \
 	"position 1 0\nlimit 1 100 pin11 nc\n"
 machine "REF beyond E+" ":2: axis 2: REF at 900 lies outside E-..E+ (line 1)" \
 	"e+ 2 800 pin13 no\nref 2 above 900 pin12 no\n"

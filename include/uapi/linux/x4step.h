@@ -45,10 +45,12 @@
  * 4: events through read() (x4step_event, POLLPRI), X4STEP_SET_OUTPUTS,
  * status reads that leave an unclaimed port alone (X4STEP_ST_INPUTS_STALE);
  * 5: continuous paths (x4step_segment through write(), X4STEP_PATH_*),
- * X4STEP_ESTOP, and X4STEP_VEL_MAX 100000 (was 45000).
+ * X4STEP_ESTOP, and X4STEP_VEL_MAX 100000 (was 45000);
+ * 6: probing segments (X4STEP_SEG_PROBE_*, x4step_path_config.probe,
+ * X4STEP_GET_PROBE, X4STEP_SW_PROBE).
  * A version only adds: a program built for version N runs on any >= N.
  */
-#define X4STEP_ABI_VERSION 5
+#define X4STEP_ABI_VERSION 6
 #define X4STEP_AXES 4
 #define X4STEP_MAX_BRAKE_CODES 20
 
@@ -444,6 +446,11 @@ struct x4step_axes {
 #define X4STEP_SW_LIMIT_POS 1 /* E+ */
 #define X4STEP_SW_LIMIT_NEG 2 /* E- */
 #define X4STEP_SW_REF 3 /* REF: a reference phase ended */
+/*
+ * ABI 6: a probing segment's input reached the state it waits for; axes:
+ * the path's (every axis of the output mode). The path ends ABORTED.
+ */
+#define X4STEP_SW_PROBE 4
 
 /* Controllers (how of X4STEP_EV_CONTROLLER). */
 #define X4STEP_CTL_OPENED 1
@@ -574,7 +581,27 @@ struct x4step_estop {
  * path (keys: then abort, with X4STEP_PATH_KEYS_ABORT, a held path too);
  * X4STEP_ESTOP's brake and the controller's close abort it; X4STEP_STOP
  * stops it at once and flushes.
+ *
+ * Probing (ABI 6; G38.2..G38.5): a segment with X4STEP_SEG_PROBE_TOWARD or
+ * X4STEP_SEG_PROBE_AWAY watches the path's probe input (x4step_path_config
+ * .probe; a probing segment without one is EINVAL) on every step tick, as
+ * a limit switch is watched. At the first tick the input is in the state
+ * the segment waits for (TOWARD: active, AWAY: inactive), the module
+ * latches every axis' coordinate: the position at which the input changed,
+ * before that tick's step, whatever the speed. Then the path brakes along
+ * the path with the segment's acceleration, as a hold does, and its queue
+ * is flushed, as an abort's is (write() fails with ECANCELED until
+ * X4STEP_PATH_CLEAR); the events show an X4STEP_EV_SWITCH with how
+ * X4STEP_SW_PROBE, then the path's end, ABORTED. A segment that starts
+ * from rest with the input in that state already trips at its first tick
+ * and makes no step. A probing segment that ends without a trip lets the
+ * path go on. X4STEP_GET_PROBE reads the latch of the last probing
+ * segment that started; it is cleared when one starts. Emergency stops,
+ * limits, brake keys and the controller's close act as on any segment.
  */
+#define X4STEP_SEG_PROBE_TOWARD (1u << 0) /* ABI 6: until the probe is active */
+#define X4STEP_SEG_PROBE_AWAY (1u << 1) /* ABI 6: until it is inactive */
+
 struct x4step_segment {
 	__s32 steps[X4STEP_AXES]; /* |steps| <= 16777216, at least one non-zero */
 	__u32 length; /* path units, 1..2^31 - 1 */
@@ -582,7 +609,7 @@ struct x4step_segment {
 	__u32 v_entry; /* the most the corner before it allows, units/s; 0: stop */
 	__u32 accel; /* path units/s^2; v_max / accel <= 1800 s */
 	__u64 tag; /* reported while it runs (e.g. a program line) */
-	__u32 flags; /* must be 0 */
+	__u32 flags; /* ABI 6: one X4STEP_SEG_PROBE_* or none; else 0 */
 	__u32 reserved; /* must be 0 */
 };
 /*
@@ -594,12 +621,18 @@ struct x4step_segment {
 #define X4STEP_PATH_DEPTH_MIN 256
 #define X4STEP_PATH_DEPTH_MAX 4096
 #define X4STEP_PATH_KEYS_ABORT (1u << 0) /* brake keys: hold, then abort */
+#define X4STEP_PATH_PROBE_NC (1u << 1) /* ABI 6: the probe is active while LOW */
 
-/* X4STEP_SET_PATH_CONFIG: flags any time; depth while no path is active (EBUSY) */
+/*
+ * X4STEP_SET_PATH_CONFIG: KEYS_ABORT any time; depth, the probe input and
+ * PROBE_NC only while no path is active, unless they stay as they are
+ * (EBUSY). EINVAL: unknown flags, probe above 5, reserved not 0.
+ */
 struct x4step_path_config {
 	__u32 depth; /* segments the queue holds: a power of 2, 256..4096; 0 keeps it */
-	__u32 flags; /* X4STEP_PATH_KEYS_ABORT */
-	__u32 reserved[2]; /* 0 */
+	__u32 flags; /* X4STEP_PATH_KEYS_ABORT, X4STEP_PATH_PROBE_NC */
+	__u32 probe; /* ABI 6: the probe input 1..5 (X4GetIn bit 0..4), 0: none */
+	__u32 reserved; /* 0 */
 };
 
 /*
@@ -639,9 +672,23 @@ struct x4step_path_status {
 	__u32 reserved[4];
 };
 
+#define X4STEP_PROBE_TRIPPED (1u << 0) /* the input reached the awaited state */
+
+/* X4STEP_GET_PROBE (ABI 6): readable on any descriptor. */
+struct x4step_probe {
+	__u32 flags; /* X4STEP_PROBE_TRIPPED */
+	__u32 input; /* the probe input configured now, 0: none */
+	__u64 tag; /* the last probing segment's that started; 0: none yet */
+	__s32 position[X4STEP_AXES]; /* every axis' coordinate at the trip, else 0 */
+	__u64 runs; /* probing segments started on this port since it appeared */
+	__u64 trips; /* ... and tripped */
+	__u32 reserved[4];
+};
+
 #define X4STEP_SET_PATH_CONFIG _IOW(X4STEP_IOC_MAGIC, 0x1a, struct x4step_path_config)
 #define X4STEP_GET_PATH_CONFIG _IOR(X4STEP_IOC_MAGIC, 0x1b, struct x4step_path_config)
 #define X4STEP_PATH_CTL _IOW(X4STEP_IOC_MAGIC, 0x1c, struct x4step_path_ctl)
 #define X4STEP_GET_PATH _IOR(X4STEP_IOC_MAGIC, 0x1d, struct x4step_path_status)
+#define X4STEP_GET_PROBE _IOR(X4STEP_IOC_MAGIC, 0x1e, struct x4step_probe)
 
 #endif /* _UAPI_LINUX_X4STEP_H */

@@ -226,6 +226,7 @@ const Cmd kCmds[] = {
     {X4STEP_GET_PATH_CONFIG, "GET_PATH_CONFIG", sizeof(x4step_path_config), false},
     {X4STEP_SET_PATH_CONFIG, "SET_PATH_CONFIG", sizeof(x4step_path_config), true},
     {X4STEP_PATH_CTL, "PATH_CTL", sizeof(x4step_path_ctl), true},
+    {X4STEP_GET_PROBE, "GET_PROBE", sizeof(x4step_probe), false},
     {X4STEP_ESTOP, "ESTOP", sizeof(x4step_estop), false},
 };
 constexpr int kNumCmds = sizeof(kCmds) / sizeof(kCmds[0]);
@@ -794,8 +795,8 @@ Expect expect(unsigned long cmd, const Payload &p, const Known &k) {
     case X4STEP_SET_PATH_CONFIG: {
       x4step_path_config pc;
       std::memcpy(&pc, p.bytes, sizeof pc);
-      if (pc.reserved[0] || pc.reserved[1] || (pc.flags & ~X4STEP_PATH_KEYS_ABORT))
-        return invalid("reserved or unknown flags");
+      if (pc.reserved || pc.probe > 5 || (pc.flags & ~(X4STEP_PATH_KEYS_ABORT | X4STEP_PATH_PROBE_NC)))
+        return invalid("reserved, probe input > 5 or unknown flags");
       if (pc.depth && (pc.depth < X4STEP_PATH_DEPTH_MIN || pc.depth > X4STEP_PATH_DEPTH_MAX ||
                        (pc.depth & (pc.depth - 1))))
         return invalid("depth not a power of 2 in 256..4096");
@@ -1371,9 +1372,9 @@ unsigned long gen_structured(Rng &r, uint8_t *c, bool small) {
     static const uint32_t depths[] = {0, 1, 255, 256, 257, 384, 512, 1024, 4096, 8192, 0x80000000u};
     x4step_path_config pc{};
     pc.depth = r.chance(90) ? r.pick(depths) : static_cast<uint32_t>(r.s32());
-    pc.flags = r.chance(80) ? r.below(2) : static_cast<uint32_t>(r.s32());
-    pc.reserved[0] = maybe_nonzero(r, 5);
-    pc.reserved[1] = maybe_nonzero(r, 5);
+    pc.flags = r.chance(80) ? r.below(4) : static_cast<uint32_t>(r.s32());
+    pc.probe = r.chance(90) ? r.below(7) : static_cast<uint32_t>(r.s32());
+    pc.reserved = maybe_nonzero(r, 5);
     std::memcpy(c, &pc, sizeof pc);
     return X4STEP_SET_PATH_CONFIG;
   }
@@ -1601,8 +1602,8 @@ void write_segments(int fd, Rng &r, Arena &ar, bool controller, bool bad) {
     g.flags = maybe_nonzero(r, 5);
     g.reserved = maybe_nonzero(r, 5);
     if (bad) {
-      if (r.chance(50))
-        g.flags |= 1u << r.below(32);
+      if (r.chance(50))  // not bits 0 and 1: probing segments may be valid
+        g.flags |= 4u << r.below(30);
       else
         g.reserved |= 1u << r.below(32);
     }

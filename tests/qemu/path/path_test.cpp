@@ -1151,8 +1151,8 @@ void TestBadInput(int fd) {
             Ctl(fd, X4STEP_PATH_HOLD, 1) == EINVAL,
         "PATH_CTL: reserved, command 0 and 6, a value with HOLD: EINVAL");
   Check(SetDepth(fd, 255) == EINVAL && SetDepth(fd, 384) == EINVAL && SetDepth(fd, 8192) == EINVAL &&
-            SetDepth(fd, 256, 2) == EINVAL,
-        "SET_PATH_CONFIG: depth 255, 384, 8192, flags 2: EINVAL");
+            SetDepth(fd, 256, 4) == EINVAL,
+        "SET_PATH_CONFIG: depth 255, 384, 8192, flags 4: EINVAL (2: PROBE_NC, ABI 6)");
   // A segment while an X4Step move runs.
   x4step_endless e{};
   e.axis = 3;
