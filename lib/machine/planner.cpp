@@ -188,6 +188,9 @@ gcode::probe_outcome planner::straight_probe(const gcode::straight &s, gcode::pr
                      : k == gcode::probe_kind::toward        ? "G38.3"
                      : k == gcode::probe_kind::away_or_error ? "G38.4"
                                                              : "G38.5";
+  if (!m_.probe_input)
+    fail(std::string(name) +
+         " needs a touch probe: give its input in the machine file ([X4STEP] PROBE_INPUT)");
   const gcode::pose start = pos_;
   const std::array<long, x4step::axes> start_steps = sum_.steps;
   stop_next_ = true;  // from rest: nothing blends into it

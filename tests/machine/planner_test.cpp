@@ -33,6 +33,12 @@ std::string machine_text(double x_scale = 1000, double y_scale = 1000, double y_
   return o.str();
 }
 
+// The machine with a touch probe on input 4 (G38.x needs one).
+m::machine with_probe(m::machine mc) {
+  mc.probe_input = 4;
+  return mc;
+}
+
 m::machine machine_of(const std::string &text) {
   std::istringstream in(text);
   return m::read(in, "test.ini");
@@ -378,7 +384,7 @@ struct probe_runner : recorder {
 };
 
 TEST(Planner, ProbeStopsWhereTheRunnerSaysAndThePlanGoesOnFromThere) {
-  const m::machine mc = machine_of(machine_text());  // Z: -400 steps/mm
+  const m::machine mc = with_probe(machine_of(machine_text()));  // Z: -400 steps/mm
   probe_runner out;
   out.trip_step = 1500;  // Z -3.75
   out.overrun = 100;     // stops at Z -4
@@ -412,7 +418,7 @@ TEST(Planner, ProbeStopsWhereTheRunnerSaysAndThePlanGoesOnFromThere) {
 TEST(Planner, ProbeOutcomeInMachineUnits) {
   // The planner as the interpreter's sink: stop and trip from the
   // runner's steps, an axis whose motor did not step exactly where it was.
-  const m::machine mc = machine_of(machine_text(320, 333));
+  const m::machine mc = with_probe(machine_of(machine_text(320, 333)));
   probe_runner out;
   out.motor = 0;
   out.trip_step = 3200 + 961;  // X 13.003125
@@ -442,7 +448,7 @@ TEST(Planner, ProbeOutcomeInMachineUnits) {
 
 TEST(Planner, ProbeStartsAndEndsAtRest) {
   // Straight on: G1 segments would blend at full speed; a probe does not.
-  const m::machine mc = machine_of(machine_text());
+  const m::machine mc = with_probe(machine_of(machine_text()));
   probe_runner out;
   out.motor = 0;
   std::istringstream in("G1 X10 F600\nG38.3 X20\nG1 X30\nM2\n");
@@ -459,7 +465,7 @@ TEST(Planner, ProbeStartsAndEndsAtRest) {
 TEST(Planner, ProbeThatDoesNotRunAnswersContactAtTheEnd) {
   // The default planner_output::probe (a check, a plan that does not
   // move): ran == false, the plan goes on from the programmed end.
-  const m::machine mc = machine_of(machine_text());
+  const m::machine mc = with_probe(machine_of(machine_text()));
   const plan p = run(mc, "G0 X10\nG38.2 Z-10 F60\nG91 G0 Z1\nM2\n");
   ASSERT_EQ(p.out.segs.size(), 2u);  // the probe went to probe(), not segment()
   EXPECT_EQ(p.out.segs[1].seg.steps(axis::z), -400);
@@ -468,8 +474,20 @@ TEST(Planner, ProbeThatDoesNotRunAnswersContactAtTheEnd) {
   EXPECT_EQ(p.sum.min[2], -10);
 }
 
-TEST(Planner, ProbeRefusals) {
+TEST(Planner, ProbeNeedsAProbeInput) {
   const m::machine mc = machine_of(machine_text());
+  recorder out;
+  std::istringstream in("G38.2 Z-10 F60\nM2\n");
+  try {
+    m::plan_program(mc, in, "prog.ngc", out);
+    ADD_FAILURE() << "G38.2 planned without a probe input";
+  } catch (const g::error &e) {
+    EXPECT_NE(std::string(e.what()).find("G38.2 needs a touch probe"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Planner, ProbeRefusals) {
+  const m::machine mc = with_probe(machine_of(machine_text()));
   auto refusal = [&](const std::string &prog, probe_runner &out) {
     std::istringstream in(prog);
     try {

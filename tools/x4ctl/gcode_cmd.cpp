@@ -141,6 +141,27 @@ class runner : public m::planner_output {
     say(tool >= 0 ? what + ", then press space (ESC aborts)" : what + ": paused; space goes on, ESC aborts");
     if (!ps_.wait_for_operator()) throw run_aborted{};
   }
+  // G38.x: from rest, to where the probe input trips (or the move's end).
+  m::probe_result probe(const x4step::segment &s, const m::segment_info &i, g::probe_kind k) override {
+    rest();
+    if (plot) plot->planned(i);
+    meter_.queued(i);
+    x4step::segment p = s;
+    p.probe(k == g::probe_kind::toward_or_error || k == g::probe_kind::toward ? x4step::probe_mode::toward
+                                                                              : x4step::probe_mode::away);
+    const std::optional<x4step::probe_latch> l = ps_.probe(p);
+    if (!l) throw run_aborted{};
+    m::probe_result r;
+    r.ran = true;
+    r.tripped = l->tripped;
+    const x4step::axes_status at = ctl_.get_axes();
+    for (x4step::axis a : x4step::axis_set::all()) {
+      r.stop[size_t(a.index())] = at[a].position;
+      r.trip[size_t(a.index())] = l->tripped ? l->steps[size_t(a.index())] : at[a].position;
+    }
+    if (l->tripped) say("probe: tripped at" + where_text(r.trip));
+    return r;
+  }
   void spindle(bool on) override { set(mc_.spindle, on); }
   void coolant(bool mist, bool flood) override {
     set(mc_.mist, mist);
@@ -181,6 +202,15 @@ class runner : public m::planner_output {
   }
   void set_pin(m::pin p, bool on) {
     if (p != m::pin::none) ctl_.set_output(p == m::pin::pin1 ? x4step::signal::one : x4step::signal::two, on);
+  }
+  // " X1 Z-2.5 (mm)": motor steps in the machine's units.
+  std::string where_text(const std::array<long, x4step::axes> &steps) const {
+    std::string t;
+    for (size_t a = 0; a < g::n_axes; a++)
+      if (mc_.axes[a])
+        t += " " + std::string(1, axis_letters[a]) +
+             number(double(steps[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale);
+    return t + " (" + units_name(mc_) + ")";
   }
   // With JSON the time too, on the progress records' clock.
   void say(const std::string &text) {
@@ -298,6 +328,10 @@ run_result run_checked(const config &c, const m::machine &mc, x4step::controller
                        const run_view *view) {
   progress_meter meter(mc, ctl, k.total, command, keyboard, c.override_percent, k.start);
   run_result res;
+  // G38.x watch the machine file's probe input (set while no path runs).
+  if (mc.probe_input)
+    x4step::path(ctl).configure(x4step::path_config{}.probe_input(unsigned(mc.probe_input), mc.probe_nc));
+  std::string failed;  // a line refused while running (a probe without contact)
   g::coordinate_state coords_after = k.coords;
   {
     path_stream::progress_fn progress = [&](const x4step::path_status &s, std::uint64_t done, bool json,
@@ -329,9 +363,13 @@ run_result run_checked(const config &c, const m::machine &mc, x4step::controller
       ps.drain();
     } catch (const run_aborted &) {
       ps.drain();
+    } catch (const usage_error &e) {
+      // What only the run can find (G38.2 without contact): it ends as an abort.
+      failed = e.what();
+      ps.drain();
     }
     r.outputs_off();
-    res.aborted = ps.aborted();
+    res.aborted = ps.aborted() || !failed.empty();
     res.interrupted = ps.interrupted();
     r.end_messages(res.aborted);
     ps.finish();
@@ -355,6 +393,7 @@ run_result run_checked(const config &c, const m::machine &mc, x4step::controller
   }
   res.end_line = meter.end_line(res.aborted, where.str());
   res.end_json = meter.end_json(res.aborted, pos);
+  if (!failed.empty()) throw usage_error(failed + "; " + res.end_line);
   return res;
 }
 

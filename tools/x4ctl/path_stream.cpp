@@ -102,7 +102,7 @@ void path_stream::serve(int poll_ms) {
   status_ = path_.status();
   // At rest with segments missing: the kernel flushed them (a limit
   // switch, a stop from elsewhere), which is no end of the program.
-  if (at_rest(status_) && done() < pushed_) aborted_ = true;
+  if (at_rest(status_) && done() < pushed_ && !probing_) aborted_ = true;
   if (on_poll_) on_poll_();
   show(false);
   if (poll_ms <= 0) return;
@@ -150,6 +150,21 @@ bool path_stream::drain() {
     if (at_rest(status_)) break;
   }
   return !aborted_;
+}
+
+std::optional<x4step::probe_latch> path_stream::probe(const x4step::segment &s) {
+  if (!drain() || !push(s)) return std::nullopt;
+  probing_ = true;
+  while (!aborted_ && !at_rest(status_)) serve(20);
+  probing_ = false;
+  if (aborted_) return std::nullopt;
+  const x4step::probe_latch l = path_.probe();
+  if (l.tripped) {
+    // The trip braked and flushed the path (its probing segment unfinished): a new one goes on.
+    path_.clear();
+    pushed_ = done();
+  }
+  return l;
 }
 
 bool path_stream::wait_for(std::chrono::milliseconds t) {

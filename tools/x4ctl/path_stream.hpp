@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "term.hpp"
@@ -48,6 +49,10 @@ class path_stream {
   /// Waits until the path stands at its end (a hold is waited out); false:
   /// aborted, by the user or by the kernel (a flush: fewer done than queued).
   bool drain();
+  /// Runs a probing segment (s.probe() set) from rest to its end: where
+  /// the probe input tripped (the trip's flush of the path is no abort: the
+  /// path goes on), or none once aborted, by the user or by the kernel.
+  std::optional<x4step::probe_latch> probe(const x4step::segment &s);
   /// Waits for the time given on the port's clock (a simulated port's
   /// virtual time passes at once), serving keys; false: aborted.
   bool wait_for(std::chrono::milliseconds t);
@@ -87,6 +92,7 @@ class path_stream {
   unsigned override_;
   bool aborted_ = false;
   bool interrupted_ = false;
+  bool probing_ = false;      // a probing segment runs: its trip flushes the path
   bool drawn_ = false;        // a live line is on the screen
   std::uint64_t base_ = 0;    // the port's done count when the stream began
   std::uint64_t pushed_ = 0;  // segments queued by this stream
