@@ -86,6 +86,10 @@ class bridge::output : public m::planner_output {
     if (tool >= 0) it.text = "[MSG:M6: change to tool " + std::to_string(tool) + ", then cycle start]";
     add(std::move(it));
   }
+  m::probe_result probe(const x4step::segment &s, const m::segment_info &, g::probe_kind k) override {
+    if (b_.check_mode_) return {};  // checked: contact assumed at the end
+    return b_.run_probe(s, k);
+  }
   void spindle(bool on) override { pin(b_.mc_.spindle, on); }
   void coolant(bool mist, bool flood) override {
     pin(b_.mc_.mist, mist);
@@ -156,6 +160,9 @@ void bridge::connect() {
       x4ctl::prepare_port(*port_, mc_);
       path_ = std::make_unique<x4step::path>(port_->controller());
       if (path_->status().state == x4step::path_state::idle) path_->clear();
+      // G38.x watch the machine file's probe input.
+      if (mc_.probe_input)
+        path_->configure(x4step::path_config{}.probe_input(unsigned(mc_.probe_input), mc_.probe_nc));
     } catch (const std::exception &e) {
       path_.reset();
       port_.reset();
@@ -377,10 +384,21 @@ void bridge::gcode_line(const std::string &line) {
       new_program();
     }
     reply(0);
+  } catch (const line_abandoned &) {
+    // A reset (or the client's end) during a probe: no reply, as GRBL's reset.
   } catch (const g::error &e) {
     if (e.message().find("soft limit") != std::string::npos) {
       message(e.message());
       raise_alarm(alarm_code::soft_limit, true);
+      return;
+    }
+    // A probe that failed: GRBL's alarms (then ok: the line itself was good).
+    const bool started_tripped = e.message().find("already tripped") != std::string::npos;
+    if (started_tripped || e.message().find("without making contact") != std::string::npos ||
+        e.message().find("without breaking contact") != std::string::npos) {
+      message(e.message());
+      raise_alarm(started_tripped ? alarm_code::probe_initial : alarm_code::probe_contact, false);
+      reply(0);
       return;
     }
     message(e.message());
@@ -756,6 +774,45 @@ void bridge::outputs_off() {
   flood_ = mist_ = false;
 }
 
+// G38.x, as GRBL's probe cycle: the motion before it done, then the probing
+// segment to its end (the client served meanwhile: '?', '!', '~', a
+// reset); [PRB:] with where it tripped. A reset meanwhile abandons the line.
+m::probe_result bridge::run_probe(const x4step::segment &s, g::probe_kind k) {
+  const auto wait_until = [this](const std::function<bool()> &done) {
+    while (!done()) {
+      if (reset_pending_ || aborting_ || !connected_) throw line_abandoned{};
+      update_motion();
+      feed_path();
+      if (serve_) serve_(5);
+    }
+  };
+  wait_until([this] { return backlog_.empty() && !dwell_until_ && !paused_ && path_idle(); });
+  x4step::segment p = s;
+  p.probe(k == g::probe_kind::toward_or_error || k == g::probe_kind::toward ? x4step::probe_mode::toward
+                                                                              : x4step::probe_mode::away);
+  const std::uint64_t done_before = path_->status().done;
+  path_->try_append(&p, 1);
+  wait_until([this] { return path_idle() && !hold_asked_; });
+  const x4step::probe_latch l = path_->probe();
+  // The trip braked and flushed the path: a new one goes on.
+  if (l.tripped || path_->status().done == done_before) path_->clear();
+  m::probe_result r;
+  r.ran = true;
+  r.tripped = l.tripped;
+  const x4step::axes_status at = port_->get_axes();
+  for (x4step::axis a : x4step::axis_set::all()) {
+    r.stop[size_t(a.index())] = at[a].position;
+    r.trip[size_t(a.index())] = l.tripped ? l.steps[size_t(a.index())] : at[a].position;
+  }
+  g::pose trip{};
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc_.axes[a]) trip[a] = double(r.trip[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale;
+  probe_ = trip;
+  probe_ok_ = l.tripped;
+  say("[PRB:" + axes_text(probe_) + ":" + (probe_ok_ ? "1" : "0") + "]");
+  return r;
+}
+
 void bridge::home(const std::string &letters) {
   std::vector<size_t> axes;
   try {
@@ -1000,6 +1057,7 @@ std::string bridge::status_report() {
       if (mc_.axes[a] && mc_.axes[a]->home.enabled &&
           (at.switches_active >> (mc_.axes[a]->home.input - 1)) & 1)
         pn += "XYZA"[a];
+    if (mc_.probe_input && (((at.inputs >> (mc_.probe_input - 1)) & 1) != 0) != mc_.probe_nc) pn += "P";
     if (!pn.empty()) r += "|Pn:" + pn;
   }
   const bool busy =
@@ -1039,7 +1097,7 @@ std::string bridge::parameters_report() const {
   r += "[G30:" + axes_text(c.g30) + "]\r\n";
   r += "[G92:" + axes_text(c.g92) + "]\r\n";
   r += "[TLO:0.000]\r\n";
-  r += "[PRB:" + axes_text(g::pose{}) + ":0]\r\n";
+  r += "[PRB:" + axes_text(probe_) + ":" + (probe_ok_ ? "1" : "0") + "]\r\n";
   return r;
 }
 

@@ -111,6 +111,8 @@ class bridge {
   void outputs_off();
   void set_output(m::pin p, bool on);
   void home(const std::string &letters);
+  m::probe_result run_probe(const x4step::segment &s, g::probe_kind k);
+  struct line_abandoned {};  // a reset during a line's probe: it gets no reply
   void raise_alarm(int code, bool critical);
   void run_startup();
   void soft_reset();
@@ -179,7 +181,8 @@ class bridge {
   bool flood_ = false, mist_ = false;
   int wco_counter_ = 0, ovr_counter_ = 0;
   g::pose last_wco_{};
-  double last_feed_ = 0;
+  g::pose probe_{};  // the last probe's trip (machine coordinates), for $# and [PRB:]
+  bool probe_ok_ = false;
 
   std::string out_text_;
   std::string log_;

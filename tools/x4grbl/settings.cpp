@@ -181,7 +181,7 @@ std::string settings::report(const m::machine &mc, const port_facts &p) const {
   line(3, mask(p.dir_invert));
   line(4, std::to_string(int(value(4))));
   line(5, p.nc ? "1" : "0");
-  line(6, "0");
+  line(6, mc.probe_nc ? "1" : "0");
   line(10, std::to_string(int(value(10))));
   line(11, text_of(mc.junction_deviation * k));
   line(12, text_of(mc.arc_tolerance * k));
@@ -250,8 +250,6 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
       return shown_only("$2 and $3 are the port's polarities: set them with x4ctl (x4step_config)");
     case 5:
       return shown_only("$5 is the switches' polarity: set it with x4ctl limits --nc");
-    case 6:
-      return shown_only("$6: the probe input's polarity is the machine file's");
     case 20:
       return shown_only("x4step always keeps the soft limits ([AXIS_*] MIN_LIMIT, MAX_LIMIT)");
     case 21:
@@ -272,7 +270,9 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
     return "JOINT_" + std::to_string(j);
   };
   auto axis_section = [](size_t i) { return std::string("AXIS_") + "XYZABC"[i]; };
-  if (number == 11) {
+  if (number == 6) {
+    ini.set("X4STEP", "PROBE_NC", value != 0 ? "1" : "0");
+  } else if (number == 11) {
     ini.set("X4STEP", "JUNCTION_DEVIATION", key_value(value / k));
   } else if (number == 12) {
     ini.set("X4STEP", "ARC_TOLERANCE", key_value(value / k));
