@@ -27,6 +27,10 @@ if ! insmod "$X4MOD/x4step.ko"; then
 fi
 for _ in 1 2 3 4 5 6 7 8 9 10; do [ -c "$dev" ] && break; usleep 100000; done
 [ -c "$dev" ] || { fail setup "no $dev"; exit 1; }
+# Pseudo-terminals: /init mounts no devpts.
+mkdir -p /dev/pts
+mount -t devpts -o ptmxmode=0666 devpts /dev/pts 2>/dev/null
+[ -c /dev/ptmx ] || ln -s pts/ptmx /dev/ptmx
 # The machine file where x4grbl may keep its settings beside it.
 cp /bin/grbl-mill.ini /tmp/mill.ini
 pass setup
@@ -44,5 +48,5 @@ kill -TERM "$bridge"
 wait "$bridge"
 rc=$?
 if [ "$rc" = 0 ]; then pass sigterm; else fail sigterm "x4grbl exit $rc"; fi
-sed 's/^/x4grbl: /' /tmp/x4grbl.log
+cat /tmp/x4grbl.log # its lines start with "x4grbl: "
 exit "$failed"
