@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0
 #: bins x4grbl grbl_stream grbl-mill.ini grbl-part.nc
 #: check check-grbl.sh
-#: seconds 40
+#: seconds 15
 #
 # Guest script (busybox sh): the GRBL bridge (issue 31) on the module, on
 # QEMU's parallel port. x4grbl runs grbl-mill.ini (four axes, no home
