@@ -3,7 +3,7 @@
 # Build the statically linked guest programs of the QEMU tests into OUTDIR,
 # against the *installed* headers and static library (staged install): each
 # test folder's programs, x4ctl, the fixtures' x4vctl and the manual's
-# examples (examples/manual, as man_NAME).
+# examples (examples/manual, as man_NAME); x4grbl too.
 # The compilers run side by side, one per CPU. With PROGRAM names after
 # OUTDIR only those are built (make demo: x4ctl).
 #   build.sh OUTDIR [PROGRAM...]
@@ -66,6 +66,13 @@ job $cxx -I"$top/include/uapi" -I"$top/tests/qemu/common" -I"$top/tests/engine" 
 # shellcheck disable=SC2086 # $cxx: the compiler and its options
 job $cxx -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" -I"$top/tools/x4ctl" \
 	-o "$out/x4ctl" "$top"/tools/x4ctl/*.cpp "$top"/tools/x4ctl/commands/*.cpp \
+	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"
+# x4grbl (the GRBL bridge): its files on x4ctl's, without x4ctl's main().
+x4ctl_lib=$(find "$top/tools/x4ctl" "$top/tools/x4ctl/commands" -maxdepth 1 -name '*.cpp' ! -path '*/x4ctl/main.cpp')
+version=$(sed -n 's/^project(x4step VERSION \([0-9.]*\).*/\1/p' "$top/CMakeLists.txt")
+# shellcheck disable=SC2086 # $cxx, $x4ctl_lib: words
+job $cxx -DX4GRBL_VERSION="\"$version\"" -I"$stage/include" -I"$top/lib/gcode" -I"$top/lib/machine" \
+	-I"$top/tools/x4ctl" -I"$top/tools/x4grbl" -o "$out/x4grbl" "$top"/tools/x4grbl/*.cpp $x4ctl_lib \
 	"$top"/lib/gcode/*.cpp "$top"/lib/machine/*.cpp "$lib"
 job gcc -static -O2 -Wall -Wextra -I"$top/include/uapi" -o "$out/x4vctl" "$top/tests/qemu/fixtures/x4vctl.c"
 for f in "$top"/examples/manual/*.c; do
