@@ -329,6 +329,36 @@ def test_disconnect_mid_program(b):
     c.close()
 
 
+def test_probe(b):
+    c = homed(b)
+    # Z: 0 mm is motor step 899 (test-mill.sim), the probe trips at step -2000: Z -7.2475.
+    r = c.command("G21 G90 G38.2 Z-20 F100")
+    s = c.wait_state({"Idle"})
+    check("G38.2: [PRB:] at the trip, exact to the step (Z -7.2475: -7.247 to 3 decimals), then ok",
+          r == ["[PRB:3.000,1.000,-7.247:1]", "ok"], r)
+    z = mpos(s)[2]
+    check("... the machine braked just past it", -7.35 < z <= -7.2475, s)
+    r = c.command("$#")
+    check("$# keeps the probe", "[PRB:3.000,1.000,-7.247:1]" in r, r)
+    c.command("G0 Z-1")
+    r = c.command("G38.2 Z-5 F100")
+    check("G38.2 without contact: [PRB:...:0], ALARM:5, then ok",
+          r[0] == "[PRB:3.000,1.000,-5.000:0]" and "ALARM:5" in r and r[-1] == "ok", r)
+    r = c.command("G0 Z-2")
+    check("... then Alarm: G-code locked (error:9)", r == ["error:9"], r)
+    c.command("$X")
+    c.command("G0 Z-10")
+    c.wait_state({"Idle"})
+    r = c.command("G38.2 Z-12 F100")
+    check("G38.2 with the probe already touching: ALARM:4", "ALARM:4" in r and r[-1] == "ok", r)
+    c.command("$X")
+    r = c.command("G38.4 Z-1 F100")
+    c.wait_state({"Idle"})
+    check("G38.4 stops where the probe lets go (Z -7.245)", r[0] == "[PRB:3.000,1.000,-7.245:1]" and r[-1] == "ok", r)
+    c.command("G0 Z-1")
+    c.close()
+
+
 def test_pty(x4grbl):
     b = Bridge(x4grbl, link=True)
     try:
@@ -354,7 +384,8 @@ def main():
     try:
         for t in (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
                   test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
-                  test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program):
+                  test_check_mode_and_overrides, test_probe, test_second_client_and_garbage,
+                  test_disconnect_mid_program):
             try:
                 t(b)
             except Exception as e:  # a test that broke off: its failure, and the rest go on

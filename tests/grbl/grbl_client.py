@@ -42,13 +42,20 @@ class Bridge:
         with open(MILL) as f:
             text = f.read() if machine_text is None else machine_text
         text = text.replace("[X4STEP]\n", "[RS274NGC]\nPARAMETER_FILE = mill.var\n[X4STEP]\n", 1)
+        if machine_text is None:
+            # A touch probe on input 4 (pin 10), active at Z motor step -2000 and below.
+            text = text.replace("[X4STEP]\n", "[X4STEP]\nPROBE_INPUT = 4\n", 1)
+            with open(MILL_SIM) as f:
+                sim = f.read() + "probe 3 below -2000 pin10 no\n"
+            with open(os.path.join(self.dir, "mill.sim"), "w") as f:
+                f.write(sim)
         with open(self.machine, "w") as f:
             f.write(text)
         self.link = os.path.join(self.dir, "ttyGRBL0") if link else None
         args = [x4grbl, "--sim", "--machine", self.machine, "--tcp", "127.0.0.1:0"]
         if self.link:
             args += ["--link", self.link]
-        env = dict(os.environ, X4STEP_SIM_MACHINE=MILL_SIM)
+        env = dict(os.environ, X4STEP_SIM_MACHINE=os.path.join(self.dir, "mill.sim"))
         if machine_text is not None:
             del env["X4STEP_SIM_MACHINE"]
         env.pop("X4STEP_SIM_TIME", None)
