@@ -5,7 +5,7 @@ command and real-time byte a sender uses, character counting, hold and
 resume, jog and its cancel, soft reset mid-motion, alarms, settings and
 their persistence, a second client, malformed input, a client that goes
 away mid-program, the pseudo-terminal.
-  check-grbl.py X4GRBL"""
+  check-grbl.py X4GRBL [TEST...]  (TEST: a test's name, to run only those)"""
 import os
 import re
 import time
@@ -350,18 +350,23 @@ def test_pty(x4grbl):
 
 
 def main():
+    tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
+             test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
+             test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program)
+    wanted = set(os.sys.argv[2:])
+    if wanted:
+        tests = tuple(t for t in tests if t.__name__ in wanted)
     b = Bridge(X4GRBL)
     try:
-        for t in (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
-                  test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
-                  test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program):
+        for t in tests:
             try:
                 t(b)
             except Exception as e:  # a test that broke off: its failure, and the rest go on
                 check(t.__name__ + " ran to its end", False, repr(e) + "\n" + b.log_text()[-2000:])
     finally:
         b.stop()
-    test_pty(X4GRBL)
+    if not wanted or "test_pty" in wanted:
+        test_pty(X4GRBL)
     return exit_status()
 
 
