@@ -125,6 +125,47 @@ def test_hold_resume(b):
     c.close()
 
 
+def test_hold_never_forgotten(b):
+    """GRBL's protocol.c: a feed hold in Idle is Hold:0 at once, and every
+    hold lasts until '~', whatever arrives or ends meanwhile."""
+    c = homed(b)
+    at = mpos(c.status())
+    c.send("!")
+    s = c.status()
+    r = c.command("G90 G0 X20")
+    time.sleep(0.5)
+    s2 = c.status()
+    check("'!' in Idle: Hold:0; a line sent then is planned (ok) but does not move",
+          state_of(s) == "Hold:0" and r == ["ok"] and state_of(s2) == "Hold:0" and mpos(s2) == at, (s, r, s2))
+    c.send("~")
+    s = c.wait_state({"Idle"})
+    check("... '~' runs it: X20", near(mpos(s)[:1], [20]), s)
+    # The line and the hold in one write: the hold is not lost to the line.
+    c.send("G90 G0 X30\n!")
+    c.next_line()
+    time.sleep(0.5)
+    s = c.status()
+    check("a line and '!' in one write: Hold:0, not moved", state_of(s) == "Hold:0" and near(mpos(s)[:1], [20]), s)
+    c.send("~")
+    c.wait_state({"Idle"})
+    # A hold during a dwell that ends the backlog: the next line waits for '~'.
+    r = c.command("G4 P0.6")
+    time.sleep(0.2)
+    c.send("!")
+    time.sleep(0.8)
+    s = c.status()
+    r2 = c.command("G90 G0 X40")
+    time.sleep(0.5)
+    s2 = c.status()
+    check("'!' during a dwell: still Hold after the dwell; the next line does not move",
+          state_of(s) == "Hold:0" and r2 == ["ok"] and state_of(s2) == "Hold:0" and near(mpos(s2)[:1], [30]),
+          (s, r2, s2))
+    c.send("~")
+    s = c.wait_state({"Idle"})
+    check("... '~' runs it: X40", near(mpos(s)[:1], [40]), s)
+    c.close()
+
+
 def test_jog(b):
     c = homed(b)
     at = mpos(c.status())
@@ -351,7 +392,7 @@ def test_pty(x4grbl):
 
 def main():
     tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
-             test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
+             test_hold_never_forgotten, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
              test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program)
     wanted = set(os.sys.argv[2:])
     if wanted:
