@@ -163,6 +163,15 @@ def test_hold_never_forgotten(b):
     c.send("~")
     s = c.wait_state({"Idle"})
     check("... '~' runs it: X40", near(mpos(s)[:1], [40]), s)
+    # M0 is a hold too: the lines after it wait for '~'.
+    r = c.stream(["M0", "G90 G0 X50"])
+    time.sleep(0.5)
+    s = c.status()
+    check("M0: Hold:0, the move after it waits", r == ["ok", "ok"] and state_of(s) == "Hold:0" and
+          near(mpos(s)[:1], [40]), (r, s))
+    c.send("~")
+    s = c.wait_state({"Idle"})
+    check("... '~' runs it: X50", near(mpos(s)[:1], [50]), s)
     c.close()
 
 
