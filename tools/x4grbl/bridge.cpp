@@ -244,18 +244,26 @@ void bridge::realtime(unsigned char c) {
       soft_reset();
       return;
     case '!':
-    case 0x84:  // safety door: no door input, a feed hold
+    case 0x84: {  // safety door: no door input, a feed hold
       if (jogging_) {
         abort_motion();  // GRBL: a hold during a jog cancels it
-      } else if (path_ && motion_pending() && !hold_asked_) {
-        hold_asked_ = true;
+        return;
+      }
+      // GRBL (protocol.c): Idle and Run become Hold, at once, even with
+      // nothing moving yet, and it lasts until '~': a line that comes
+      // next, or the end of a dwell, must not start the machine again.
+      const run_state s = state();
+      if (s != run_state::idle && s != run_state::cycle && s != run_state::hold) return;
+      hold_asked_ = true;
+      if (path_ && !path_idle()) {
         try {
           path_->hold();
         } catch (const x4step::error &) {
-          // Between segments (a dwell, an output): the hold is kept for the next one.
+          // Between segments: feed_path() starts nothing while the hold is asked.
         }
       }
       return;
+    }
     case '~':
       if (paused_ || hold_asked_) {
         paused_ = false;
@@ -646,6 +654,9 @@ bool bridge::motion_pending() const {
 void bridge::feed_path() {
   if (!path_ || aborting_) return;
   while (!backlog_.empty()) {
+    // A hold ('!', M0) that stopped the path, or came between two items,
+    // starts nothing until '~'; a held path still takes segments.
+    if ((hold_asked_ || paused_) && path_idle()) return;
     item &it = backlog_.front();
     if (it.k == item::segment) {
       x4step::segment s = it.seg;
@@ -716,7 +727,6 @@ void bridge::update_motion() {
     jog_planner_.reset();
     resync();
   }
-  if (hold_asked_ && idle && backlog_.empty() && !dwell_until_) hold_asked_ = false;
 }
 
 void bridge::abort_motion() {
