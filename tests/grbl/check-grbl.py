@@ -399,6 +399,31 @@ def test_pty(x4grbl):
         b.stop()
 
 
+def test_disconnect_while_homing(x4grbl):
+    """A sender that goes away during $H: the homing brakes, as on a
+    reset, rather than going on for nobody (and the port, on a real one,
+    is released only once the homing let go of it)."""
+    b = Bridge(x4grbl)
+    try:
+        c = b.connect()
+        c.command("$X")
+        c.command("G53 G0 X80")  # far from the switch: the homing takes seconds
+        c.wait_state({"Idle"})
+        c.send("$H\n")
+        s = c.wait_state({"Home"}, timeout=10)
+        c.close()
+        time.sleep(1.0)
+        c = b.connect(greeting=False)
+        lines = c.greet()
+        s = c.status()
+        check("a client gone during $H: the homing stopped, the next client finds Alarm (not homed)",
+              state_of(s) == "Alarm" and not near(mpos(s), HOME) and "[MSG:'$H'|'$X' to unlock]" in lines,
+              (lines, s, b.log_text()[-500:]))
+        c.close()
+    finally:
+        b.stop()
+
+
 def main():
     tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
              test_hold_never_forgotten, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
@@ -415,6 +440,8 @@ def main():
                 check(t.__name__ + " ran to its end", False, repr(e) + "\n" + b.log_text()[-2000:])
     finally:
         b.stop()
+    if not wanted or "test_disconnect_while_homing" in wanted:
+        test_disconnect_while_homing(X4GRBL)
     if not wanted or "test_pty" in wanted:
         test_pty(X4GRBL)
     return exit_status()
