@@ -175,6 +175,18 @@ void bridge::disconnect() {
   lines_.clear();
   partial_.clear();
   pending_bytes_ = 0;
+  out_text_.clear();
+  log_ += "client gone: motion held and flushed\n";
+  // Called from inside home() (it serves the client): the homing brakes
+  // as on a reset, and home() releases the port once it let go of it.
+  if (homing_) {
+    reset_pending_ = true;
+    return;
+  }
+  release();
+}
+
+void bridge::release() {
   abort_motion();
   if (port_ && !keep_port_) {
     outputs_off();
@@ -182,7 +194,6 @@ void bridge::disconnect() {
     port_.reset();  // the controller's close brakes a running path to rest
   }
   out_text_.clear();
-  log_ += "client gone: motion held and flushed\n";
 }
 
 void bridge::shutdown() {
@@ -795,6 +806,7 @@ void bridge::home(const std::string &letters) {
     reply(error_code::setting_disabled);
     if (reset_pending_) finish_reset();
   }
+  if (!connected_) release();  // the client left during the homing
 }
 
 void bridge::raise_alarm(int code, bool critical) {

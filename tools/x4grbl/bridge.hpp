@@ -104,6 +104,7 @@ class bridge {
   void feed_path();
   void update_motion();
   void abort_motion();
+  void release();
   bool motion_pending() const;
   bool path_idle() const;
   void resync();
