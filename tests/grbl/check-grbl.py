@@ -399,6 +399,27 @@ def test_pty(x4grbl):
         b.stop()
 
 
+def test_status_flood(b):
+    """8 MB of '?' from a client that reads nothing: GRBL answers a burst
+    of '?' with one report (a flag, protocol.c); x4grbl must not queue
+    a report a byte, which grew it by hundreds of MB."""
+    def peak_kb():
+        with open("/proc/%d/status" % b.proc.pid) as f:
+            return int(next(l for l in f if l.startswith("VmHWM")).split()[1])
+    c = b.connect()
+    try:
+        c.send(b"?" * (8 << 20))
+    except OSError:
+        pass  # dropped for not reading: fine
+    c.close()
+    time.sleep(0.5)
+    c = b.connect()
+    s = c.status()
+    check("8 MB of '?' unread: x4grbl stays small (peak RSS under 64 MB) and serves the next client",
+          peak_kb() < 64 * 1024 and state_of(s), (peak_kb(), s))
+    c.close()
+
+
 def test_disconnect_while_homing(x4grbl):
     """A sender that goes away during $H: the homing brakes, as on a
     reset, rather than going on for nobody (and the port, on a real one,
@@ -427,7 +448,8 @@ def test_disconnect_while_homing(x4grbl):
 def main():
     tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
              test_hold_never_forgotten, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
-             test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program)
+             test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program,
+             test_status_flood)
     wanted = set(os.sys.argv[2:])
     if wanted:
         tests = tuple(t for t in tests if t.__name__ in wanted)
