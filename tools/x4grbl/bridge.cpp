@@ -176,6 +176,7 @@ void bridge::disconnect() {
   partial_.clear();
   pending_bytes_ = 0;
   out_text_.clear();
+  status_asked_ = false;
   log_ += "client gone: motion held and flushed\n";
   // Called from inside home() (it serves the client): the homing brakes
   // as on a reset, and home() releases the port once it let go of it.
@@ -205,7 +206,10 @@ void bridge::shutdown() {
   port_.reset();
 }
 
-std::string bridge::take_output() { return std::exchange(out_text_, {}); }
+std::string bridge::take_output() {
+  if (std::exchange(status_asked_, false)) out_text_ += status_report() + "\r\n";
+  return std::exchange(out_text_, {});
+}
 std::string bridge::take_log() { return std::exchange(log_, {}); }
 
 int bridge::port_fd() const { return port_ && !backlog_.empty() ? port_->controller().fd() : -1; }
@@ -249,7 +253,9 @@ void bridge::receive(std::string_view bytes) {
 void bridge::realtime(unsigned char c) {
   switch (c) {
     case '?':
-      out_text_ += status_report() + "\r\n";
+      // A flag, as GRBL's: a burst of '?' is one report, made when the
+      // output is taken (one a byte grew without bound under a flood).
+      status_asked_ = true;
       return;
     case 0x18:
       soft_reset();

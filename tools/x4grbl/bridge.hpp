@@ -181,6 +181,7 @@ class bridge {
   g::pose last_wco_{};
   double last_feed_ = 0;
 
+  bool status_asked_ = false;  // '?' came: a report goes with the next output
   std::string out_text_;
   std::string log_;
   std::function<void(int)> serve_;
