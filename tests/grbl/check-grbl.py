@@ -420,6 +420,24 @@ def test_status_flood(b):
     c.close()
 
 
+def test_settings_coordinates_with_blanks(x4grbl):
+    """COORDINATES = X Y Z is as good a machine file as XYZ (the reader
+    skips blanks): $101 is Y's joint, JOINT_1, not JOINT_2 (Z's)."""
+    b = Bridge(x4grbl, replace=[("COORDINATES = XYZ", "COORDINATES = X Y Z")])
+    try:
+        c = b.connect()
+        r = c.command("$101=250")
+        with open(b.machine) as f:
+            text = f.read()
+        y = re.search(r"\[JOINT_1\][^\[]*SCALE = (\S+)", text).group(1)
+        z = re.search(r"\[JOINT_2\][^\[]*SCALE = (\S+)", text).group(1)
+        check("COORDINATES = X Y Z: $101=250 sets Y's SCALE (-250, its sign kept), Z's stays 400",
+              r == ["ok"] and y == "-250" and z == "400", (r, y, z))
+        c.close()
+    finally:
+        b.stop()
+
+
 def test_disconnect_while_homing(x4grbl):
     """A sender that goes away during $H: the homing brakes, as on a
     reset, rather than going on for nobody (and the port, on a real one,
@@ -462,6 +480,8 @@ def main():
                 check(t.__name__ + " ran to its end", False, repr(e) + "\n" + b.log_text()[-2000:])
     finally:
         b.stop()
+    if not wanted or "test_settings_coordinates_with_blanks" in wanted:
+        test_settings_coordinates_with_blanks(X4GRBL)
     if not wanted or "test_disconnect_while_homing" in wanted:
         test_disconnect_while_homing(X4GRBL)
     if not wanted or "test_pty" in wanted:

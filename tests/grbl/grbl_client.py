@@ -35,12 +35,14 @@ class Bridge:
     """x4grbl --sim in a directory of its own, with a copy of the test
     mill that keeps its offsets in mill.var."""
 
-    def __init__(self, x4grbl, link=False, extra_ini=""):
+    def __init__(self, x4grbl, link=False, extra_ini="", replace=()):
         self.dir = tempfile.mkdtemp(prefix="x4grbl-test.")
         self.machine = os.path.join(self.dir, "mill.ini")
         with open(MILL) as f:
             text = f.read()
         text = text.replace("[X4STEP]\n", "[RS274NGC]\nPARAMETER_FILE = mill.var\n[X4STEP]\n" + extra_ini, 1)
+        for old, new in replace:  # the test mill written another way
+            text = text.replace(old, new)
         with open(self.machine, "w") as f:
             f.write(text)
         self.link = os.path.join(self.dir, "ttyGRBL0") if link else None
