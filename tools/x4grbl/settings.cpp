@@ -5,6 +5,7 @@
 // file found good replaces the old one.
 #include "settings.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -266,10 +267,13 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
   // The machine file's keys.
   const m::file_lock lock(machine_path_);
   ini_text ini(m::read_text(machine_path_, false));
-  const std::string coords = ini.get("TRAJ", "COORDINATES");
-  auto joint_of = [&coords](size_t axis_index) {
-    const size_t j = coords.find("XYZABC"[axis_index]);
-    return "JOINT_" + std::to_string(j);
+  // A joint's number is its letter's place in COORDINATES as the machine
+  // reader takes it: blanks skipped, either case ("X Y Z" is XYZ).
+  std::string letters;
+  for (const char c : ini.get("TRAJ", "COORDINATES"))
+    if (c != ' ' && c != '\t') letters += char(std::toupper(static_cast<unsigned char>(c)));
+  auto joint_of = [&letters](size_t axis_index) {
+    return "JOINT_" + std::to_string(letters.find("XYZABC"[axis_index]));
   };
   auto axis_section = [](size_t i) { return std::string("AXIS_") + "XYZABC"[i]; };
   if (number == 11) {
