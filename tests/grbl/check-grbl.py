@@ -8,6 +8,7 @@ away mid-program, the pseudo-terminal.
   check-grbl.py X4GRBL [TEST...]  (TEST: a test's name, to run only those)"""
 import os
 import re
+import shutil
 import time
 
 from grbl_client import Bridge, Client, check, exit_status, field, mpos, state_of
@@ -438,6 +439,36 @@ def test_settings_coordinates_with_blanks(x4grbl):
         b.stop()
 
 
+def test_port_opens_later(x4grbl):
+    """A port that could not be opened for one client (x4ctl had it, say)
+    is tried again for the next; once open, the machine is no longer
+    locked for it."""
+    sim = os.path.join(os.environ.get("TMPDIR", "/tmp"), "x4grbl-test-%d.sim" % os.getpid())
+    if os.path.exists(sim):
+        os.unlink(sim)
+    b = Bridge(x4grbl, sim_machine=sim)
+    try:
+        c = b.connect(greeting=False)
+        lines = c.greet()
+        s = c.status()
+        check("a port that cannot be opened: a [MSG:] line, Alarm", state_of(s) == "Alarm" and
+              any(l.startswith("[MSG:x4grbl:") for l in lines), (lines, s))
+        c.close()
+        shutil.copy(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "x4ctl", "test-mill.sim"), sim)
+        time.sleep(0.3)
+        c = b.connect()
+        r = c.command("$X")
+        r2 = c.command("G91 G0 X1")
+        s = c.wait_state({"Idle", "Alarm"})
+        check("the next client, the port open: $X unlocks, G-code runs", r[-1] == "ok" and r2 == ["ok"] and
+              state_of(s) == "Idle", (r, r2, s))
+        c.close()
+    finally:
+        b.stop()
+        if os.path.exists(sim):
+            os.unlink(sim)
+
+
 def test_disconnect_while_homing(x4grbl):
     """A sender that goes away during $H: the homing brakes, as on a
     reset, rather than going on for nobody (and the port, on a real one,
@@ -482,6 +513,8 @@ def main():
         b.stop()
     if not wanted or "test_settings_coordinates_with_blanks" in wanted:
         test_settings_coordinates_with_blanks(X4GRBL)
+    if not wanted or "test_port_opens_later" in wanted:
+        test_port_opens_later(X4GRBL)
     if not wanted or "test_disconnect_while_homing" in wanted:
         test_disconnect_while_homing(X4GRBL)
     if not wanted or "test_pty" in wanted:

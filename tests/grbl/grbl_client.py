@@ -35,7 +35,7 @@ class Bridge:
     """x4grbl --sim in a directory of its own, with a copy of the test
     mill that keeps its offsets in mill.var."""
 
-    def __init__(self, x4grbl, link=False, extra_ini="", replace=()):
+    def __init__(self, x4grbl, link=False, extra_ini="", replace=(), sim_machine=MILL_SIM):
         self.dir = tempfile.mkdtemp(prefix="x4grbl-test.")
         self.machine = os.path.join(self.dir, "mill.ini")
         with open(MILL) as f:
@@ -49,7 +49,7 @@ class Bridge:
         args = [x4grbl, "--sim", "--machine", self.machine, "--tcp", "127.0.0.1:0"]
         if self.link:
             args += ["--link", self.link]
-        env = dict(os.environ, X4STEP_SIM_MACHINE=MILL_SIM)
+        env = dict(os.environ, X4STEP_SIM_MACHINE=sim_machine)
         env.pop("X4STEP_SIM_TIME", None)
         self.log = open(os.path.join(self.dir, "log"), "w+")
         self.proc = subprocess.Popen(args, stderr=self.log, env=env)
