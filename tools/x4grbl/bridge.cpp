@@ -149,7 +149,9 @@ bridge::~bridge() = default;
 
 void bridge::connect() {
   connected_ = true;
+  std::string why_locked;
   if (!port_) {
+    locked_port_ = false;  // tried again for each client: x4ctl may have let it go
     try {
       port_ =
           std::make_unique<x4ctl::controller_port>(x4ctl::open_controller(x4ctl::machine_device(c_, mc_)));
@@ -159,7 +161,7 @@ void bridge::connect() {
     } catch (const std::exception &e) {
       path_.reset();
       port_.reset();
-      say(std::string("[MSG:x4grbl: ") + e.what() + "]");
+      why_locked = e.what();
       log_ += std::string("cannot open the port: ") + e.what() + "\n";
       locked_port_ = true;
     }
@@ -167,6 +169,8 @@ void bridge::connect() {
   const auto seq = port_ ? port_->controller().read_event(0ms) : std::nullopt;
   if (seq) last_event_seq_ = seq->seq;
   finish_reset();
+  // After the welcome line: a sender reads from there on.
+  if (!why_locked.empty()) message("x4grbl: " + why_locked);
   log_ += "client connected\n";
 }
 
