@@ -469,6 +469,28 @@ def test_port_opens_later(x4grbl):
             os.unlink(sim)
 
 
+def test_settings_unwritable(x4grbl):
+    """A setting that cannot be written (the machine file's directory
+    read-only, a lock file that cannot be made) is an error line with the
+    reason, not the end of x4grbl. Directories in the files' places stand
+    for it, as root writes anywhere."""
+    b = Bridge(x4grbl)
+    try:
+        os.mkdir(os.path.join(b.dir, "mill.grbl"))
+        os.mkdir(os.path.join(b.dir, "mill.ini.lock"))
+        c = b.connect()
+        r = c.command("$10=0")
+        r2 = c.command("$110=900")
+        s = c.status()
+        check("settings that cannot be written: error lines with their reason, x4grbl alive",
+              r[-1].startswith("error:") and r[0].startswith("[MSG:") and r2[-1].startswith("error:") and
+              b.proc.poll() is None and field(s, "MPos") is not None and "MAX_VELOCITY = 20\n" in
+              open(b.machine).read(), (r, r2, s, b.log_text()[-300:]))
+        c.close()
+    finally:
+        b.stop()
+
+
 def test_disconnect_while_homing(x4grbl):
     """A sender that goes away during $H: the homing brakes, as on a
     reset, rather than going on for nobody (and the port, on a real one,
@@ -511,14 +533,15 @@ def main():
                 check(t.__name__ + " ran to its end", False, repr(e) + "\n" + b.log_text()[-2000:])
     finally:
         b.stop()
-    if not wanted or "test_settings_coordinates_with_blanks" in wanted:
-        test_settings_coordinates_with_blanks(X4GRBL)
-    if not wanted or "test_port_opens_later" in wanted:
-        test_port_opens_later(X4GRBL)
-    if not wanted or "test_disconnect_while_homing" in wanted:
-        test_disconnect_while_homing(X4GRBL)
-    if not wanted or "test_pty" in wanted:
-        test_pty(X4GRBL)
+    # Each on a bridge of its own.
+    for t in (test_port_opens_later, test_settings_coordinates_with_blanks, test_settings_unwritable,
+              test_disconnect_while_homing, test_pty):
+        if wanted and t.__name__ not in wanted:
+            continue
+        try:
+            t(X4GRBL)
+        except Exception as e:
+            check(t.__name__ + " ran to its end", False, repr(e))
     return exit_status()
 
 
