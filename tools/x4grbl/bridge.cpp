@@ -502,7 +502,10 @@ void bridge::system_command(const std::string &line) {
   if (rest.rfind("RST=", 0) == 0) {
     const std::string what = rest.substr(4);
     if (what != "$" && what != "#" && what != "*") return reply(invalid_statement);
-    if (what != "#") settings_.restore_defaults();
+    if (std::string why; what != "#" && settings_.restore_defaults(why)) {
+      message(why);
+      return reply(invalid_statement);
+    }
     if (what != "$") {
       try {
         x4ctl::save_coordinates(mc_, interp_->coordinates(), g::coordinate_state{}, "x4grbl");
