@@ -176,6 +176,22 @@ def test_hold_never_forgotten(b):
     c.close()
 
 
+def test_probe_refused(b):
+    """x4grbl does not probe yet: G38.2..G38.5 are refused (error:20, the
+    reason as [MSG:]) and nothing is taken as moved. Answered ok, the
+    probe's end became the planner's position while the machine stood,
+    and the next move went as far again, past the soft limit."""
+    c = homed(b)
+    at = mpos(c.status())
+    r = c.command("G38.2 Z-10 F100")
+    check("G38.2: error:20 with x4step's reason", r[-1] == "error:20" and r[0].startswith("[MSG:"), r)
+    r = c.command("G90 G53 G0 Z-5")
+    s = c.wait_state({"Idle"})
+    check("... and the next move ends where it is programmed: Z-5", r == ["ok"] and near(mpos(s), [at[0], at[1], -5]),
+          (r, s))
+    c.close()
+
+
 def test_jog(b):
     c = homed(b)
     at = mpos(c.status())
@@ -518,7 +534,7 @@ def test_disconnect_while_homing(x4grbl):
 
 def main():
     tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
-             test_hold_never_forgotten, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
+             test_hold_never_forgotten, test_probe_refused, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
              test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program,
              test_status_flood)
     wanted = set(os.sys.argv[2:])
