@@ -61,10 +61,24 @@ struct bridge::item {
   std::string text;
 };
 
+namespace {
+// x4grbl does not run probing segments yet: the default probe() would let
+// the planner take contact at the programmed end, which the machine never
+// reached (the next move then goes as far again, past the soft limits).
+class probe_refused : public g::error {
+ public:
+  probe_refused()
+      : g::error("", 0, 0, "G38.2..G38.5: x4grbl does not probe yet (x4ctl gcode and mdi do); nothing moved") {}
+};
+}  // namespace
+
 // The planner's output: everything into the backlog (nothing in check mode).
 class bridge::output : public m::planner_output {
  public:
   explicit output(bridge &b) : b_(b) {}
+  m::probe_result probe(const x4step::segment &, const m::segment_info &, g::probe_kind) override {
+    throw probe_refused();
+  }
   void segment(const x4step::segment &s, const m::segment_info &i) override {
     if (b_.check_mode_) return;
     item it;
@@ -407,6 +421,10 @@ void bridge::gcode_line(const std::string &line) {
       new_program();
     }
     reply(0);
+  } catch (const probe_refused &e) {
+    planner_back_to_steps();
+    message(e.message());
+    reply(error_code::unsupported);
   } catch (const g::error &e) {
     if (e.message().find("soft limit") != std::string::npos) {
       message(e.message());
@@ -871,6 +889,16 @@ void bridge::finish_reset() {
     run_startup();
 }
 
+// A refused probe: the planner took its end as its position, its steps
+// not; back to its steps (the interpreter, left by the throw, stayed).
+void bridge::planner_back_to_steps() {
+  const auto &steps = planner_->summary().steps;
+  g::pose at = machine_position();
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc_.axes[a]) at[a] = double(steps[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale;
+  planner_->set_position(at);
+}
+
 void bridge::run_startup() {
   for (const std::string &block : settings_.startup()) {
     if (block.empty()) continue;
@@ -879,6 +907,9 @@ void bridge::run_startup() {
       interp_->execute_line(block, "$N", ++line_no_);
       save_coordinates();
       text += "ok";
+    } catch (const probe_refused &) {
+      planner_back_to_steps();
+      text += "error:" + std::to_string(error_code::unsupported);
     } catch (const g::error &e) {
       text += "error:" + std::to_string(error_code_of(e.message()));
     }

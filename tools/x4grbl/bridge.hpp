@@ -108,6 +108,7 @@ class bridge {
   bool motion_pending() const;
   bool path_idle() const;
   void resync();
+  void planner_back_to_steps();
   void outputs_off();
   void set_output(m::pin p, bool on);
   void home(const std::string &letters);
