@@ -9,6 +9,7 @@ away mid-program, the pseudo-terminal.
 import os
 import re
 import shutil
+import subprocess
 import time
 
 from grbl_client import Bridge, Client, check, exit_status, field, mpos, state_of
@@ -507,6 +508,31 @@ def test_settings_unwritable(x4grbl):
         b.stop()
 
 
+def test_sigterm_while_homing(x4grbl):
+    """SIGTERM during $H: x4grbl stops the homing and ends at once, as it
+    does mid-program, rather than when the homing is done."""
+    b = Bridge(x4grbl)
+    try:
+        c = b.connect()
+        c.command("$X")
+        c.command("G53 G0 X80")  # far from the switch: the homing takes seconds
+        c.wait_state({"Idle"})
+        c.send("$H\n")
+        c.wait_state({"Home"}, timeout=10)
+        t0 = time.time()
+        b.proc.terminate()
+        try:
+            b.proc.wait(20)
+        except subprocess.TimeoutExpired:
+            pass
+        took = time.time() - t0
+        check("SIGTERM during $H: x4grbl ends within 2 s (the homing braked)", b.proc.poll() is not None and took < 2,
+              (took, b.log_text()[-300:]))
+        c.close()
+    finally:
+        b.stop()
+
+
 def test_disconnect_while_homing(x4grbl):
     """A sender that goes away during $H: the homing brakes, as on a
     reset, rather than going on for nobody (and the port, on a real one,
@@ -551,7 +577,7 @@ def main():
         b.stop()
     # Each on a bridge of its own.
     for t in (test_port_opens_later, test_settings_coordinates_with_blanks, test_settings_unwritable,
-              test_disconnect_while_homing, test_pty):
+              test_disconnect_while_homing, test_sigterm_while_homing, test_pty):
         if wanted and t.__name__ not in wanted:
             continue
         try:
