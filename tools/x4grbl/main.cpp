@@ -173,18 +173,28 @@ int main(int argc, char **argv) {
       return false;  // 0: the TCP peer closed; EIO: the pty's last client closed
     }
   };
-  // A blocking operation (homing) serves the client meanwhile.
+  // SIGTERM, SIGINT, SIGHUP: true once one came (it is consumed).
+  auto signalled = [&] {
+    signalfd_siginfo si{};
+    if (::read(sig.get(), &si, sizeof si) <= 0) return false;
+    std::cerr << "x4grbl: " << strsignal(int(si.ssi_signo)) << ": motion held, port released\n";
+    return true;
+  };
+  bool stopping = false;
+  // A blocking operation (homing) serves the client and the signals
+  // meanwhile: a signal brakes it as a reset does, then the loop ends.
   b->on_serve([&](int ms) {
-    if (kind == client_kind::none) {
-      ::poll(nullptr, 0, ms);
-      return;
+    pollfd p[2] = {{sig.get(), POLLIN, 0}, {kind == client_kind::none ? -1 : client_fd(), POLLIN, 0}};
+    if (::poll(p, 2, ms) <= 0) return;
+    if ((p[0].revents & POLLIN) && signalled()) {
+      stopping = true;
+      b->receive("\x18");
     }
-    pollfd p{client_fd(), POLLIN, 0};
-    if (::poll(&p, 1, ms) > 0 && !read_client()) drop_client();
+    if ((p[1].revents & (POLLIN | POLLHUP | POLLERR)) && !read_client()) drop_client();
     flush();
   });
 
-  for (;;) {
+  while (!stopping) {
     if (pty && kind == client_kind::none && pty->client_present()) {
       kind = client_kind::pty;
       pty->exclusive();
@@ -202,13 +212,7 @@ int main(int argc, char **argv) {
       std::cerr << "x4grbl: poll: " << std::strerror(errno) << "\n";
       break;
     }
-    if (fds[0].revents & POLLIN) {
-      signalfd_siginfo si{};
-      if (::read(sig.get(), &si, sizeof si) > 0) {
-        std::cerr << "x4grbl: " << strsignal(int(si.ssi_signo)) << ": motion held, port released\n";
-        break;
-      }
-    }
+    if ((fds[0].revents & POLLIN) && signalled()) break;
     // The client first: one that just left makes room for the one knocking.
     if (kind != client_kind::none) {
       const bool gone = kind == client_kind::pty ? !pty->client_present() : false;
