@@ -68,7 +68,8 @@ namespace {
 class probe_refused : public g::error {
  public:
   probe_refused()
-      : g::error("", 0, 0, "G38.2..G38.5: x4grbl does not probe yet (x4ctl gcode and mdi do); nothing moved") {}
+      : g::error("", 0, 0,
+                 "G38.2..G38.5: x4grbl does not probe yet (x4ctl gcode and mdi do); nothing moved") {}
 };
 }  // namespace
 
