@@ -193,6 +193,17 @@ def test_probe_refused(b):
     c.close()
 
 
+def test_after_program_end(b):
+    """M2 planned while the program's last moves still run: the next
+    program starts from where this one ends, not from where the machine
+    stood when M2 was planned (G0 X5 ended at X35)."""
+    c = homed(b)
+    r = c.stream(["G90 G1 X30 F600", "M2", "G90 G0 X5"])
+    s = c.wait_state({"Idle"})
+    check("M2 while moving, then G0 X5: ends at X5", r == ["ok"] * 3 and near(mpos(s)[:1], [5]), (r, s))
+    c.close()
+
+
 def test_jog(b):
     c = homed(b)
     at = mpos(c.status())
@@ -560,7 +571,8 @@ def test_disconnect_while_homing(x4grbl):
 
 def main():
     tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
-             test_hold_never_forgotten, test_probe_refused, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
+             test_hold_never_forgotten, test_probe_refused,
+             test_after_program_end, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
              test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program,
              test_status_flood)
     wanted = set(os.sys.argv[2:])
