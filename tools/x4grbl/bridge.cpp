@@ -419,7 +419,8 @@ void bridge::gcode_line(const std::string &line) {
       it.k = item::say;
       it.text = "[MSG:Pgm End]";
       if (!check_mode_) backlog_.push_back(std::move(it));
-      new_program();
+      // Planned, not yet run: the next program starts where this one ends.
+      new_program(planned_end());
     }
     reply(0);
   } catch (const probe_refused &e) {
@@ -890,15 +891,19 @@ void bridge::finish_reset() {
     run_startup();
 }
 
-// A refused probe: the planner took its end as its position, its steps
-// not; back to its steps (the interpreter, left by the throw, stayed).
-void bridge::planner_back_to_steps() {
+// Where the motion planned so far ends (the planner's steps), which is
+// where the machine will stand once the backlog and the path ran.
+g::pose bridge::planned_end() const {
   const auto &steps = planner_->summary().steps;
   g::pose at = machine_position();
   for (size_t a = 0; a < g::n_axes; a++)
     if (mc_.axes[a]) at[a] = double(steps[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale;
-  planner_->set_position(at);
+  return at;
 }
+
+// A refused probe: the planner took its end as its position, its steps
+// not; back to its steps (the interpreter, left by the throw, stayed).
+void bridge::planner_back_to_steps() { planner_->set_position(planned_end()); }
 
 void bridge::run_startup() {
   for (const std::string &block : settings_.startup()) {
@@ -920,8 +925,9 @@ void bridge::run_startup() {
 
 // A fresh interpreter (GRBL's modes after a reset or M2) from where the
 // machine stands, with the parameter file's offsets.
-void bridge::new_program() {
-  const g::pose at = machine_position();
+void bridge::new_program() { new_program(machine_position()); }
+
+void bridge::new_program(const g::pose &at) {
   if (!out_) out_ = std::make_unique<output>(*this);
   if (!planner_) {
     planner_ = std::make_unique<m::planner>(mc_, *out_, at);

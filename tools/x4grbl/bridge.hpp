@@ -109,6 +109,7 @@ class bridge {
   bool path_idle() const;
   void resync();
   void planner_back_to_steps();
+  g::pose planned_end() const;
   void outputs_off();
   void set_output(m::pin p, bool on);
   void home(const std::string &letters);
@@ -116,7 +117,9 @@ class bridge {
   void run_startup();
   void soft_reset();
   void finish_reset();
+  /// A fresh interpreter from where the machine stands, or from `at`.
   void new_program();
+  void new_program(const g::pose &at);
   void reload_coordinates();
   void save_coordinates();
 
