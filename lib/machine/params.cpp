@@ -3,13 +3,13 @@
 // replaced whole under a lock file.
 #include "params.hpp"
 
-#include "files.hpp"
-
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <sstream>
+
+#include "files.hpp"
 
 namespace x4step::machine {
 

@@ -5,9 +5,11 @@ command and real-time byte a sender uses, character counting, hold and
 resume, jog and its cancel, soft reset mid-motion, alarms, settings and
 their persistence, a second client, malformed input, a client that goes
 away mid-program, the pseudo-terminal.
-  check-grbl.py X4GRBL"""
+  check-grbl.py X4GRBL [TEST...]  (TEST: a test's name, to run only those)"""
 import os
 import re
+import shutil
+import subprocess
 import time
 
 from grbl_client import Bridge, Client, check, exit_status, field, mpos, state_of
@@ -122,6 +124,67 @@ def test_hold_resume(b):
     c.send("~")
     s = c.wait_state({"Idle"})
     check("~ resumes: ends at X60 exactly", near(mpos(s), [60, HOME[1], HOME[2]]), s)
+    c.close()
+
+
+def test_hold_never_forgotten(b):
+    """GRBL's protocol.c: a feed hold in Idle is Hold:0 at once, and every
+    hold lasts until '~', whatever arrives or ends meanwhile."""
+    c = homed(b)
+    at = mpos(c.status())
+    c.send("!")
+    s = c.status()
+    r = c.command("G90 G0 X20")
+    time.sleep(0.5)
+    s2 = c.status()
+    check("'!' in Idle: Hold:0; a line sent then is planned (ok) but does not move",
+          state_of(s) == "Hold:0" and r == ["ok"] and state_of(s2) == "Hold:0" and mpos(s2) == at, (s, r, s2))
+    c.send("~")
+    s = c.wait_state({"Idle"})
+    check("... '~' runs it: X20", near(mpos(s)[:1], [20]), s)
+    # The line and the hold in one write: the hold is not lost to the line.
+    c.send("G90 G0 X30\n!")
+    c.next_line()
+    time.sleep(0.5)
+    s = c.status()
+    check("a line and '!' in one write: Hold:0, not moved", state_of(s) == "Hold:0" and near(mpos(s)[:1], [20]), s)
+    c.send("~")
+    c.wait_state({"Idle"})
+    # A hold during a dwell that ends the backlog: the next line waits for '~'.
+    r = c.command("G4 P0.6")
+    time.sleep(0.2)
+    c.send("!")
+    time.sleep(0.8)
+    s = c.status()
+    r2 = c.command("G90 G0 X40")
+    time.sleep(0.5)
+    s2 = c.status()
+    check("'!' during a dwell: still Hold after the dwell; the next line does not move",
+          state_of(s) == "Hold:0" and r2 == ["ok"] and state_of(s2) == "Hold:0" and near(mpos(s2)[:1], [30]),
+          (s, r2, s2))
+    c.send("~")
+    s = c.wait_state({"Idle"})
+    check("... '~' runs it: X40", near(mpos(s)[:1], [40]), s)
+    # M0 is a hold too: the lines after it wait for '~'.
+    r = c.stream(["M0", "G90 G0 X50"])
+    time.sleep(0.5)
+    s = c.status()
+    check("M0: Hold:0, the move after it waits", r == ["ok", "ok"] and state_of(s) == "Hold:0" and
+          near(mpos(s)[:1], [40]), (r, s))
+    c.send("~")
+    s = c.wait_state({"Idle"})
+    check("... '~' runs it: X50", near(mpos(s)[:1], [50]), s)
+    c.close()
+
+
+def test_after_program_end(b):
+    """M2 planned while the program's last moves still run: the next
+    program starts from where this one ends, not from where the machine
+    stood when M2 was planned (G0 X5 ended at X35)."""
+    c = homed(b)
+    r = c.stream(["G90 G1 X30 F600", "M2", "G90 G0 X5"])
+    s = c.wait_state({"Idle"})
+    check("M2 while moving, then G0 X5: ends at X5", r == ["ok"] * 3 and near(mpos(s)[:1], [5]), (r, s))
     c.close()
 
 
@@ -338,6 +401,9 @@ def test_probe(b):
           r == ["[PRB:3.000,1.000,-7.247:1]", "ok"], r)
     z = mpos(s)[2]
     check("... the machine braked just past it", -7.35 < z <= -7.2475, s)
+    r = c.command("G90 G53 G0 Z-5")
+    s = c.wait_state({"Idle"})
+    check("the next move ends where it is programmed: Z-5", r == ["ok"] and near(mpos(s)[2:], [-5]), (r, s))
     r = c.command("$#")
     check("$# keeps the probe", "[PRB:3.000,1.000,-7.247:1]" in r, r)
     c.command("G0 Z-1")
@@ -379,20 +445,177 @@ def test_pty(x4grbl):
         b.stop()
 
 
+def test_status_flood(b):
+    """8 MB of '?' from a client that reads nothing: GRBL answers a burst
+    of '?' with one report (a flag, protocol.c); x4grbl must not queue
+    a report a byte, which grew it by hundreds of MB."""
+    def peak_kb():
+        with open("/proc/%d/status" % b.proc.pid) as f:
+            return int(next(l for l in f if l.startswith("VmHWM")).split()[1])
+    c = b.connect()
+    try:
+        c.send(b"?" * (8 << 20))
+    except OSError:
+        pass  # dropped for not reading: fine
+    c.close()
+    time.sleep(0.5)
+    c = b.connect()
+    s = c.status()
+    check("8 MB of '?' unread: x4grbl stays small (peak RSS under 64 MB) and serves the next client",
+          peak_kb() < 64 * 1024 and state_of(s), (peak_kb(), s))
+    c.close()
+
+
+def test_settings_coordinates_with_blanks(x4grbl):
+    """COORDINATES = X Y Z is as good a machine file as XYZ (the reader
+    skips blanks): $101 is Y's joint, JOINT_1, not JOINT_2 (Z's)."""
+    b = Bridge(x4grbl, replace=[("COORDINATES = XYZ", "COORDINATES = X Y Z")])
+    try:
+        c = b.connect()
+        r = c.command("$101=250")
+        with open(b.machine) as f:
+            text = f.read()
+        y = re.search(r"\[JOINT_1\][^\[]*SCALE = (\S+)", text).group(1)
+        z = re.search(r"\[JOINT_2\][^\[]*SCALE = (\S+)", text).group(1)
+        check("COORDINATES = X Y Z: $101=250 sets Y's SCALE (-250, its sign kept), Z's stays 400",
+              r == ["ok"] and y == "-250" and z == "400", (r, y, z))
+        c.close()
+    finally:
+        b.stop()
+
+
+def test_port_opens_later(x4grbl):
+    """A port that could not be opened for one client (x4ctl had it, say)
+    is tried again for the next; once open, the machine is no longer
+    locked for it."""
+    sim = os.path.join(os.environ.get("TMPDIR", "/tmp"), "x4grbl-test-%d.sim" % os.getpid())
+    if os.path.exists(sim):
+        os.unlink(sim)
+    b = Bridge(x4grbl, sim_machine=sim)
+    try:
+        c = b.connect(greeting=False)
+        lines = c.greet()
+        s = c.status()
+        check("a port that cannot be opened: a [MSG:] line, Alarm", state_of(s) == "Alarm" and
+              any(l.startswith("[MSG:x4grbl:") for l in lines), (lines, s))
+        c.close()
+        shutil.copy(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "x4ctl", "test-mill.sim"), sim)
+        time.sleep(0.3)
+        c = b.connect()
+        r = c.command("$X")
+        r2 = c.command("G91 G0 X1")
+        s = c.wait_state({"Idle", "Alarm"})
+        check("the next client, the port open: $X unlocks, G-code runs", r[-1] == "ok" and r2 == ["ok"] and
+              state_of(s) == "Idle", (r, r2, s))
+        c.close()
+    finally:
+        b.stop()
+        if os.path.exists(sim):
+            os.unlink(sim)
+
+
+def test_settings_unwritable(x4grbl):
+    """A setting that cannot be written (the machine file's directory
+    read-only, a lock file that cannot be made) is an error line with the
+    reason, not the end of x4grbl. Directories in the files' places stand
+    for it, as root writes anywhere."""
+    b = Bridge(x4grbl)
+    try:
+        os.mkdir(os.path.join(b.dir, "mill.grbl"))
+        os.mkdir(os.path.join(b.dir, "mill.ini.lock"))
+        c = b.connect()
+        r = c.command("$10=0")
+        r2 = c.command("$110=900")
+        s = c.status()
+        check("settings that cannot be written: error lines with their reason, x4grbl alive",
+              r[-1].startswith("error:") and r[0].startswith("[MSG:") and r2[-1].startswith("error:") and
+              b.proc.poll() is None and field(s, "MPos") is not None and "MAX_VELOCITY = 20\n" in
+              open(b.machine).read(), (r, r2, s, b.log_text()[-300:]))
+        c.close()
+    finally:
+        b.stop()
+
+
+def homing_from_afar(b):
+    """A client whose $H runs: unlocked, sent to X80, far from the switch,
+    so that the homing takes seconds."""
+    c = b.connect()
+    c.command("$X")
+    c.command("G53 G0 X80")
+    c.wait_state({"Idle"})
+    c.send("$H\n")
+    c.wait_state({"Home"}, timeout=10)
+    return c
+
+
+def test_sigterm_while_homing(x4grbl):
+    """SIGTERM during $H: x4grbl stops the homing and ends at once, as it
+    does mid-program, rather than when the homing is done."""
+    b = Bridge(x4grbl)
+    try:
+        c = homing_from_afar(b)
+        t0 = time.time()
+        b.proc.terminate()
+        try:
+            b.proc.wait(20)
+        except subprocess.TimeoutExpired:
+            pass
+        took = time.time() - t0
+        check("SIGTERM during $H: x4grbl ends within 5 s (the homing, from X80 at 10 mm/s, takes 8 s or more)",
+              b.proc.poll() is not None and took < 5,
+              (took, b.log_text()[-300:]))
+        c.close()
+    finally:
+        b.stop()
+
+
+def test_disconnect_while_homing(x4grbl):
+    """A sender that goes away during $H: the homing brakes, as on a
+    reset, rather than going on for nobody (and the port, on a real one,
+    is released only once the homing let go of it)."""
+    b = Bridge(x4grbl)
+    try:
+        c = homing_from_afar(b)
+        c.close()
+        time.sleep(1.0)
+        c = b.connect(greeting=False)
+        lines = c.greet()
+        s = c.status()
+        check("a client gone during $H: the homing stopped, the next client finds Alarm (not homed)",
+              state_of(s) == "Alarm" and not near(mpos(s), HOME) and "[MSG:'$H'|'$X' to unlock]" in lines,
+              (lines, s, b.log_text()[-500:]))
+        c.close()
+    finally:
+        b.stop()
+
+
 def main():
+    tests = (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
+             test_hold_never_forgotten, test_probe,
+             test_after_program_end, test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
+             test_check_mode_and_overrides, test_second_client_and_garbage, test_disconnect_mid_program,
+             test_status_flood)
+    wanted = set(os.sys.argv[2:])
+    if wanted:
+        tests = tuple(t for t in tests if t.__name__ in wanted)
     b = Bridge(X4GRBL)
     try:
-        for t in (test_connect_and_queries, test_home_and_stream, test_buffer_and_status, test_hold_resume,
-                  test_jog, test_soft_reset, test_alarms, test_settings, test_offsets,
-                  test_check_mode_and_overrides, test_probe, test_second_client_and_garbage,
-                  test_disconnect_mid_program):
+        for t in tests:
             try:
                 t(b)
             except Exception as e:  # a test that broke off: its failure, and the rest go on
                 check(t.__name__ + " ran to its end", False, repr(e) + "\n" + b.log_text()[-2000:])
     finally:
         b.stop()
-    test_pty(X4GRBL)
+    # Each on a bridge of its own.
+    for t in (test_port_opens_later, test_settings_coordinates_with_blanks, test_settings_unwritable,
+              test_disconnect_while_homing, test_sigterm_while_homing, test_pty):
+        if wanted and t.__name__ not in wanted:
+            continue
+        try:
+            t(X4GRBL)
+        except Exception as e:
+            check(t.__name__ + " ran to its end", False, repr(e))
     return exit_status()
 
 

@@ -35,29 +35,36 @@ class Bridge:
     """x4grbl --sim in a directory of its own, with a copy of the test
     mill that keeps its offsets in mill.var."""
 
-    def __init__(self, x4grbl, link=False, machine_text=None):
-        """machine_text: another machine (no switches) than the test mill."""
+    def __init__(self, x4grbl, link=False, extra_ini="", replace=(), sim_machine=None, machine_text=None):
+        """machine_text: another machine than the test mill (no switches, no
+        probe); sim_machine: another simulated machine for the test mill."""
         self.dir = tempfile.mkdtemp(prefix="x4grbl-test.")
         self.machine = os.path.join(self.dir, "mill.ini")
         with open(MILL) as f:
             text = f.read() if machine_text is None else machine_text
-        text = text.replace("[X4STEP]\n", "[RS274NGC]\nPARAMETER_FILE = mill.var\n[X4STEP]\n", 1)
+        text = text.replace("[X4STEP]\n", "[RS274NGC]\nPARAMETER_FILE = mill.var\n[X4STEP]\n" + extra_ini, 1)
+        for old, new in replace:  # the test mill written another way
+            text = text.replace(old, new)
         if machine_text is None:
             # A touch probe on input 4 (pin 10), active at Z motor step -2000 and below.
             text = text.replace("[X4STEP]\n", "[X4STEP]\nPROBE_INPUT = 4\n", 1)
-            with open(MILL_SIM) as f:
-                sim = f.read() + "probe 3 below -2000 pin10 no\n"
-            with open(os.path.join(self.dir, "mill.sim"), "w") as f:
-                f.write(sim)
+            if sim_machine is None:
+                sim_machine = os.path.join(self.dir, "mill.sim")
+                with open(MILL_SIM) as f:
+                    sim = f.read() + "probe 3 below -2000 pin10 no\n"
+                with open(sim_machine, "w") as f:
+                    f.write(sim)
         with open(self.machine, "w") as f:
             f.write(text)
         self.link = os.path.join(self.dir, "ttyGRBL0") if link else None
         args = [x4grbl, "--sim", "--machine", self.machine, "--tcp", "127.0.0.1:0"]
         if self.link:
             args += ["--link", self.link]
-        env = dict(os.environ, X4STEP_SIM_MACHINE=os.path.join(self.dir, "mill.sim"))
-        if machine_text is not None:
-            del env["X4STEP_SIM_MACHINE"]
+        env = dict(os.environ)
+        if machine_text is None:
+            env["X4STEP_SIM_MACHINE"] = sim_machine
+        else:
+            env.pop("X4STEP_SIM_MACHINE", None)
         env.pop("X4STEP_SIM_TIME", None)
         self.log = open(os.path.join(self.dir, "log"), "w+")
         self.proc = subprocess.Popen(args, stderr=self.log, env=env)

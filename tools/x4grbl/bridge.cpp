@@ -153,7 +153,9 @@ bridge::~bridge() = default;
 
 void bridge::connect() {
   connected_ = true;
+  std::string why_locked;
   if (!port_) {
+    locked_port_ = false;  // tried again for each client: x4ctl may have let it go
     try {
       port_ =
           std::make_unique<x4ctl::controller_port>(x4ctl::open_controller(x4ctl::machine_device(c_, mc_)));
@@ -166,13 +168,15 @@ void bridge::connect() {
     } catch (const std::exception &e) {
       path_.reset();
       port_.reset();
-      say(std::string("[MSG:x4grbl: ") + e.what() + "]");
+      why_locked = e.what();
       log_ += std::string("cannot open the port: ") + e.what() + "\n";
       locked_port_ = true;
     }
   }
   if (path_) starved_base_ = path_->status().starved;
   finish_reset();
+  // After the welcome line: a sender reads from there on.
+  if (!why_locked.empty()) message("x4grbl: " + why_locked);
   log_ += "client connected\n";
 }
 
@@ -183,6 +187,19 @@ void bridge::disconnect() {
   lines_.clear();
   partial_.clear();
   pending_bytes_ = 0;
+  out_text_.clear();
+  status_asked_ = false;
+  log_ += "client gone: motion held and flushed\n";
+  // Called from inside home() (it serves the client): the homing brakes
+  // as on a reset, and home() releases the port once it let go of it.
+  if (homing_) {
+    reset_pending_ = true;
+    return;
+  }
+  release();
+}
+
+void bridge::release() {
   abort_motion();
   if (port_ && !keep_port_) {
     outputs_off();
@@ -190,7 +207,6 @@ void bridge::disconnect() {
     port_.reset();  // the controller's close brakes a running path to rest
   }
   out_text_.clear();
-  log_ += "client gone: motion held and flushed\n";
 }
 
 void bridge::shutdown() {
@@ -202,7 +218,10 @@ void bridge::shutdown() {
   port_.reset();
 }
 
-std::string bridge::take_output() { return std::exchange(out_text_, {}); }
+std::string bridge::take_output() {
+  if (std::exchange(status_asked_, false)) out_text_ += status_report() + "\r\n";
+  return std::exchange(out_text_, {});
+}
 std::string bridge::take_log() { return std::exchange(log_, {}); }
 
 bool bridge::busy() const { return motion_pending() || aborting_ || !lines_.empty() || homing_; }
@@ -244,24 +263,34 @@ void bridge::receive(std::string_view bytes) {
 void bridge::realtime(unsigned char c) {
   switch (c) {
     case '?':
-      out_text_ += status_report() + "\r\n";
+      // A flag, as GRBL's: a burst of '?' is one report, made when the
+      // output is taken (one a byte grew without bound under a flood).
+      status_asked_ = true;
       return;
     case 0x18:
       soft_reset();
       return;
     case '!':
-    case 0x84:  // safety door: no door input, a feed hold
+    case 0x84: {  // safety door: no door input, a feed hold
       if (jogging_) {
         abort_motion();  // GRBL: a hold during a jog cancels it
-      } else if (path_ && motion_pending() && !hold_asked_) {
-        hold_asked_ = true;
+        return;
+      }
+      // GRBL (protocol.c): Idle and Run become Hold, at once, even with
+      // nothing moving yet, and it lasts until '~': a line that comes
+      // next, or the end of a dwell, must not start the machine again.
+      const run_state s = state();
+      if (s != run_state::idle && s != run_state::cycle && s != run_state::hold) return;
+      hold_asked_ = true;
+      if (path_ && !path_idle()) {
         try {
           path_->hold();
         } catch (const x4step::error &) {
-          // Between segments (a dwell, an output): the hold is kept for the next one.
+          // Between segments: feed_path() starts nothing while the hold is asked.
         }
       }
       return;
+    }
     case '~':
       if (paused_ || hold_asked_) {
         paused_ = false;
@@ -381,7 +410,8 @@ void bridge::gcode_line(const std::string &line) {
       it.k = item::say;
       it.text = "[MSG:Pgm End]";
       if (!check_mode_) backlog_.push_back(std::move(it));
-      new_program();
+      // Planned, not yet run: the next program starts where this one ends.
+      new_program(planned_end());
     }
     reply(0);
   } catch (const line_abandoned &) {
@@ -398,6 +428,7 @@ void bridge::gcode_line(const std::string &line) {
         e.message().find("without breaking contact") != std::string::npos) {
       message(e.message());
       raise_alarm(started_tripped ? alarm_code::probe_initial : alarm_code::probe_contact, false);
+      resync();  // the interpreter, left by the throw, still stands before the probe
       reply(0);
       return;
     }
@@ -490,7 +521,10 @@ void bridge::system_command(const std::string &line) {
   if (rest.rfind("RST=", 0) == 0) {
     const std::string what = rest.substr(4);
     if (what != "$" && what != "#" && what != "*") return reply(invalid_statement);
-    if (what != "#") settings_.restore_defaults();
+    if (std::string why; what != "#" && settings_.restore_defaults(why)) {
+      message(why);
+      return reply(invalid_statement);
+    }
     if (what != "$") {
       try {
         x4ctl::save_coordinates(mc_, interp_->coordinates(), g::coordinate_state{}, "x4grbl");
@@ -663,11 +697,15 @@ bool bridge::motion_pending() const {
 void bridge::feed_path() {
   if (!path_ || aborting_) return;
   while (!backlog_.empty()) {
+    // A hold ('!', M0) that stopped the path, or came between two items,
+    // starts nothing until '~'; a held path still takes segments.
+    if ((hold_asked_ || paused_) && path_idle()) return;
     item &it = backlog_.front();
     if (it.k == item::segment) {
       x4step::segment s = it.seg;
       if (it.rapid && rapid_override_ < 100) {
-        s.top_speed(std::max<std::uint32_t>(1, s.top_speed() * rapid_override_ / 100));
+        s.top_speed(
+            std::uint32_t(std::max<std::uint64_t>(1, std::uint64_t(s.top_speed()) * rapid_override_ / 100)));
         s.entry_speed(std::min(s.entry_speed(), s.top_speed()));
       }
       try {
@@ -733,7 +771,6 @@ void bridge::update_motion() {
     jog_planner_.reset();
     resync();
   }
-  if (hold_asked_ && idle && backlog_.empty() && !dwell_until_) hold_asked_ = false;
 }
 
 void bridge::abort_motion() {
@@ -789,7 +826,7 @@ m::probe_result bridge::run_probe(const x4step::segment &s, g::probe_kind k) {
   wait_until([this] { return backlog_.empty() && !dwell_until_ && !paused_ && path_idle(); });
   x4step::segment p = s;
   p.probe(k == g::probe_kind::toward_or_error || k == g::probe_kind::toward ? x4step::probe_mode::toward
-                                                                              : x4step::probe_mode::away);
+                                                                            : x4step::probe_mode::away);
   const std::uint64_t done_before = path_->status().done;
   path_->try_append(&p, 1);
   wait_until([this] { return path_idle() && !hold_asked_; });
@@ -832,7 +869,11 @@ void bridge::home(const std::string &letters) {
     locked_ = false;
     resync();
     reply(0);
-    if (letters.empty()) run_startup();
+    // A reset that came as the homing ended: done now, else no line would be taken.
+    if (reset_pending_)
+      finish_reset();
+    else if (letters.empty())
+      run_startup();
   } catch (const std::exception &e) {
     homing_ = false;
     resync();
@@ -841,6 +882,7 @@ void bridge::home(const std::string &letters) {
     reply(error_code::setting_disabled);
     if (reset_pending_) finish_reset();
   }
+  if (!connected_) release();  // the client left during the homing
 }
 
 void bridge::raise_alarm(int code, bool critical) {
@@ -892,6 +934,16 @@ void bridge::finish_reset() {
     run_startup();
 }
 
+// Where the motion planned so far ends (the planner's steps), which is
+// where the machine will stand once the backlog and the path ran.
+g::pose bridge::planned_end() const {
+  const auto &steps = planner_->summary().steps;
+  g::pose at = machine_position();
+  for (size_t a = 0; a < g::n_axes; a++)
+    if (mc_.axes[a]) at[a] = double(steps[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale;
+  return at;
+}
+
 void bridge::run_startup() {
   for (const std::string &block : settings_.startup()) {
     if (block.empty()) continue;
@@ -909,8 +961,9 @@ void bridge::run_startup() {
 
 // A fresh interpreter (GRBL's modes after a reset or M2) from where the
 // machine stands, with the parameter file's offsets.
-void bridge::new_program() {
-  const g::pose at = machine_position();
+void bridge::new_program() { new_program(machine_position()); }
+
+void bridge::new_program(const g::pose &at) {
   if (!out_) out_ = std::make_unique<output>(*this);
   if (!planner_) {
     planner_ = std::make_unique<m::planner>(mc_, *out_, at);

@@ -105,9 +105,11 @@ class bridge {
   void feed_path();
   void update_motion();
   void abort_motion();
+  void release();
   bool motion_pending() const;
   bool path_idle() const;
   void resync();
+  g::pose planned_end() const;
   void outputs_off();
   void set_output(m::pin p, bool on);
   void home(const std::string &letters);
@@ -117,7 +119,9 @@ class bridge {
   void run_startup();
   void soft_reset();
   void finish_reset();
+  /// A fresh interpreter from where the machine stands, or from `at`.
   void new_program();
+  void new_program(const g::pose &at);
   void reload_coordinates();
   void save_coordinates();
 
@@ -184,6 +188,7 @@ class bridge {
   g::pose probe_{};  // the last probe's trip (machine coordinates), for $# and [PRB:]
   bool probe_ok_ = false;
 
+  bool status_asked_ = false;  // '?' came: a report goes with the next output
   std::string out_text_;
   std::string log_;
   std::function<void(int)> serve_;

@@ -160,9 +160,11 @@ int main(int argc, char **argv) {
     if (!x4grbl::write_some(client_fd(), pending) || pending.size() > (1u << 20)) drop_client();
   };
   // Reads what the client sent; false once it is gone.
+  // At most 64 KiB a pass: a client that never stops sending cannot keep
+  // the loop from feeding the path.
   auto read_client = [&] {
     char buf[4096];
-    for (;;) {
+    for (int pass = 0; pass < 16; pass++) {
       const ssize_t n = ::read(client_fd(), buf, sizeof buf);
       if (n > 0) {
         b->receive(std::string_view(buf, size_t(n)));
@@ -172,19 +174,32 @@ int main(int argc, char **argv) {
       if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return true;
       return false;  // 0: the TCP peer closed; EIO: the pty's last client closed
     }
+    return true;
   };
-  // A blocking operation (homing) serves the client meanwhile.
+  // SIGTERM, SIGINT, SIGHUP: true once one came (it is consumed).
+  auto signalled = [&] {
+    signalfd_siginfo si{};
+    if (::read(sig.get(), &si, sizeof si) <= 0) return false;
+    std::cerr << "x4grbl: " << strsignal(int(si.ssi_signo)) << ": motion held, port released\n";
+    return true;
+  };
+  bool stopping = false;
+  // A blocking operation (homing) serves the client and the signals
+  // meanwhile: a signal brakes it as a reset does, then the loop ends.
   b->on_serve([&](int ms) {
-    if (kind == client_kind::none) {
-      ::poll(nullptr, 0, ms);
-      return;
+    pollfd p[2] = {{sig.get(), POLLIN, 0}, {kind == client_kind::none ? -1 : client_fd(), POLLIN, 0}};
+    if (::poll(p, 2, ms) > 0) {
+      if ((p[0].revents & POLLIN) && signalled()) {
+        stopping = true;
+        b->receive("\x18");
+      }
+      if ((p[1].revents & (POLLIN | POLLHUP | POLLERR)) && !read_client()) drop_client();
     }
-    pollfd p{client_fd(), POLLIN, 0};
-    if (::poll(&p, 1, ms) > 0 && !read_client()) drop_client();
+    // Always: a '?' that came with the line that started this is answered now.
     flush();
   });
 
-  for (;;) {
+  while (!stopping) {
     if (pty && kind == client_kind::none && pty->client_present()) {
       kind = client_kind::pty;
       pty->exclusive();
@@ -201,13 +216,7 @@ int main(int argc, char **argv) {
       std::cerr << "x4grbl: poll: " << std::strerror(errno) << "\n";
       break;
     }
-    if (fds[0].revents & POLLIN) {
-      signalfd_siginfo si{};
-      if (::read(sig.get(), &si, sizeof si) > 0) {
-        std::cerr << "x4grbl: " << strsignal(int(si.ssi_signo)) << ": motion held, port released\n";
-        break;
-      }
-    }
+    if ((fds[0].revents & POLLIN) && signalled()) break;
     // The client first: one that just left makes room for the one knocking.
     if (kind != client_kind::none) {
       const bool gone = kind == client_kind::pty ? !pty->client_present() : false;
@@ -229,7 +238,14 @@ int main(int argc, char **argv) {
         log();
       }
     }
-    b->tick();
+    try {
+      b->tick();
+    } catch (const std::exception &e) {
+      // The port failed under us (a status read, a clear): the client goes,
+      // its motion held and flushed, rather than x4grbl.
+      std::cerr << "x4grbl: " << e.what() << "\n";
+      if (kind != client_kind::none) drop_client();
+    }
     flush();
     log();
   }

@@ -5,6 +5,7 @@
 // file found good replaces the old one.
 #include "settings.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -221,9 +222,9 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
       why = "laser mode needs a PWM spindle output, which x4step has not";
       return laser_mode;
     }
-    own_[number] = number == 10 || number == 13 || number == 4 ? std::trunc(value) : value;
-    save();
-    return 0;
+    std::map<int, double> own = own_;
+    own[number] = number == 10 || number == 13 || number == 4 ? std::trunc(value) : value;
+    return keep(own, startup_, why);
   }
   // The rest: the machine file's, or shown only. Writing what is there changes nothing.
   std::string now;
@@ -236,7 +237,6 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
   }
   if (std::fabs(std::strtod(now.c_str(), nullptr) - value) < 5e-4) return 0;
   if (value < 0) return negative_value;
-  const double k = mm_per_unit(mc);
   const auto shown_only = [&why](const std::string &where) {
     why = where;
     return invalid_statement;
@@ -262,12 +262,25 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
       break;
   }
   // The machine file's keys.
+  try {
+    return change_machine_file(number, value, mc, why);
+  } catch (const m::file_error &e) {
+    why = e.what();
+    return invalid_statement;
+  }
+}
+
+int settings::change_machine_file(int number, double value, m::machine &mc, std::string &why) {
+  const double k = mm_per_unit(mc);
   const m::file_lock lock(machine_path_);
   ini_text ini(m::read_text(machine_path_, false));
-  const std::string coords = ini.get("TRAJ", "COORDINATES");
-  auto joint_of = [&coords](size_t axis_index) {
-    const size_t j = coords.find("XYZABC"[axis_index]);
-    return "JOINT_" + std::to_string(j);
+  // A joint's number is its letter's place in COORDINATES as the machine
+  // reader takes it: blanks skipped, either case ("X Y Z" is XYZ).
+  std::string letters;
+  for (const char c : ini.get("TRAJ", "COORDINATES"))
+    if (c != ' ' && c != '\t') letters += char(std::toupper(static_cast<unsigned char>(c)));
+  auto joint_of = [&letters](size_t axis_index) {
+    return "JOINT_" + std::to_string(letters.find("XYZABC"[axis_index]));
   };
   auto axis_section = [](size_t i) { return std::string("AXIS_") + "XYZABC"[i]; };
   if (number == 6) {
@@ -286,7 +299,10 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
       ini.set(joint_of(i), key, key_value(std::copysign(value / 60 / k, old)));
       any = true;
     }
-    if (!any) return shown_only("no axis homes: give HOME_SEARCH_VEL in " + machine_path_ + " first");
+    if (!any) {
+      why = "no axis homes: give HOME_SEARCH_VEL in " + machine_path_ + " first";
+      return invalid_statement;
+    }
   } else if (number >= 100 && number < 140 && number % 10 < int(grbl_axes)) {
     const size_t i = size_t(number % 10);
     const m::axis *a = grbl_axis(mc, i);
@@ -323,29 +339,34 @@ int settings::set(int number, double value, m::machine &mc, const port_facts &p,
   return 0;
 }
 
-void settings::restore_defaults() {
-  own_.clear();
-  startup_ = {};
-  save();
-}
+int settings::restore_defaults(std::string &why) { return keep({}, {}, why); }
 
 int settings::set_startup(int n, const std::string &block, std::string &why) {
   if (n < 0 || n > 1) {
     why = "startup blocks are $N0 and $N1";
     return invalid_statement;
   }
-  startup_[size_t(n)] = block;
-  save();
-  return 0;
+  std::array<std::string, 2> startup = startup_;
+  startup[size_t(n)] = block;
+  return keep(own_, startup, why);
 }
 
-void settings::save() const {
+int settings::keep(const std::map<int, double> &own, const std::array<std::string, 2> &startup,
+                   std::string &why) {
   std::string text = "# x4grbl's own settings for " + machine_path_ + " (the rest is the machine file's)\n";
-  for (const auto &[n, v] : own_) text += "$" + std::to_string(n) + "=" + key_value(v) + "\n";
-  for (size_t i = 0; i < startup_.size(); i++)
-    if (!startup_[i].empty()) text += "$N" + std::to_string(i) + "=" + startup_[i] + "\n";
-  const m::file_lock lock(path_);
-  m::replace_file(path_, text);
+  for (const auto &[n, v] : own) text += "$" + std::to_string(n) + "=" + key_value(v) + "\n";
+  for (size_t i = 0; i < startup.size(); i++)
+    if (!startup[i].empty()) text += "$N" + std::to_string(i) + "=" + startup[i] + "\n";
+  try {
+    const m::file_lock lock(path_);
+    m::replace_file(path_, text);
+  } catch (const m::file_error &e) {
+    why = e.what();
+    return invalid_statement;
+  }
+  own_ = own;
+  startup_ = startup;
+  return 0;
 }
 
 }  // namespace x4grbl

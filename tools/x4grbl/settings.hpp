@@ -37,8 +37,9 @@ class settings {
   /// $N=VALUE: 0 when it was set (and kept), else GRBL's error code with
   /// `why` saying what to do instead. mc changes with the machine file.
   int set(int number, double value, x4step::machine::machine &mc, const port_facts &p, std::string &why);
-  /// $RST=$: the bridge's own settings back to their defaults.
-  void restore_defaults();
+  /// $RST=$: the bridge's own settings back to their defaults (0, else
+  /// an error code and why: the settings file could not be written).
+  int restore_defaults(std::string &why);
 
   /// $N0 and $N1.
   const std::array<std::string, 2> &startup() const noexcept { return startup_; }
@@ -49,7 +50,11 @@ class settings {
   double value(int number) const;
 
  private:
-  void save() const;
+  /// The machine file's part of set(): its lock, its text, its check.
+  int change_machine_file(int number, double value, x4step::machine::machine &mc, std::string &why);
+  /// Writes these as the settings file and takes them, or leaves all as
+  /// it was and says why (a file that cannot be written is no end of x4grbl).
+  int keep(const std::map<int, double> &own, const std::array<std::string, 2> &startup, std::string &why);
 
   std::string machine_path_, path_;
   std::map<int, double> own_;
