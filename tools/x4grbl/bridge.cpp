@@ -973,10 +973,15 @@ void bridge::new_program(const g::pose &at) {
   g::options o;
   o.machine_units = mc_.units;
   o.start = at;
-  try {
-    o.coordinates = x4ctl::load_coordinates(mc_, "x4grbl");
-  } catch (const std::exception &e) {
-    message(e.what());
+  if (mc_.parameter_file.empty() && interp_) {
+    // No parameter file: the offsets live as long as x4grbl, as GRBL's in its EEPROM.
+    o.coordinates = interp_->coordinates();
+  } else {
+    try {
+      o.coordinates = x4ctl::load_coordinates(mc_, "x4grbl");
+    } catch (const std::exception &e) {
+      message(e.what());
+    }
   }
   saved_coords_ = o.coordinates;
   interp_ = std::make_unique<g::interpreter>(*planner_, o);
