@@ -341,6 +341,36 @@ def test_check_mode_and_overrides(b):
             break
     check("0x90 resets the feed, 0x96 rapids 50 %", ov == "100,50,100", ov)
     c.send("\x95")
+    # Coolant toggles: A:F (flood), A:FM with mist, with the Ov field.
+    c.send("\xa0")
+    acc = None
+    for _ in range(30):
+        s = c.status()
+        if field(s, "Ov"):
+            acc = field(s, "A")
+            break
+    check("0xA0 toggles flood: A:F", acc == "F", s)
+    c.send("\xa1")
+    for _ in range(30):
+        s = c.status()
+        if field(s, "Ov"):
+            acc = field(s, "A")
+            break
+    check("0xA1 toggles mist: A:FM", acc == "FM", s)
+    c.send("\xa0\xa1")
+    r = c.command("$SLP")
+    s = c.status()
+    check("$SLP: [MSG:Sleeping], state Sleep, G-code locked", r == ["[MSG:Sleeping]", "ok"] and
+          state_of(s) == "Sleep" and c.command("G0 X1") == ["error:9"], (r, s))
+    c.send("\x18")
+    c.greet()
+    check("a reset wakes it: Idle", state_of(c.status()) == "Idle")
+    c.command("$10=3")
+    r = c.command("$RST=$")
+    lines = c.greet()
+    r2 = c.command("$$")
+    check("$RST=$: [MSG:Restoring defaults], a reset, x4grbl's own settings back to GRBL's ($10=1)",
+          r == ["[MSG:Restoring defaults]", "ok"] and lines[0].startswith("Grbl") and "$10=1" in r2, (r, lines))
     c.close()
 
 
