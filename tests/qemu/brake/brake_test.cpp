@@ -91,9 +91,13 @@ void CheckBrake(const std::string &what, const std::vector<uint64_t> &r, double 
           F("%s: %zu steps in the trace, %zu before the brake request", what.c_str(), r.size(), q + 1));
     return;
   }
+  // Within 0.2 %, and the timer's lateness (up to 2.4 us under -icount,
+  // make bench): a late edge shortens the next interval by as much (a
+  // clean-clone make check once read 665.3 us for 666.7). A wrong rate is
+  // tens of microseconds off.
   const double cruise = double(r[q] - r[q - 1]);
   CheckTiming(
-      std::fabs(cruise - period) < 0.002 * period,
+      std::fabs(cruise - period) < 0.002 * period + 3000,
       F("%s: cruising at %.0f Hz before the brake (interval %.1f us)", what.c_str(), f_hz, cruise / 1e3));
   // The last cruise step: the last one whose interval is still the cruise's.
   size_t k = q;
