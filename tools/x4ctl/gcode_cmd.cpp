@@ -205,11 +205,10 @@ class runner : public m::planner_output {
   }
   // " X1 Z-2.5 (mm)": motor steps in the machine's units.
   std::string where_text(const std::array<long, x4step::axes> &steps) const {
+    const g::pose p = pose_of(mc_, steps);
     std::string t;
     for (size_t a = 0; a < g::n_axes; a++)
-      if (mc_.axes[a])
-        t += " " + std::string(1, axis_letters[a]) +
-             number(double(steps[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale);
+      if (mc_.axes[a]) t += " " + std::string(1, axis_letters[a]) + number(p[a]);
     return t + " (" + units_name(mc_) + ")";
   }
   // With JSON the time too, on the progress records' clock.
@@ -385,9 +384,10 @@ run_result run_checked(const config &c, const m::machine &mc, x4step::controller
   if (!res.aborted) save_coordinates(mc, k.coords, coords_after, prog.command());
   std::ostringstream where;
   json_object pos;
+  const g::pose end = pose_of(mc, res.end);
   for (size_t a = 0; a < g::n_axes; a++) {
     if (!mc.axes[a]) continue;
-    const double v = double(res.end[size_t(mc.axes[a]->motor)]) / mc.axes[a]->scale;
+    const double v = end[a];
     where << " " << axis_letters[a] << number(v);
     pos.add(std::string(1, axis_letters[a]), v);
   }

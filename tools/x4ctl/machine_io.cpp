@@ -146,10 +146,32 @@ std::string number(double v) {
 long steps_of(const m::axis &a, double units) { return std::lround(units * a.scale); }
 
 g::pose pose_of(const m::machine &mc, const x4step::axes_status &at) {
+  std::array<long, x4step::axes> steps{};
+  for (x4step::axis a : x4step::axis_set::all()) steps[size_t(a.index())] = at[a].position;
+  return pose_of(mc, steps);
+}
+
+g::pose pose_of(const m::machine &mc, const std::array<long, x4step::axes> &steps) {
   g::pose p{};
   for (size_t a = 0; a < g::n_axes; a++)
-    if (mc.axes[a]) p[a] = double(at[motor_of(*mc.axes[a])].position) / mc.axes[a]->scale;
+    if (mc.axes[a]) p[a] = double(steps[size_t(mc.axes[a]->motor)]) / mc.axes[a]->scale;
   return p;
+}
+
+x4step::probe_mode probe_mode_of(g::probe_kind k) {
+  return k == g::probe_kind::toward_or_error || k == g::probe_kind::toward ? x4step::probe_mode::toward
+                                                                           : x4step::probe_mode::away;
+}
+
+m::probe_result probe_result_of(const x4step::probe_latch &l, const x4step::axes_status &at) {
+  m::probe_result r;
+  r.ran = true;
+  r.tripped = l.tripped;
+  for (x4step::axis a : x4step::axis_set::all()) {
+    r.stop[size_t(a.index())] = at[a].position;
+    r.trip[size_t(a.index())] = l.tripped ? l.steps[size_t(a.index())] : at[a].position;
+  }
+  return r;
 }
 
 }  // namespace x4ctl

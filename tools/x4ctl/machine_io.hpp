@@ -12,6 +12,8 @@
 #include "io.hpp"
 #include "machine.hpp"
 #include "params.hpp"
+#include "planner.hpp"
+#include "x4step_path.hpp"
 
 namespace x4ctl {
 
@@ -71,6 +73,15 @@ inline x4step::axis motor_of(const m::axis &a) { return x4step::axis(a.motor + 1
 long steps_of(const m::axis &a, double units);
 /// Where the motors stand, machine units.
 g::pose pose_of(const m::machine &mc, const x4step::axes_status &at);
+/// The same for motor steps (motor 1..4 at 0..3): a latch, a plan's end.
+g::pose pose_of(const m::machine &mc, const std::array<long, x4step::axes> &steps);
+
+/// G38.x run: the engine's probe mode of a kind (toward for G38.2/G38.3,
+/// away for G38.4/G38.5), and the planner's answer once the probing
+/// segment ended with the latch l and the motors at `at` (the trip is
+/// where they stopped if it did not trip).
+x4step::probe_mode probe_mode_of(g::probe_kind k);
+m::probe_result probe_result_of(const x4step::probe_latch &l, const x4step::axes_status &at);
 
 }  // namespace x4ctl
 

@@ -825,26 +825,15 @@ m::probe_result bridge::run_probe(const x4step::segment &s, g::probe_kind k) {
   };
   wait_until([this] { return backlog_.empty() && !dwell_until_ && !paused_ && path_idle(); });
   x4step::segment p = s;
-  p.probe(k == g::probe_kind::toward_or_error || k == g::probe_kind::toward ? x4step::probe_mode::toward
-                                                                            : x4step::probe_mode::away);
+  p.probe(x4ctl::probe_mode_of(k));
   const std::uint64_t done_before = path_->status().done;
   path_->try_append(&p, 1);
   wait_until([this] { return path_idle() && !hold_asked_; });
   const x4step::probe_latch l = path_->probe();
   // The trip braked and flushed the path: a new one goes on.
   if (l.tripped || path_->status().done == done_before) path_->clear();
-  m::probe_result r;
-  r.ran = true;
-  r.tripped = l.tripped;
-  const x4step::axes_status at = port_->get_axes();
-  for (x4step::axis a : x4step::axis_set::all()) {
-    r.stop[size_t(a.index())] = at[a].position;
-    r.trip[size_t(a.index())] = l.tripped ? l.steps[size_t(a.index())] : at[a].position;
-  }
-  g::pose trip{};
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc_.axes[a]) trip[a] = double(r.trip[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale;
-  probe_ = trip;
+  const m::probe_result r = x4ctl::probe_result_of(l, port_->get_axes());
+  probe_ = x4ctl::pose_of(mc_, r.trip);
   probe_ok_ = l.tripped;
   say("[PRB:" + axes_text(probe_) + ":" + (probe_ok_ ? "1" : "0") + "]");
   return r;
@@ -936,13 +925,7 @@ void bridge::finish_reset() {
 
 // Where the motion planned so far ends (the planner's steps), which is
 // where the machine will stand once the backlog and the path ran.
-g::pose bridge::planned_end() const {
-  const auto &steps = planner_->summary().steps;
-  g::pose at = machine_position();
-  for (size_t a = 0; a < g::n_axes; a++)
-    if (mc_.axes[a]) at[a] = double(steps[size_t(mc_.axes[a]->motor)]) / mc_.axes[a]->scale;
-  return at;
-}
+g::pose bridge::planned_end() const { return x4ctl::pose_of(mc_, planner_->summary().steps); }
 
 void bridge::run_startup() {
   for (const std::string &block : settings_.startup()) {
